@@ -1,0 +1,35 @@
+// A range image as read from a range-grid PLY: points on a rows x cols grid.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace rangefuse {
+
+/// Pinhole intrinsics in pixels (obj_info pinhole_fx/fy/cx/cy). The sensor sits at
+/// the scan frame's origin looking toward -z.
+struct Pinhole {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
+/// Row r grows with +y, column c with +x; the sensor is on the +z side.
+struct RangeGrid {
+  int cols = 0;
+  int rows = 0;
+  std::vector<Eigen::Vector3d> points;  ///< in the scan frame
+  std::vector<int32_t> cell;            ///< rows*cols entries: point index or -1
+  std::optional<Pinhole> pinhole;
+
+  int32_t at(int r, int c) const { return cell[static_cast<size_t>(r) * cols + c]; }
+
+  /// Unit direction from point p toward the sensor.
+  Eigen::Vector3d towardSensor(const Eigen::Vector3d& p) const {
+    if (!pinhole) return Eigen::Vector3d::UnitZ();
+    return (-p).normalized();
+  }
+};
+
+}  // namespace rangefuse

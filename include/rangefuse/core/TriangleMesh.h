@@ -1,0 +1,20 @@
+// Indexed triangle mesh.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace rangefuse {
+
+using Triangle = std::array<int32_t, 3>;
+
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Triangle> faces;
+  std::vector<Eigen::Vector3d> normals;  ///< empty, or one per vertex
+};
+
+}  // namespace rangefuse

@@ -1,0 +1,44 @@
+// Exact point-to-mesh distances and mesh-to-mesh statistics.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "rangefuse/core/TriangleMesh.h"
+
+namespace rangefuse {
+
+/// Closest point to p on triangle (a, b, c), exact in every region (vertex, edge, face).
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+/// Exact distance from points to a triangle mesh. A k-d tree over triangle centroids finds
+/// the candidates: every triangle whose centroid lies within (nearest centroid distance +
+/// largest centroid-to-vertex radius) is tested, so no closer triangle can be missed.
+class MeshDistance {
+ public:
+  explicit MeshDistance(const TriangleMesh& mesh);
+  ~MeshDistance();
+  double distance(const Eigen::Vector3d& p) const;
+
+ private:
+  struct Index;
+  std::unique_ptr<Index> index_;
+};
+
+/// Area-weighted random samples on a mesh, deterministic for a seed.
+std::vector<Eigen::Vector3d> sampleSurface(const TriangleMesh& mesh, size_t count, uint64_t seed);
+
+struct DistanceStats {
+  double mean = 0, median = 0, p90 = 0, p99 = 0, max = 0;
+};
+
+DistanceStats summarize(std::vector<double> distances);
+
+/// Distances from `count` samples on `from` to the surface of `to`.
+std::vector<double> sampledDistances(const TriangleMesh& from, const TriangleMesh& to, size_t count,
+                                     uint64_t seed);
+
+}  // namespace rangefuse

@@ -1,0 +1,14 @@
+// Whole-file writes that never leave a partial file under the final name.
+#pragma once
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace rangefuse::io {
+
+/// Calls `write` on a stream to `path`.tmp, then renames it to `path`. On any error the
+/// temporary is removed and InputError is thrown naming the file.
+void writeAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+}  // namespace rangefuse::io

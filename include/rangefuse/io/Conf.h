@@ -1,0 +1,29 @@
+// Stanford .conf scan lists: `bmesh FILE tx ty tz qx qy qz qw`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rangefuse/core/Pose.h"
+
+namespace rangefuse::io {
+
+struct ConfScan {
+  std::string name;  ///< as written in the .conf
+  std::string path;  ///< resolved against the .conf's folder
+  Pose pose;         ///< scan to world
+};
+
+struct ConfFile {
+  std::vector<ConfScan> scans;
+  std::vector<std::string> warnings;  ///< e.g. skipped `mesh` lines
+};
+
+/// Reads a .conf in the Stanford convention p_world = R(q)^T p + t (measured on the bunny).
+/// Throws InputError naming the file and line; does not open the scan files.
+ConfFile readConf(const std::string& path);
+
+/// Writes scans in the same convention, so that readConf gives back the same transforms.
+void writeConf(const std::string& path, const std::vector<ConfScan>& scans);
+
+}  // namespace rangefuse::io

@@ -1,0 +1,17 @@
+// Triangle mesh and point PLY reading and writing.
+#pragma once
+
+#include <string>
+
+#include "rangefuse/core/TriangleMesh.h"
+
+namespace rangefuse::io {
+
+/// Reads vertices (x, y, z) and, when present, faces (polygons are fanned into triangles).
+TriangleMesh readMeshPly(const std::string& path);
+
+/// Writes binary little-endian PLY with float vertices, optional float normals and
+/// int faces; written to a temporary name and renamed into place when complete.
+void writeMeshPly(const std::string& path, const TriangleMesh& mesh);
+
+}  // namespace rangefuse::io

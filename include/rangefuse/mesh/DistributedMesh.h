@@ -1,0 +1,26 @@
+// Marching cubes over the distributed bricks, stitched into one mesh on rank 0.
+#pragma once
+
+#include <mpi.h>
+
+#include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/volume/BrickStore.h"
+
+namespace rangefuse {
+
+struct MeshStats {
+  uint64_t haloBricksReceived = 0;
+  uint64_t localTriangles = 0;
+};
+
+/// Fused distance d = sum(w d) / sum(w) of every voxel of local brick b; NaN where the
+/// weight is not above minWeight (unobserved).
+std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWeight);
+
+/// Each rank extracts the cubes whose min corner lies in its bricks, reading the +1 layer
+/// from neighbour bricks (exchanged between ranks). Rank 0 returns the stitched mesh, with
+/// vertices named by global edge so there are no duplicates or cracks; others return empty.
+TriangleMesh extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
+                                    MeshStats* stats = nullptr);
+
+}  // namespace rangefuse

@@ -1,0 +1,42 @@
+// Thin MPI helpers: collective error agreement and vector gathers/exchanges.
+#pragma once
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace rangefuse::mpi {
+
+int rank(MPI_Comm comm = MPI_COMM_WORLD);
+int size(MPI_Comm comm = MPI_COMM_WORLD);
+
+/// Collective: true when every rank passed ok. Otherwise the lowest failing rank prints
+/// its message to stderr (once for the whole job) and every rank gets false.
+bool agree(bool ok, const std::string& message, MPI_Comm comm = MPI_COMM_WORLD);
+
+/// Gathers every rank's bytes to `root`, concatenated in rank order (empty elsewhere).
+std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm);
+
+/// Sends bytes out[r] to each rank r; returns what each rank sent to this one.
+std::vector<std::vector<char>> exchangeBytes(const std::vector<std::vector<char>>& out,
+                                             MPI_Comm comm);
+
+/// Broadcasts a string from root.
+std::string broadcastString(const std::string& s, int root, MPI_Comm comm);
+
+/// Appends the raw bytes of trivially copyable values.
+template <class T>
+void pack(std::vector<char>& buf, const T* data, size_t n) {
+  const char* p = reinterpret_cast<const char*>(data);
+  buf.insert(buf.end(), p, p + n * sizeof(T));
+}
+
+/// Reads n values from buf at pos, advancing pos.
+template <class T>
+void unpack(const std::vector<char>& buf, size_t& pos, T* data, size_t n) {
+  std::copy(buf.begin() + pos, buf.begin() + pos + n * sizeof(T), reinterpret_cast<char*>(data));
+  pos += n * sizeof(T);
+}
+
+}  // namespace rangefuse::mpi

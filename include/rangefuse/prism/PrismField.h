@@ -1,0 +1,49 @@
+// Prism fields of whole scans added into the distributed bricks (Tubic Eqs. 11-13).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rangefuse/prism/Prism.h"
+#include "rangefuse/surface/ScanSurface.h"
+#include "rangefuse/volume/BrickStore.h"
+
+namespace rangefuse {
+
+/// The prism of triangle `t` of a scan, with envelope `eps` (world units).
+Prism scanPrism(const ScanSurface& scan, size_t t, double eps);
+
+/// A lattice whose origin is a multiple of the brick size below every prism, so that all
+/// voxel and brick indices are non-negative. Throws InputError if the grid is too large.
+VoxelGrid fitGrid(const std::vector<ScanSurface>& scans, double voxel, int brick, double eps);
+
+/// Every brick some prism's bounding box touches, with the number of such prisms as its
+/// work, split over `ranks`. The same on every rank.
+BrickLayout planBricks(const std::vector<ScanSurface>& scans, const VoxelGrid& grid, double eps,
+                       int ranks);
+
+struct IntegrationStats {
+  uint64_t prisms = 0;        ///< prisms rasterized on this rank
+  uint64_t voxelUpdates = 0;  ///< voxels that received a value from an image
+};
+
+/// Adds images one at a time: per image, each voxel keeps the value of the prism with the
+/// smallest |d|; that value is then added, weighted, to the running sums.
+class PrismIntegrator {
+ public:
+  PrismIntegrator(BrickStore& store, double eps);
+  IntegrationStats addScan(const ScanSurface& scan);
+
+ private:
+  struct Sample {
+    float d, w, f[3];
+  };
+  bool touchesOwnedBrick(const Eigen::AlignedBox3d& box) const;
+
+  BrickStore& store_;
+  double eps_;
+  std::vector<Sample> scratch_;
+  std::vector<size_t> touched_;
+};
+
+}  // namespace rangefuse

@@ -1,0 +1,43 @@
+// Range grid to oriented, weighted triangle surface (Tubic et al. §4.3).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "rangefuse/core/Pose.h"
+#include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/core/TriangleMesh.h"
+
+namespace rangefuse {
+
+struct SurfaceOptions {
+  double maxEdgeFactor = 4.0;  ///< drop triangles with an edge longer than this x grid spacing
+  double minCosine = 0.15;     ///< drop triangles seen more obliquely than acos(this)
+  int normalPasses = 2;        ///< neighbour-averaging passes over vertex normals
+};
+
+/// One scan as a triangle surface in world coordinates. Normals are unit, point toward
+/// the sensor and are filtered; confidence is the cosine between normal and viewing ray.
+struct ScanSurface {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> confidence;
+  std::vector<Triangle> triangles;
+};
+
+/// Median distance between grid neighbours (the lateral sampling step), or 0 if none.
+double gridSpacing(const RangeGrid& grid);
+
+/// Two triangles per full grid cell, filtered by edge length and obliqueness; only the
+/// vertices some triangle uses are kept. Coordinates stay in the scan frame.
+TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options);
+
+/// Vertex normals as the mean of their triangles' normals, then `passes` rounds of
+/// averaging with the neighbouring vertices' normals.
+std::vector<Eigen::Vector3d> filteredVertexNormals(const TriangleMesh& mesh, int passes);
+
+/// Triangulates, filters normals, computes confidence and moves everything to world.
+ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
+                             const SurfaceOptions& options);
+
+}  // namespace rangefuse

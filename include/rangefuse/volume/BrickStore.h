@@ -1,0 +1,48 @@
+// The voxel data of the bricks one rank owns: weighted sums of distance and gradient.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "rangefuse/volume/BrickLayout.h"
+
+namespace rangefuse {
+
+/// Running sums of Tubic Eqs. 11-12 for one voxel.
+struct VoxelSums {
+  float wd = 0;
+  float w = 0;
+  float wf[3] = {0, 0, 0};
+};
+
+class BrickStore {
+ public:
+  BrickStore(const BrickLayout& layout, int rank);
+
+  const BrickLayout& layout() const { return *layout_; }
+  const VoxelGrid& grid() const { return layout_->grid; }
+  size_t brickCount() const { return codes_.size(); }
+  uint64_t code(size_t local) const { return codes_[local]; }
+  size_t voxelsPerBrick() const { return perBrick_; }
+
+  /// Local brick index of a Morton code, or -1 when this rank does not own it.
+  int64_t localBrick(uint64_t code) const {
+    auto it = index_.find(code);
+    return it == index_.end() ? -1 : it->second;
+  }
+  /// Flat offset of voxel v (which must lie in local brick b) into sums().
+  size_t offset(size_t b, const VoxelIndex& v) const;
+
+  std::vector<VoxelSums>& sums() { return sums_; }
+  const std::vector<VoxelSums>& sums() const { return sums_; }
+
+ private:
+  const BrickLayout* layout_;
+  std::vector<uint64_t> codes_;
+  std::unordered_map<uint64_t, int64_t> index_;
+  size_t perBrick_;
+  std::vector<VoxelSums> sums_;
+};
+
+}  // namespace rangefuse

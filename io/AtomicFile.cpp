@@ -1,0 +1,31 @@
+#include "rangefuse/io/AtomicFile.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "rangefuse/core/Error.h"
+
+namespace rangefuse::io {
+
+void writeAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  const std::string tmp = path + ".tmp";
+  try {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path + ": cannot open for writing");
+    write(out);
+    out.flush();
+    if (!out) throw InputError(path + ": write failed (disk full?)");
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot rename temporary file into place: " + ec.message());
+  }
+}
+
+}  // namespace rangefuse::io

@@ -1,0 +1,92 @@
+#include "rangefuse/io/RangeGridPly.h"
+
+#include <charconv>
+#include <cmath>
+
+#include "PlyFile.h"
+#include "rangefuse/core/Error.h"
+
+namespace rangefuse::io {
+namespace {
+
+using internal::PlyElementData;
+using internal::PlyFile;
+
+double infoNumber(const PlyFile& f, const std::string& key, bool required) {
+  auto it = f.objInfo.find(key);
+  if (it == f.objInfo.end()) {
+    if (required) throw InputError(f.path + ": header lacks 'obj_info " + key + "'");
+    return std::nan("");
+  }
+  double v = 0;
+  const std::string& s = it->second;
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v))
+    throw InputError(f.path + ": 'obj_info " + key + " " + s + "' is not a number");
+  return v;
+}
+
+void readPoints(const PlyFile& f, RangeGrid& g) {
+  const PlyElementData* v = f.find("vertex");
+  if (!v) throw InputError(f.path + ": no 'vertex' element");
+  int cx = v->scalarColumn("x"), cy = v->scalarColumn("y"), cz = v->scalarColumn("z");
+  if (cx < 0 || cy < 0 || cz < 0) throw InputError(f.path + ": vertex lacks x, y or z");
+  g.points.resize(v->element.count);
+  for (uint64_t i = 0; i < v->element.count; ++i) {
+    Eigen::Vector3d p(v->scalar(i, cx), v->scalar(i, cy), v->scalar(i, cz));
+    if (!p.allFinite())
+      throw InputError(f.path + ": vertex #" + std::to_string(i) + " has a NaN or Inf coordinate");
+    g.points[i] = p;
+  }
+}
+
+void readCells(const PlyFile& f, RangeGrid& g) {
+  const PlyElementData* r = f.find("range_grid");
+  if (!r) throw InputError(f.path + ": no 'range_grid' element");
+  int li = r->listIndex("vertex_indices");
+  if (li < 0) throw InputError(f.path + ": range_grid lacks list 'vertex_indices'");
+  const uint64_t cells = static_cast<uint64_t>(g.cols) * g.rows;
+  if (r->element.count != cells)
+    throw InputError(f.path + ": range_grid has " + std::to_string(r->element.count) +
+                     " cells but num_cols x num_rows = " + std::to_string(cells));
+  const auto& off = r->listOffsets[li];
+  const auto& val = r->listValues[li];
+  g.cell.assign(cells, -1);
+  for (uint64_t i = 0; i < cells; ++i) {
+    uint32_t n = off[i + 1] - off[i];
+    if (n > 1)
+      throw InputError(f.path + ": range_grid cell #" + std::to_string(i) + " has " +
+                       std::to_string(n) + " indices (0 or 1 allowed)");
+    if (n == 0) continue;
+    int64_t idx = val[off[i]];
+    if (idx < 0 || idx >= static_cast<int64_t>(g.points.size()))
+      throw InputError(f.path + ": range_grid cell #" + std::to_string(i) + ": vertex index " +
+                       std::to_string(idx) + " out of range (" + std::to_string(g.points.size()) +
+                       " vertices)");
+    g.cell[i] = static_cast<int32_t>(idx);
+  }
+}
+
+}  // namespace
+
+RangeGrid readRangeGridPly(const std::string& path) {
+  PlyFile f = internal::readPly(path);
+  RangeGrid g;
+  double cols = infoNumber(f, "num_cols", true), rows = infoNumber(f, "num_rows", true);
+  if (cols < 1 || rows < 1 || cols != std::floor(cols) || rows != std::floor(rows) ||
+      cols * rows > 1e9)
+    throw InputError(path + ": bad grid size num_cols=" + std::to_string(cols) +
+                     " num_rows=" + std::to_string(rows));
+  g.cols = static_cast<int>(cols);
+  g.rows = static_cast<int>(rows);
+  readPoints(f, g);
+  readCells(f, g);
+  double fx = infoNumber(f, "pinhole_fx", false);
+  if (!std::isnan(fx)) {
+    g.pinhole = Pinhole{fx, infoNumber(f, "pinhole_fy", true), infoNumber(f, "pinhole_cx", true),
+                        infoNumber(f, "pinhole_cy", true)};
+  }
+  return g;
+}
+
+}  // namespace rangefuse::io

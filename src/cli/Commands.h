@@ -1,0 +1,18 @@
+// Subcommands of the rangefuse executable.
+#pragma once
+
+#include <mpi.h>
+
+namespace rangefuse::cli {
+
+/// `rangefuse fuse ...`: argv starts after the subcommand name.
+int fuseCommand(int argc, char** argv, MPI_Comm comm);
+
+}  // namespace rangefuse::cli
+
+namespace rangefuse::cli {
+
+/// `rangefuse eval --mesh M.ply --reference R.ply --voxel V`: accuracy and completeness.
+int evalCommand(int argc, char** argv, MPI_Comm comm);
+
+}  // namespace rangefuse::cli

@@ -1,0 +1,43 @@
+// rangefuse: fuse range images into one mesh on MPI ranks.
+#include <mpi.h>
+
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "Commands.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: rangefuse COMMAND [options]\n"
+    "commands:\n"
+    "  fuse    fuse range scans (.conf + range-grid PLY) into one mesh\n"
+    "  eval    compare a mesh with a reference mesh\n"
+    "run 'rangefuse COMMAND --help' for the options of a command;\n"
+    "run under mpirun to spread the volume over ranks.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, code = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const std::string command = argc > 1 ? argv[1] : "";
+  if (command == "fuse") {
+    code = rangefuse::cli::fuseCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
+  } else if (command == "eval") {
+    code = rangefuse::cli::evalCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
+  } else if (command == "--help" || command == "-h") {
+    if (rank == 0) std::cout << kUsage;
+  } else {
+    if (rank == 0)
+      std::cerr << "rangefuse: error: "
+                << (command.empty() ? "no command given" : "unknown command '" + command + "'")
+                << "\n"
+                << kUsage;
+    code = 2;
+  }
+  MPI_Finalize();
+  return code;
+}

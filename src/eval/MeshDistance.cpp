@@ -1,0 +1,109 @@
+#include "rangefuse/eval/MeshDistance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nanoflann.hpp>
+#include <random>
+
+namespace rangefuse {
+
+struct MeshDistance::Index {
+  struct Cloud {
+    std::vector<Eigen::Vector3d> pts;
+    size_t kdtree_get_point_count() const { return pts.size(); }
+    double kdtree_get_pt(size_t i, size_t d) const { return pts[i][d]; }
+    template <class B>
+    bool kdtree_get_bbox(B&) const {
+      return false;
+    }
+  };
+  using Tree =
+      nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
+  const TriangleMesh& mesh;
+  Cloud centroids;
+  double radius = 0;  // largest centroid-to-vertex distance
+  std::unique_ptr<Tree> tree;
+
+  explicit Index(const TriangleMesh& m) : mesh(m) {
+    for (const Triangle& t : m.faces) {
+      Eigen::Vector3d c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
+      for (int k = 0; k < 3; ++k) radius = std::max(radius, (m.vertices[t[k]] - c).norm());
+      centroids.pts.push_back(c);
+    }
+    tree = std::make_unique<Tree>(3, centroids, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    tree->buildIndex();
+  }
+
+  double triangleDistance(size_t i, const Eigen::Vector3d& p) const {
+    const Triangle& t = mesh.faces[i];
+    return (p - closestPointOnTriangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                       mesh.vertices[t[2]]))
+        .norm();
+  }
+};
+
+MeshDistance::MeshDistance(const TriangleMesh& mesh) : index_(std::make_unique<Index>(mesh)) {}
+MeshDistance::~MeshDistance() = default;
+
+double MeshDistance::distance(const Eigen::Vector3d& p) const {
+  if (index_->centroids.pts.empty()) return INFINITY;
+  uint32_t nearest;
+  double nearestSq;
+  index_->tree->knnSearch(p.data(), 1, &nearest, &nearestSq);
+  double best = index_->triangleDistance(nearest, p);
+  // Any triangle closer than `best` has its centroid within best + radius of p.
+  const double r = best + index_->radius;
+  std::vector<std::pair<uint32_t, double>> hits;
+  index_->tree->radiusSearch(p.data(), r * r, hits, nanoflann::SearchParams());
+  for (const auto& h : hits) best = std::min(best, index_->triangleDistance(h.first, p));
+  return best;
+}
+
+std::vector<Eigen::Vector3d> sampleSurface(const TriangleMesh& mesh, size_t count, uint64_t seed) {
+  std::vector<double> cumulative;
+  double total = 0;
+  for (const Triangle& t : mesh.faces) {
+    const auto &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    total += 0.5 * (b - a).cross(c - a).norm();
+    cumulative.push_back(total);
+  }
+  std::vector<Eigen::Vector3d> out;
+  if (total <= 0) return out;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uni(0, 1);
+  for (size_t i = 0; i < count; ++i) {
+    size_t f = std::lower_bound(cumulative.begin(), cumulative.end(), uni(rng) * total) -
+               cumulative.begin();
+    f = std::min(f, mesh.faces.size() - 1);
+    double r1 = std::sqrt(uni(rng)), r2 = uni(rng);
+    const Triangle& t = mesh.faces[f];
+    out.push_back((1 - r1) * mesh.vertices[t[0]] + r1 * (1 - r2) * mesh.vertices[t[1]] +
+                  r1 * r2 * mesh.vertices[t[2]]);
+  }
+  return out;
+}
+
+DistanceStats summarize(std::vector<double> d) {
+  DistanceStats s;
+  if (d.empty()) return s;
+  std::sort(d.begin(), d.end());
+  double sum = 0;
+  for (double x : d) sum += x;
+  auto q = [&](double f) { return d[std::min(d.size() - 1, static_cast<size_t>(f * d.size()))]; };
+  s.mean = sum / d.size();
+  s.median = q(0.5);
+  s.p90 = q(0.9);
+  s.p99 = q(0.99);
+  s.max = d.back();
+  return s;
+}
+
+std::vector<double> sampledDistances(const TriangleMesh& from, const TriangleMesh& to, size_t count,
+                                     uint64_t seed) {
+  MeshDistance dist(to);
+  std::vector<double> out;
+  for (const auto& p : sampleSurface(from, count, seed)) out.push_back(dist.distance(p));
+  return out;
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,26 @@
+#include "rangefuse/fuse/Progress.h"
+
+#include <cstdio>
+
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+
+Progress::Progress(MPI_Comm comm)
+    : root_(mpi::rank(comm) == 0), start_(MPI_Wtime()), stageStart_(start_) {}
+
+void Progress::stage(const std::string& name, const std::string& message) {
+  const double now = MPI_Wtime();
+  if (root_) {
+    std::printf("[%7.2fs] %-10s %s (%.2fs)\n", now - start_, name.c_str(), message.c_str(),
+                now - stageStart_);
+    std::fflush(stdout);
+  }
+  stageStart_ = now;
+}
+
+double Progress::stageSeconds() const {
+  return MPI_Wtime() - stageStart_;
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,137 @@
+#include "rangefuse/mesh/DistributedMesh.h"
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "rangefuse/mesh/MarchingCubes.h"
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+using BrickValues = std::map<uint64_t, std::vector<float>>;
+
+/// Offsets of the bricks whose first layer a brick's cubes read.
+const BrickCoord kUpper[7] = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1},
+                              {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+
+/// Ranks other than this one that own a brick reading local brick b as its upper neighbour.
+std::set<int> haloReaders(const BrickLayout& layout, uint64_t code, int me) {
+  std::set<int> readers;
+  const BrickCoord c = mortonDecode(code);
+  for (const BrickCoord& o : kUpper) {
+    const BrickCoord y = c - o;
+    if ((y.array() < 0).any()) continue;
+    const int64_t i = layout.find(mortonEncode(y));
+    if (i >= 0 && layout.ownerOf(i) != me) readers.insert(layout.ownerOf(i));
+  }
+  return readers;
+}
+
+BrickValues exchangeHalo(const BrickStore& store, const BrickValues& local, MPI_Comm comm) {
+  const int n = mpi::size(comm), me = mpi::rank(comm);
+  std::vector<std::vector<char>> out(n);
+  for (const auto& [code, values] : local)
+    for (int r : haloReaders(store.layout(), code, me)) {
+      mpi::pack(out[r], &code, 1);
+      mpi::pack(out[r], values.data(), values.size());
+    }
+  BrickValues halo;
+  const size_t per = store.voxelsPerBrick();
+  for (const auto& buf : mpi::exchangeBytes(out, comm))
+    for (size_t pos = 0; pos < buf.size();) {
+      uint64_t code;
+      mpi::unpack(buf, pos, &code, 1);
+      std::vector<float>& v = halo[code];
+      v.resize(per);
+      mpi::unpack(buf, pos, v.data(), per);
+    }
+  return halo;
+}
+
+/// The (B+1)^3 values a brick's cubes need: its own and the first layer of its upper
+/// neighbours; NaN where no brick exists.
+FieldBlock blockFor(uint64_t code, int B, const BrickValues& local, const BrickValues& halo) {
+  FieldBlock block;
+  const BrickCoord c = mortonDecode(code);
+  block.base = c * B;
+  block.cells = B;
+  block.values.assign(static_cast<size_t>(B + 1) * (B + 1) * (B + 1), NAN);
+  const std::vector<float>* src[8] = {};
+  for (int o = 0; o < 8; ++o) {
+    const uint64_t nc = mortonEncode(c + BrickCoord(o & 1, (o >> 1) & 1, o >> 2));
+    auto it = local.find(nc);
+    if (it != local.end())
+      src[o] = &it->second;
+    else if ((it = halo.find(nc)) != halo.end())
+      src[o] = &it->second;
+  }
+  size_t i = 0;
+  for (int z = 0; z <= B; ++z)
+    for (int y = 0; y <= B; ++y)
+      for (int x = 0; x <= B; ++x, ++i) {
+        const int o = (x / B) | (y / B) << 1 | (z / B) << 2;
+        if (src[o])
+          block.values[i] = (*src[o])[(static_cast<size_t>(z % B) * B + y % B) * B + x % B];
+      }
+  return block;
+}
+
+std::vector<char> packPiece(const MeshPiece& p) {
+  std::vector<char> buf;
+  const uint64_t nv = p.keys.size(), nf = p.faces.size();
+  mpi::pack(buf, &nv, 1);
+  mpi::pack(buf, p.keys.data(), nv);
+  mpi::pack(buf, p.positions.data(), nv);
+  mpi::pack(buf, &nf, 1);
+  mpi::pack(buf, p.faces.data(), nf);
+  return buf;
+}
+
+std::vector<MeshPiece> unpackPieces(const std::vector<char>& buf) {
+  std::vector<MeshPiece> pieces;
+  for (size_t pos = 0; pos < buf.size();) {
+    MeshPiece& p = pieces.emplace_back();
+    uint64_t nv, nf;
+    mpi::unpack(buf, pos, &nv, 1);
+    p.keys.resize(nv);
+    p.positions.resize(nv);
+    mpi::unpack(buf, pos, p.keys.data(), nv);
+    mpi::unpack(buf, pos, p.positions.data(), nv);
+    mpi::unpack(buf, pos, &nf, 1);
+    p.faces.resize(nf);
+    mpi::unpack(buf, pos, p.faces.data(), nf);
+  }
+  return pieces;
+}
+
+}  // namespace
+
+std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWeight) {
+  const size_t per = store.voxelsPerBrick();
+  std::vector<float> d(per);
+  const VoxelSums* s = store.sums().data() + b * per;
+  for (size_t i = 0; i < per; ++i) d[i] = s[i].w > minWeight ? s[i].wd / s[i].w : NAN;
+  return d;
+}
+
+TriangleMesh extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
+                                    MeshStats* stats) {
+  BrickValues local;
+  for (size_t b = 0; b < store.brickCount(); ++b)
+    local[store.code(b)] = brickDistances(store, b, minWeight);
+  const BrickValues halo = exchangeHalo(store, local, comm);
+  MeshPiece piece;
+  for (size_t b = 0; b < store.brickCount(); ++b)
+    extractBlock(blockFor(store.code(b), store.grid().brick, local, halo), store.grid(), piece);
+  if (stats) {
+    stats->haloBricksReceived = halo.size();
+    stats->localTriangles = piece.faces.size();
+  }
+  const std::vector<char> all = mpi::gatherBytes(packPiece(piece), 0, comm);
+  if (mpi::rank(comm) != 0) return {};
+  return mergePieces(unpackPieces(all));
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,86 @@
+#include <algorithm>
+#include <cmath>
+
+#include "rangefuse/prism/Prism.h"
+
+namespace rangefuse::internal {
+namespace {
+
+double evalCubic(const double c[4], double x) {
+  return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
+}
+double evalSlope(const double c[4], double x) {
+  return (3 * c[3] * x + 2 * c[2]) * x + c[1];
+}
+
+/// Root of a function monotonic on [a, b] with a sign change: Newton kept inside the
+/// bracket, bisection when it would leave it.
+double bracketedRoot(const double c[4], double a, double b, double fa) {
+  double x = 0.5 * (a + b);
+  for (int it = 0; it < 60; ++it) {
+    double fx = evalCubic(c, x);
+    if (fx == 0) return x;
+    if ((fx < 0) == (fa < 0))
+      a = x, fa = fx;
+    else
+      b = x;
+    double slope = evalSlope(c, x);
+    double nx = slope != 0 ? x - fx / slope : 0.5 * (a + b);
+    if (!(nx > a && nx < b)) nx = 0.5 * (a + b);
+    if (std::abs(nx - x) <= 1e-15 * (1 + std::abs(x))) return nx;
+    x = nx;
+  }
+  return x;
+}
+
+/// Critical points of the cubic strictly inside (lo, hi), ascending.
+int criticalPoints(const double c[4], double lo, double hi, double out[2]) {
+  double a = 3 * c[3], b = 2 * c[2], k = c[1];
+  double xs[2];
+  int n = 0;
+  if (a == 0) {
+    if (b != 0) xs[n++] = -k / b;
+  } else {
+    double disc = b * b - 4 * a * k;
+    if (disc >= 0) {
+      double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+      if (q != 0) {
+        xs[n++] = q / a;
+        xs[n++] = k / q;
+      } else {
+        xs[n++] = 0;
+      }
+    }
+  }
+  std::sort(xs, xs + n);
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (xs[i] > lo && xs[i] < hi) out[m++] = xs[i];
+  return m;
+}
+
+}  // namespace
+
+int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {
+  double knots[4] = {lo};
+  int nk = 1 + criticalPoints(c, lo, hi, knots + 1);
+  knots[nk++] = hi;
+  int nr = 0;
+  for (int i = 0; i + 1 < nk; ++i) {
+    double a = knots[i], b = knots[i + 1];
+    double fa = evalCubic(c, a), fb = evalCubic(c, b);
+    double r;
+    if (fa == 0)
+      r = a;
+    else if (fb == 0)
+      r = b;
+    else if ((fa < 0) != (fb < 0))
+      r = bracketedRoot(c, a, b, fa);
+    else
+      continue;
+    if (nr == 0 || r != roots[nr - 1]) roots[nr++] = r;
+  }
+  return nr;
+}
+
+}  // namespace rangefuse::internal

@@ -1,0 +1,111 @@
+#include "rangefuse/prism/Prism.h"
+
+#include <cmath>
+
+namespace rangefuse {
+namespace {
+
+double det3(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return a.dot(b.cross(c));
+}
+
+/// Roots of a0 + a1 u + a2 u^2 in [0, 1]; none when the polynomial vanishes identically.
+int quadraticRootsUnit(double a0, double a1, double a2, double scale, double out[2]) {
+  const double tiny = 1e-14 * scale;
+  int n = 0;
+  double xs[2];
+  if (std::abs(a2) <= tiny) {
+    if (std::abs(a1) > tiny) xs[n++] = -a0 / a1;
+  } else {
+    double disc = a1 * a1 - 4 * a2 * a0;
+    if (disc < 0) return 0;
+    double q = -0.5 * (a1 + std::copysign(std::sqrt(disc), a1));
+    xs[n++] = q / a2;
+    if (q != 0) xs[n++] = a0 / q;
+  }
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (xs[i] >= -1e-12 && xs[i] <= 1 + 1e-12) out[m++] = std::clamp(xs[i], 0.0, 1.0);
+  return m;
+}
+
+/// Eq. 9: where the line p_i + v n_i meets the edge surface spanned by (pa,na)-(pb,nb);
+/// tightens [lo, hi] with every d and v of a meeting inside the envelope (Eq. 10).
+void truncateAtEdgeSurface(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
+                           const Eigen::Vector3d& pa, const Eigen::Vector3d& na,
+                           const Eigen::Vector3d& pb, const Eigen::Vector3d& nb, double eps,
+                           double& lo, double& hi) {
+  const Eigen::Vector3d A = pa - pi, B = pb - pa, C = na, D = nb - na;
+  // X(u) = A + uB must lie in span(Y(u) = C + uD, n_i): det[X, Y, n_i] = 0.
+  double a0 = det3(A, C, ni), a1 = det3(B, C, ni) + det3(A, D, ni), a2 = det3(B, D, ni);
+  double scale = (A.norm() + B.norm()) * (C.norm() + D.norm());
+  double us[2];
+  int nu = quadraticRootsUnit(a0, a1, a2, scale, us);
+  for (int k = 0; k < nu; ++k) {
+    Eigen::Vector3d X = A + us[k] * B, Y = C + us[k] * D;
+    Eigen::Matrix<double, 3, 2> M;
+    M << Y, -ni;
+    Eigen::Vector2d dv = M.colPivHouseholderQr().solve(-X);  // X + d Y - v n_i = 0
+    if (!dv.allFinite() || dv[0] < -eps || dv[0] > eps) continue;
+    for (double s : {dv[0], dv[1]}) {
+      if (s > 0) hi = std::min(hi, s);
+      if (s < 0) lo = std::max(lo, s);
+    }
+  }
+}
+
+}  // namespace
+
+Prism makePrism(const std::array<Eigen::Vector3d, 3>& p, const std::array<Eigen::Vector3d, 3>& n,
+                const std::array<double, 3>& w, double eps) {
+  Prism prism{p, n, w, -eps, eps};
+  for (int i = 0; i < 3; ++i) {
+    int a = (i + 1) % 3, b = (i + 2) % 3;
+    truncateAtEdgeSurface(p[i], n[i], p[a], n[a], p[b], n[b], eps, prism.dMin, prism.dMax);
+  }
+  return prism;
+}
+
+Eigen::AlignedBox3d prismBounds(const Prism& prism) {
+  Eigen::AlignedBox3d box;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(prism.p[i] + prism.dMin * prism.n[i]);
+    box.extend(prism.p[i] + prism.dMax * prism.n[i]);
+  }
+  return box;
+}
+
+bool solvePrismDistance(const Prism& prism, const Eigen::Vector3d& x, PrismHit& hit) {
+  const Eigen::Vector3d a1 = prism.p[0] - x, a2 = prism.p[1] - x, a3 = prism.p[2] - x;
+  const Eigen::Vector3d &n1 = prism.n[0], &n2 = prism.n[1], &n3 = prism.n[2];
+  // det[a1 + d n1, a2 + d n2, a3 + d n3] expanded in powers of d.
+  const double c[4] = {det3(a1, a2, a3), det3(n1, a2, a3) + det3(a1, n2, a3) + det3(a1, a2, n3),
+                       det3(a1, n2, n3) + det3(n1, a2, n3) + det3(n1, n2, a3), det3(n1, n2, n3)};
+  double roots[3];
+  int nr = internal::cubicRootsInRange(c, prism.dMin, prism.dMax, roots);
+  bool found = false;
+  for (int k = 0; k < nr; ++k) {
+    double d = roots[k];
+    if (found && std::abs(d) >= std::abs(hit.d)) continue;
+    Eigen::Vector3d q1 = a1 + d * n1, q2 = a2 + d * n2, q3 = a3 + d * n3;  // T(d) - x
+    Eigen::Vector3d m = (q2 - q1).cross(q3 - q1);
+    double area2 = m.squaredNorm();
+    if (area2 == 0) continue;
+    Eigen::Vector3d b(q2.cross(q3).dot(m), q3.cross(q1).dot(m), 0);
+    b /= area2;
+    b[2] = 1 - b[0] - b[1];
+    const double tol = -1e-9;
+    if (b[0] < tol || b[1] < tol || b[2] < tol) continue;
+    hit.d = d;
+    hit.bary = b;
+    found = true;
+  }
+  if (!found) return false;
+  const Eigen::Vector3d& b = hit.bary;
+  hit.closest = b[0] * prism.p[0] + b[1] * prism.p[1] + b[2] * prism.p[2];
+  hit.gradient = (b[0] * n1 + b[1] * n2 + b[2] * n3).normalized();
+  hit.weight = b[0] * prism.w[0] + b[1] * prism.w[1] + b[2] * prism.w[2];
+  return true;
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,131 @@
+#include "rangefuse/prism/PrismField.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+#include "rangefuse/core/Error.h"
+
+namespace rangefuse {
+namespace {
+
+constexpr float kEmpty = INFINITY;
+constexpr int kMaxVoxelsPerAxis = 1 << 20;  // vertex keys pack 20 bits per axis
+
+void brickRange(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
+                BrickCoord& hi, bool& empty) {
+  VoxelIndex vlo, vhi;
+  grid.voxelRange(box, vlo, vhi);
+  empty = (vlo.array() > vhi.array()).any();
+  lo = brickOf(vlo, grid.brick);
+  hi = brickOf(vhi, grid.brick);
+}
+
+}  // namespace
+
+Prism scanPrism(const ScanSurface& s, size_t t, double eps) {
+  const Triangle& tri = s.triangles[t];
+  return makePrism({s.points[tri[0]], s.points[tri[1]], s.points[tri[2]]},
+                   {s.normals[tri[0]], s.normals[tri[1]], s.normals[tri[2]]},
+                   {s.confidence[tri[0]], s.confidence[tri[1]], s.confidence[tri[2]]}, eps);
+}
+
+VoxelGrid fitGrid(const std::vector<ScanSurface>& scans, double voxel, int brick, double eps) {
+  Eigen::AlignedBox3d box;
+  for (const auto& s : scans)
+    for (const auto& p : s.points) box.extend(p);
+  if (box.isEmpty()) throw InputError("no triangles in any scan: nothing to fuse");
+  VoxelGrid g;
+  g.voxel = voxel;
+  g.brick = brick;
+  const double step = voxel * brick;
+  for (int a = 0; a < 3; ++a) g.origin[a] = (std::floor((box.min()[a] - eps) / step) - 1) * step;
+  const double extent = ((box.max() - g.origin).array() + eps).maxCoeff() / voxel + 2 * brick;
+  if (extent >= kMaxVoxelsPerAxis)
+    throw InputError("--voxel " + std::to_string(voxel) + " needs " +
+                     std::to_string(static_cast<long long>(extent)) +
+                     " voxels along one axis (limit " + std::to_string(kMaxVoxelsPerAxis) +
+                     "): use a larger voxel");
+  return g;
+}
+
+BrickLayout planBricks(const std::vector<ScanSurface>& scans, const VoxelGrid& grid, double eps,
+                       int ranks) {
+  std::unordered_map<uint64_t, uint64_t> work;
+  for (const auto& s : scans)
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+      BrickCoord lo, hi, b;
+      bool empty;
+      brickRange(grid, prismBounds(scanPrism(s, t, eps)), lo, hi, empty);
+      if (empty) continue;
+      for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
+        for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
+          for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) ++work[mortonEncode(b)];
+    }
+  BrickLayout layout;
+  layout.grid = grid;
+  for (const auto& kv : work) layout.codes.push_back(kv.first);
+  std::sort(layout.codes.begin(), layout.codes.end());
+  for (uint64_t c : layout.codes) layout.work.push_back(work[c]);
+  layout.rankStart = partitionWork(layout.work, ranks);
+  return layout;
+}
+
+PrismIntegrator::PrismIntegrator(BrickStore& store, double eps)
+    : store_(store), eps_(eps), scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}) {}
+
+bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
+  BrickCoord lo, hi, b;
+  bool empty;
+  brickRange(store_.grid(), box, lo, hi, empty);
+  if (empty) return false;
+  for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
+    for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
+      for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x())
+        if (store_.localBrick(mortonEncode(b)) >= 0) return true;
+  return false;
+}
+
+IntegrationStats PrismIntegrator::addScan(const ScanSurface& scan) {
+  IntegrationStats stats;
+  const VoxelGrid& grid = store_.grid();
+  BrickCoord lastBrick(-1, -1, -1);
+  int64_t lastLocal = -1;
+  auto visit = [&](const VoxelIndex& v, const PrismHit& hit) {
+    BrickCoord b = brickOf(v, grid.brick);
+    if (b != lastBrick) {
+      lastBrick = b;
+      lastLocal = store_.localBrick(mortonEncode(b));
+    }
+    if (lastLocal < 0) return;
+    Sample& s = scratch_[store_.offset(lastLocal, v)];
+    // Ties keep the earlier triangle, so the result does not depend on the rank count.
+    if (!(std::abs(hit.d) < std::abs(s.d))) return;
+    if (s.d == kEmpty) touched_.push_back(store_.offset(lastLocal, v));
+    s = Sample{static_cast<float>(hit.d),
+               static_cast<float>(hit.weight),
+               {static_cast<float>(hit.gradient.x()), static_cast<float>(hit.gradient.y()),
+                static_cast<float>(hit.gradient.z())}};
+  };
+  for (size_t t = 0; t < scan.triangles.size(); ++t) {
+    Prism prism = scanPrism(scan, t, eps_);
+    if (!touchesOwnedBrick(prismBounds(prism))) continue;
+    ++stats.prisms;
+    rasterizePrism(prism, grid, visit);
+  }
+  auto& sums = store_.sums();
+  for (size_t off : touched_) {
+    Sample& s = scratch_[off];
+    VoxelSums& acc = sums[off];
+    acc.wd += s.w * s.d;
+    acc.w += s.w;
+    for (int k = 0; k < 3; ++k) acc.wf[k] += s.w * s.f[k];
+    s.d = kEmpty;
+  }
+  stats.voxelUpdates = touched_.size();
+  touched_.clear();
+  return stats;
+}
+
+}  // namespace rangefuse

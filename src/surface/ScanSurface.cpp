@@ -1,0 +1,25 @@
+#include "rangefuse/surface/ScanSurface.h"
+
+#include <algorithm>
+
+namespace rangefuse {
+
+ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
+                             const SurfaceOptions& options) {
+  TriangleMesh mesh = triangulateGrid(grid, options);
+  std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
+  ScanSurface s;
+  s.triangles = std::move(mesh.faces);
+  s.points.reserve(mesh.vertices.size());
+  s.normals.reserve(mesh.vertices.size());
+  s.confidence.reserve(mesh.vertices.size());
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3d& p = mesh.vertices[i];
+    s.confidence.push_back(std::max(0.0, normals[i].dot(grid.towardSensor(p))));
+    s.points.push_back(pose.apply(p));
+    s.normals.push_back(pose.rotate(normals[i]));
+  }
+  return s;
+}
+
+}  // namespace rangefuse
