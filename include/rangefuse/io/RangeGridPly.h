@@ -12,4 +12,10 @@ namespace rangefuse::io {
 /// the line or element on any malformed content.
 RangeGrid readRangeGridPly(const std::string& path);
 
+enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
+
+/// Writes a range grid in the Stanford layout (float x y z; one range_grid list of 0 or 1
+/// index per cell, row-major), pinhole intrinsics as obj_info lines. Atomic.
+void writeRangeGridPly(const std::string& path, const RangeGrid& grid, PlyEncoding encoding);
+
 }  // namespace rangefuse::io

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Every bad input: non-zero exit on all ranks within the time limit, one message naming the
+# file, and no output under the final name.
+set -uo pipefail
+bin=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+
+header() {  # $1 = format, $2 = vertex count
+  printf 'ply\nformat %s 1.0\nobj_info num_cols 2\nobj_info num_rows 2\nelement vertex %s\n' "$1" "$2"
+  printf 'property float x\nproperty float y\nproperty float z\n'
+  printf 'element range_grid 4\nproperty list uchar int vertex_indices\nend_header\n'
+}
+body='0 0 1\n1 0 1\n0 1 1\n1 0\n1 1\n0\n1 2\n'
+
+make_case() {  # $1 = name, $2 = scan file content (printf format)
+  mkdir -p "$tmp/$1"
+  printf "$2" >"$tmp/$1/scan.ply"
+  printf 'bmesh scan.ply 0 0 0 0 0 0 1\n' >"$tmp/$1/scans.conf"
+}
+
+# expect NAME EXPECTED-TEXT-IN-MESSAGE [fuse options...]
+expect() {
+  local name=$1 text=$2
+  shift 2
+  local out="$tmp/$name.out.ply"
+  timeout 60 mpirun -np 2 "$bin" fuse --out "$out" "$@" >"$tmp/$name.stdout" 2>"$tmp/$name.stderr"
+  local rc=$?
+  local errors
+  errors=$(grep -c 'rangefuse: error' "$tmp/$name.stderr")
+  if [[ $rc -eq 0 || $rc -eq 124 ]]; then
+    echo "FAIL $name: exit code $rc"; failures=$((failures + 1))
+  elif [[ $errors -ne 1 ]] || ! grep 'rangefuse: error' "$tmp/$name.stderr" | grep -q -- "$text"; then
+    echo "FAIL $name: expected one error mentioning '$text', got:"; cat "$tmp/$name.stderr"
+    failures=$((failures + 1))
+  elif [[ -e $out || -e $out.tmp ]]; then
+    echo "FAIL $name: output file left behind"; failures=$((failures + 1))
+  else
+    echo "ok   $name: $(grep 'rangefuse: error' "$tmp/$name.stderr")"
+  fi
+}
+
+make_case truncated "$(header ascii 3)\n0 0 1\n1 0 1\n0 1 1\n1 0\n"
+expect truncated "truncated" --scans "$tmp/truncated/scans.conf" --voxel 0.1
+make_case extra "$(header ascii 3)\n${body}1 1\n"
+expect extra "do not match" --scans "$tmp/extra/scans.conf" --voxel 0.1
+make_case format "$(header binary_middle_endian 3)\n$body"
+expect format "unknown format" --scans "$tmp/format/scans.conf" --voxel 0.1
+make_case nan "$(header ascii 3)\n0 0 1\nnan 0 1\n0 1 1\n1 0\n1 1\n0\n1 2\n"
+expect nan "NaN" --scans "$tmp/nan/scans.conf" --voxel 0.1
+make_case range "$(header ascii 3)\n0 0 1\n1 0 1\n0 1 1\n1 0\n1 1\n0\n1 9\n"
+expect range "out of range" --scans "$tmp/range/scans.conf" --voxel 0.1
+make_case count "$(header ascii 4)\n$body"
+expect count "scan.ply" --scans "$tmp/count/scans.conf" --voxel 0.1
+mkdir -p "$tmp/missing" && printf 'bmesh gone.ply 0 0 0 0 0 0 1\n' >"$tmp/missing/scans.conf"
+expect missing "gone.ply: cannot open" --scans "$tmp/missing/scans.conf" --voxel 0.1
+printf 'bmesh scan.ply 0 0 0 0 0 0\n' >"$tmp/truncated/short.conf"
+expect conf-line "short.conf: line 1" --scans "$tmp/truncated/short.conf" --voxel 0.1
+expect no-conf "nothing.conf: cannot open" --scans "$tmp/nothing.conf" --voxel 0.1
+expect voxel "--voxel" --scans "$tmp/extra/scans.conf" --voxel -1
+expect option "unrecognised option" --scans "$tmp/extra/scans.conf" --voxel 1 --frobnicate 3
+
+[[ $failures -eq 0 ]] && echo "all bad-input cases passed" || { echo "$failures case(s) failed"; exit 1; }

@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "rangefuse/eval/MeshDistance.h"
+
+using namespace rangefuse;
+
+namespace {
+
+/// Dense barycentric sampling: an upper bound on the true distance, close to it.
+double sampledTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  double best = INFINITY;
+  const int n = 300;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j) {
+      Eigen::Vector3d q = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+      best = std::min(best, (p - q).norm());
+    }
+  return best;
+}
+
+TriangleMesh randomMesh(std::mt19937& rng, int n) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  TriangleMesh m;
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d c(u(rng), u(rng), u(rng));
+    for (int k = 0; k < 3; ++k) m.vertices.push_back(c + 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    m.faces.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST(ClosestPoint, MatchesBruteForceInEveryRegion) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2, 2);
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0.3, 0.8, 0.1);
+  for (int i = 0; i < 300; ++i) {
+    Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    double exact = (p - closestPointOnTriangle(p, a, b, c)).norm();
+    double sampled = sampledTriangleDistance(p, a, b, c);
+    EXPECT_LE(exact, sampled + 1e-12);
+    EXPECT_NEAR(exact, sampled, 4e-3);
+  }
+  EXPECT_EQ(closestPointOnTriangle({-1, -1, 0}, a, b, c), a);  // vertex region
+  EXPECT_LT((closestPointOnTriangle({0.5, -1, 0}, a, b, c) - Eigen::Vector3d(0.5, 0, 0)).norm(), 1e-15);
+}
+
+TEST(MeshDistance, MatchesBruteForceOverAllTriangles) {
+  std::mt19937 rng(9);
+  TriangleMesh m = randomMesh(rng, 400);
+  MeshDistance dist(m);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 500; ++i) {
+    Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    double brute = INFINITY;
+    for (const auto& t : m.faces)
+      brute = std::min(brute, (p - closestPointOnTriangle(p, m.vertices[t[0]], m.vertices[t[1]],
+                                                          m.vertices[t[2]])).norm());
+    EXPECT_EQ(dist.distance(p), brute);
+  }
+}
+
+TEST(MeshDistance, MeshAgainstItselfIsZeroAndShiftedPlaneIsShift) {
+  TriangleMesh plane;
+  plane.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  plane.faces = {{0, 1, 2}, {0, 2, 3}};
+  DistanceStats self = summarize(sampledDistances(plane, plane, 2000, 1));
+  EXPECT_LT(self.max, 1e-15);
+  TriangleMesh big;
+  big.vertices = {{-5, -5, 0.25}, {5, -5, 0.25}, {5, 5, 0.25}, {-5, 5, 0.25}};
+  big.faces = plane.faces;
+  DistanceStats shifted = summarize(sampledDistances(plane, big, 2000, 1));
+  EXPECT_NEAR(shifted.mean, 0.25, 1e-12);
+  EXPECT_NEAR(shifted.max, 0.25, 1e-12);
+}

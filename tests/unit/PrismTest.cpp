@@ -1,0 +1,134 @@
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+#include "rangefuse/prism/Prism.h"
+
+using namespace rangefuse;
+
+namespace {
+
+const std::array<Eigen::Vector3d, 3> kTri = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                                             Eigen::Vector3d(0, 1, 0)};
+const std::array<double, 3> kW = {0.2, 0.6, 1.0};
+
+std::array<Eigen::Vector3d, 3> same(const Eigen::Vector3d& n) { return {n, n, n}; }
+
+}  // namespace
+
+TEST(CubicRoots, KnownRootsAndDegenerateLeadingTerms) {
+  double r[3];
+  const double c[4] = {-6, 11, -6, 1};  // (x-1)(x-2)(x-3)
+  ASSERT_EQ(internal::cubicRootsInRange(c, 0, 4, r), 3);
+  EXPECT_NEAR(r[0], 1, 1e-12);
+  EXPECT_NEAR(r[1], 2, 1e-12);
+  EXPECT_NEAR(r[2], 3, 1e-12);
+  ASSERT_EQ(internal::cubicRootsInRange(c, 1.5, 2.5, r), 1);
+  const double q[4] = {-2, 0, 2, 0};  // quadratic 2x^2 - 2
+  ASSERT_EQ(internal::cubicRootsInRange(q, -5, 5, r), 2);
+  EXPECT_NEAR(r[0], -1, 1e-12);
+  EXPECT_NEAR(r[1], 1, 1e-12);
+  const double l[4] = {1, 4, 0, 0};  // linear
+  ASSERT_EQ(internal::cubicRootsInRange(l, -1, 1, r), 1);
+  EXPECT_NEAR(r[0], -0.25, 1e-15);
+}
+
+TEST(Prism, PlaneDistanceIsHeight) {
+  Prism p = makePrism(kTri, same({0, 0, 1}), kW, 0.5);
+  EXPECT_EQ(p.dMin, -0.5);
+  EXPECT_EQ(p.dMax, 0.5);
+  PrismHit h;
+  for (double z : {0.25, -0.4, 0.0}) {
+    ASSERT_TRUE(solvePrismDistance(p, Eigen::Vector3d(0.2, 0.3, z), h));
+    EXPECT_NEAR(h.d, z, 1e-14);
+    EXPECT_LT((h.bary - Eigen::Vector3d(0.5, 0.2, 0.3)).norm(), 1e-14);
+    EXPECT_LT((h.closest - Eigen::Vector3d(0.2, 0.3, 0)).norm(), 1e-14);
+    EXPECT_LT((h.gradient - Eigen::Vector3d(0, 0, 1)).norm(), 1e-14);
+    EXPECT_NEAR(h.weight, 0.5 * 0.2 + 0.2 * 0.6 + 0.3 * 1.0, 1e-14);
+  }
+  EXPECT_FALSE(solvePrismDistance(p, Eigen::Vector3d(0.2, 0.3, 0.6), h));   // beyond envelope
+  EXPECT_FALSE(solvePrismDistance(p, Eigen::Vector3d(0.8, 0.8, 0.1), h));   // beside triangle
+}
+
+TEST(Prism, TiltedPlaneDistanceIsSignedDistanceToPlane) {
+  const Eigen::Vector3d n = Eigen::Vector3d(-0.3, -0.2, 1).normalized();  // z = 0.3x + 0.2y
+  auto onPlane = [](double x, double y) { return Eigen::Vector3d(x, y, 0.3 * x + 0.2 * y); };
+  Prism p = makePrism({onPlane(0, 0), onPlane(2, 0), onPlane(0, 2)}, same(n), kW, 1.0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 1), h(-0.9, 0.9);
+  for (int i = 0; i < 100; ++i) {
+    double a = u(rng), b = u(rng) * (1 - a), d = h(rng);
+    Eigen::Vector3d x = onPlane(2 * a, 2 * b) + d * n;
+    PrismHit hit;
+    ASSERT_TRUE(solvePrismDistance(p, x, hit));
+    EXPECT_NEAR(hit.d, d, 1e-12);
+    EXPECT_NEAR(hit.d, n.dot(x - onPlane(0, 0)), 1e-12);
+  }
+}
+
+TEST(Prism, DistanceAlongInterpolatedNormals) {
+  const std::array<Eigen::Vector3d, 3> n = {Eigen::Vector3d(0.3, 0, 1).normalized(),
+                                            Eigen::Vector3d(-0.2, 0.25, 1).normalized(),
+                                            Eigen::Vector3d(0.1, -0.3, 1).normalized()};
+  Prism p = makePrism(kTri, n, kW, 0.5);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1), h(-0.3, 0.3);
+  for (int i = 0; i < 200; ++i) {
+    double b1 = u(rng), b2 = u(rng) * (1 - b1), d = h(rng);
+    Eigen::Vector3d b(1 - b1 - b2, b1, b2);
+    // x lies at height d along the interpolated normal above barycentric point b (Eq. 4).
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) x += b[k] * (kTri[k] + d * n[k]);
+    PrismHit hit;
+    ASSERT_TRUE(solvePrismDistance(p, x, hit));
+    EXPECT_NEAR(hit.d, d, 1e-12);
+    EXPECT_LT((hit.bary - b).norm(), 1e-10);
+    Eigen::Vector3d nc = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+    EXPECT_LT((x - hit.closest - d * nc).norm(), 1e-12);
+  }
+}
+
+TEST(Prism, ConvergingNormalsAreTruncatedBeforeTheTwist) {
+  // Normals meet at the apex (1/3, 1/3, 0.2), 0.529 from p0: the prism must stop before.
+  const Eigen::Vector3d apex(1.0 / 3, 1.0 / 3, 0.2);
+  std::array<Eigen::Vector3d, 3> n;
+  for (int k = 0; k < 3; ++k) n[k] = (apex - kTri[k]).normalized();
+  Prism p = makePrism(kTri, n, kW, 1.0);
+  EXPECT_LE(p.dMax, (apex - kTri[0]).norm() + 1e-12);
+  EXPECT_GT(p.dMax, 0.0);
+  EXPECT_EQ(p.dMin, -1.0);  // diverging below: no twist inside the envelope
+  for (double d = p.dMin; d <= p.dMax; d += 0.01) {
+    Eigen::Vector3d q[3];
+    for (int k = 0; k < 3; ++k) q[k] = kTri[k] + d * n[k];
+    EXPECT_GT((q[1] - q[0]).cross(q[2] - q[0]).z(), 0) << "T(d) flipped at d=" << d;
+  }
+  PrismHit hit;
+  EXPECT_FALSE(solvePrismDistance(p, apex + Eigen::Vector3d(0, 0, 0.3), hit));
+}
+
+TEST(Prism, RowRasterizationFindsExactlyTheBruteForceVoxels) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> pos(-2, 2), tilt(-0.5, 0.5);
+  VoxelGrid grid;
+  grid.voxel = 0.37;
+  grid.origin = Eigen::Vector3d(0.01, -0.02, 0.03);
+  size_t total = 0;
+  for (int t = 0; t < 300; ++t) {
+    std::array<Eigen::Vector3d, 3> p, n;
+    for (auto& v : p) v = Eigen::Vector3d(pos(rng), pos(rng), pos(rng) * 0.3);
+    Eigen::Vector3d fn = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+    for (auto& v : n) v = (fn + Eigen::Vector3d(tilt(rng), tilt(rng), tilt(rng))).normalized();
+    Prism prism = makePrism(p, n, kW, 3 * grid.voxel);
+    std::map<std::array<int, 3>, double> fast, slow;
+    rasterizePrism(prism, grid, [&](const VoxelIndex& v, const PrismHit& h) {
+      fast[{v.x(), v.y(), v.z()}] = h.d;
+    });
+    rasterizePrismBruteForce(prism, grid, [&](const VoxelIndex& v, const PrismHit& h) {
+      slow[{v.x(), v.y(), v.z()}] = h.d;
+    });
+    ASSERT_EQ(fast, slow) << "triangle " << t;
+    total += slow.size();
+  }
+  EXPECT_GT(total, 3000u);  // the comparison covered real work
+}

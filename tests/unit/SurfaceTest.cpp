@@ -1,0 +1,75 @@
+#include <gtest/gtest.h>
+
+#include "rangefuse/surface/ScanSurface.h"
+
+using namespace rangefuse;
+
+namespace {
+
+/// A cols x rows grid on the plane z = slope * x, 0.5 apart, with the sensor on +z.
+RangeGrid planeGrid(int cols, int rows, double slope) {
+  RangeGrid g;
+  g.cols = cols;
+  g.rows = rows;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      g.cell.push_back(static_cast<int32_t>(g.points.size()));
+      g.points.emplace_back(0.5 * c, 0.5 * r, slope * 0.5 * c);
+    }
+  return g;
+}
+
+}  // namespace
+
+TEST(Surface, TwoTrianglesPerFullCellFacingTheSensor) {
+  RangeGrid g = planeGrid(10, 8, 0);
+  g.cell[3 * 10 + 4] = -1;  // a missing sample removes the 6 triangles around it
+  ScanSurface s = buildScanSurface(g, Pose{}, SurfaceOptions{});
+  EXPECT_EQ(s.triangles.size(), 2u * 9 * 7 - 6);
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    EXPECT_NEAR(s.normals[i].z(), 1.0, 1e-12);
+    EXPECT_NEAR(s.confidence[i], 1.0, 1e-12);
+  }
+}
+
+TEST(Surface, DropsLongEdgesAndGrazingTriangles) {
+  RangeGrid g = planeGrid(6, 6, 0);
+  g.points[2 * 6 + 2].z() = 10;  // a spike: its triangles have long edges
+  EXPECT_EQ(buildScanSurface(g, Pose{}, SurfaceOptions{}).triangles.size(), 2u * 25 - 6);
+  RangeGrid steep = planeGrid(6, 6, 12);  // cos = 1/sqrt(145) < 0.15
+  EXPECT_TRUE(buildScanSurface(steep, Pose{}, SurfaceOptions{}).triangles.empty());
+}
+
+TEST(Surface, ConfidenceIsCosineToViewAndPoseMovesPoints) {
+  RangeGrid g = planeGrid(5, 5, 1);  // 45 degrees to the +z view
+  Pose pose;
+  pose.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  pose.t = Eigen::Vector3d(1, 2, 3);
+  ScanSurface s = buildScanSurface(g, pose, SurfaceOptions{});
+  const Eigen::Vector3d expected = pose.R * Eigen::Vector3d(-1, 0, 1).normalized();
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    EXPECT_NEAR(s.confidence[i], std::sqrt(0.5), 1e-12);
+    EXPECT_LT((s.normals[i] - expected).norm(), 1e-12);
+  }
+  EXPECT_LT((s.points[0] - pose.apply(g.points[0])).norm(), 1e-12);
+}
+
+TEST(Surface, FilteringSmoothsANoisyNormal) {
+  RangeGrid g = planeGrid(7, 7, 0);
+  g.points[3 * 7 + 3].z() = 0.3;
+  const TriangleMesh m = triangulateGrid(g, SurfaceOptions{});
+  auto raw = filteredVertexNormals(m, 0), smooth = filteredVertexNormals(m, 3);
+  // The bump's neighbours tilt; filtering brings them back toward the plane normal.
+  size_t nb = 0;
+  for (size_t i = 0; i < m.vertices.size(); ++i)
+    if ((m.vertices[i] - Eigen::Vector3d(2, 1.5, 0)).norm() < 1e-9) nb = i;
+  EXPECT_GT(smooth[nb].z(), raw[nb].z());
+}
+
+TEST(Surface, PinholeViewRayRunsToTheOrigin) {
+  RangeGrid g = planeGrid(4, 4, 0);
+  for (auto& p : g.points) p.z() = -5;
+  g.pinhole = Pinhole{100, 100, 2, 2};
+  const Eigen::Vector3d p(3, 4, -5);
+  EXPECT_LT((g.towardSensor(p) - Eigen::Vector3d(-3, -4, 5).normalized()).norm(), 1e-15);
+}
