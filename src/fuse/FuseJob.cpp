@@ -1,13 +1,15 @@
 #include "rangefuse/fuse/FuseJob.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <sstream>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Progress.h"
+#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
-#include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/MarchingCubes.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -28,21 +30,17 @@ bool collectively(MPI_Comm comm, Fn&& fn) {
   return mpi::agree(error.empty(), error, comm);
 }
 
-std::vector<ScanSurface> readScans(const FuseOptions& o, bool root, size_t& triangles) {
-  io::ConfFile conf = io::readConf(o.scans);
-  if (root)
-    for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
-  std::vector<ScanSurface> scans;
-  triangles = 0;
-  for (const auto& s : conf.scans) {
-    RangeGrid grid = io::readRangeGridPly(s.path);
-    scans.push_back(buildScanSurface(grid, s.pose, o.surface));
-    if (scans.back().triangles.empty() && root)
+void warnEmptyScans(const io::ConfFile& conf, const std::vector<PrismScan>& scans) {
+  for (size_t i = 0; i < scans.size(); ++i)
+    if (scans[i].surface.triangles.empty())
       std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
-                   s.path.c_str());
-    triangles += scans.back().triangles.size();
-  }
-  return scans;
+                   conf.scans[i].path.c_str());
+}
+
+size_t countTriangles(const std::vector<PrismScan>& scans) {
+  size_t n = 0;
+  for (const auto& s : scans) n += s.surface.triangles.size();
+  return n;
 }
 
 std::string perRank(MPI_Comm comm, uint64_t value) {
@@ -51,6 +49,12 @@ std::string perRank(MPI_Comm comm, uint64_t value) {
   std::ostringstream s;
   for (size_t r = 0; r < all.size(); ++r) s << (r ? " / " : "") << all[r];
   return s.str();
+}
+
+uint64_t peakMemoryMiB() {
+  struct rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
 }
 
 void validate(const FuseOptions& o) {
@@ -68,16 +72,26 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
   Progress progress(comm);
   const bool root = progress.isRoot();
   if (!collectively(comm, [&] { validate(o); })) return 1;
-  std::vector<ScanSurface> scans;
-  size_t triangles = 0;
-  if (!collectively(comm, [&] { scans = readScans(o, root, triangles); })) return 1;
-  progress.stage(
-      "read", std::to_string(scans.size()) + " scans, " + std::to_string(triangles) + " triangles");
-
   const double eps = o.envelope * o.voxel;
+  io::ConfFile conf;
+  IndexedScans mine;
+  if (!collectively(comm, [&] {
+        conf = io::readConf(o.scans);
+        mine = loadScanShare(conf, o.surface, eps, mpi::rank(comm), mpi::size(comm));
+      }))
+    return 1;
+  const std::vector<PrismScan> scans = shareScans(mine, conf.scans.size(), comm);
+  mine.clear();
+  if (root) {
+    for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+    warnEmptyScans(conf, scans);
+  }
+  progress.stage("read", std::to_string(scans.size()) + " scans, " +
+                             std::to_string(countTriangles(scans)) + " triangles");
+
   BrickLayout layout;
   if (!collectively(comm, [&] {
-        layout = planBricks(scans, fitGrid(scans, o.voxel, o.brick, eps), eps, mpi::size(comm));
+        layout = planBricks(scans, fitGrid(scans, o.voxel, o.brick, eps), mpi::size(comm));
       }))
     return 1;
   BrickStore store(layout, mpi::rank(comm));
@@ -85,7 +99,7 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
                                std::to_string(o.brick) + "^3, per rank " +
                                perRank(comm, store.brickCount()));
 
-  PrismIntegrator integrator(store, eps);
+  PrismIntegrator integrator(store);
   uint64_t updates = 0;
   for (const auto& s : scans) updates += integrator.addScan(s).voxelUpdates;
   const std::string updated = perRank(comm, updates);
@@ -104,6 +118,7 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
       }))
     return 1;
   progress.stage("write", o.out);
+  progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));
   return 0;
 }
 

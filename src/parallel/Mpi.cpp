@@ -40,6 +40,21 @@ std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm 
   return all;
 }
 
+std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm) {
+  const int n = size(comm);
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(n), displs(n);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  std::exclusive_scan(counts.begin(), counts.end(), displs.begin(), 0);
+  std::vector<char> all(displs.back() + counts.back());
+  MPI_Allgatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), displs.data(), MPI_CHAR,
+                 comm);
+  std::vector<std::vector<char>> out(n);
+  for (int r = 0; r < n; ++r)
+    out[r].assign(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
+  return out;
+}
+
 std::vector<std::vector<char>> exchangeBytes(const std::vector<std::vector<char>>& out,
                                              MPI_Comm comm) {
   const int n = size(comm);

@@ -42,12 +42,15 @@ void truncateAtEdgeSurface(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
   double us[2];
   int nu = quadraticRootsUnit(a0, a1, a2, scale, us);
   for (int k = 0; k < nu; ++k) {
-    Eigen::Vector3d X = A + us[k] * B, Y = C + us[k] * D;
-    Eigen::Matrix<double, 3, 2> M;
-    M << Y, -ni;
-    Eigen::Vector2d dv = M.colPivHouseholderQr().solve(-X);  // X + d Y - v n_i = 0
-    if (!dv.allFinite() || dv[0] < -eps || dv[0] > eps) continue;
-    for (double s : {dv[0], dv[1]}) {
+    const Eigen::Vector3d X = A + us[k] * B, Y = C + us[k] * D;
+    // X + d Y - v n_i = 0 holds exactly at a root; solve its normal equations for (d, v).
+    const double yy = Y.dot(Y), yn = Y.dot(ni), nn = ni.dot(ni);
+    const double det = yy * nn - yn * yn;
+    if (!(std::abs(det) > 1e-14 * yy * nn)) continue;  // Y parallel to n_i: no crossing
+    const double xy = X.dot(Y), xn = X.dot(ni);
+    const double d = (-xy * nn + xn * yn) / det, v = (xn * yy - xy * yn) / det;
+    if (d < -eps || d > eps) continue;
+    for (double s : {d, v}) {
       if (s > 0) hi = std::min(hi, s);
       if (s < 0) lo = std::max(lo, s);
     }

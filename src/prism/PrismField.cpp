@@ -24,17 +24,31 @@ void brickRange(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoor
 
 }  // namespace
 
-Prism scanPrism(const ScanSurface& s, size_t t, double eps) {
-  const Triangle& tri = s.triangles[t];
-  return makePrism({s.points[tri[0]], s.points[tri[1]], s.points[tri[2]]},
-                   {s.normals[tri[0]], s.normals[tri[1]], s.normals[tri[2]]},
-                   {s.confidence[tri[0]], s.confidence[tri[1]], s.confidence[tri[2]]}, eps);
+PrismLimits computePrismLimits(const ScanSurface& s, double eps) {
+  PrismLimits limits(s.triangles.size());
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    const Triangle& tri = s.triangles[t];
+    Prism p = makePrism({s.points[tri[0]], s.points[tri[1]], s.points[tri[2]]},
+                        {s.normals[tri[0]], s.normals[tri[1]], s.normals[tri[2]]}, {0, 0, 0}, eps);
+    limits[t] = {p.dMin, p.dMax};
+  }
+  return limits;
 }
 
-VoxelGrid fitGrid(const std::vector<ScanSurface>& scans, double voxel, int brick, double eps) {
+Prism scanPrism(const PrismScan& scan, size_t t) {
+  const ScanSurface& s = scan.surface;
+  const Triangle& tri = s.triangles[t];
+  return Prism{{s.points[tri[0]], s.points[tri[1]], s.points[tri[2]]},
+               {s.normals[tri[0]], s.normals[tri[1]], s.normals[tri[2]]},
+               {s.confidence[tri[0]], s.confidence[tri[1]], s.confidence[tri[2]]},
+               scan.limits[t][0],
+               scan.limits[t][1]};
+}
+
+VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps) {
   Eigen::AlignedBox3d box;
   for (const auto& s : scans)
-    for (const auto& p : s.points) box.extend(p);
+    for (const auto& p : s.surface.points) box.extend(p);
   if (box.isEmpty()) throw InputError("no triangles in any scan: nothing to fuse");
   VoxelGrid g;
   g.voxel = voxel;
@@ -50,14 +64,13 @@ VoxelGrid fitGrid(const std::vector<ScanSurface>& scans, double voxel, int brick
   return g;
 }
 
-BrickLayout planBricks(const std::vector<ScanSurface>& scans, const VoxelGrid& grid, double eps,
-                       int ranks) {
+BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks) {
   std::unordered_map<uint64_t, uint64_t> work;
   for (const auto& s : scans)
-    for (size_t t = 0; t < s.triangles.size(); ++t) {
+    for (size_t t = 0; t < s.surface.triangles.size(); ++t) {
       BrickCoord lo, hi, b;
       bool empty;
-      brickRange(grid, prismBounds(scanPrism(s, t, eps)), lo, hi, empty);
+      brickRange(grid, prismBounds(scanPrism(s, t)), lo, hi, empty);
       if (empty) continue;
       for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
         for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
@@ -72,8 +85,8 @@ BrickLayout planBricks(const std::vector<ScanSurface>& scans, const VoxelGrid& g
   return layout;
 }
 
-PrismIntegrator::PrismIntegrator(BrickStore& store, double eps)
-    : store_(store), eps_(eps), scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}) {}
+PrismIntegrator::PrismIntegrator(BrickStore& store)
+    : store_(store), scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}) {}
 
 bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
   BrickCoord lo, hi, b;
@@ -87,7 +100,7 @@ bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
   return false;
 }
 
-IntegrationStats PrismIntegrator::addScan(const ScanSurface& scan) {
+IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
   IntegrationStats stats;
   const VoxelGrid& grid = store_.grid();
   BrickCoord lastBrick(-1, -1, -1);
@@ -108,8 +121,8 @@ IntegrationStats PrismIntegrator::addScan(const ScanSurface& scan) {
                {static_cast<float>(hit.gradient.x()), static_cast<float>(hit.gradient.y()),
                 static_cast<float>(hit.gradient.z())}};
   };
-  for (size_t t = 0; t < scan.triangles.size(); ++t) {
-    Prism prism = scanPrism(scan, t, eps_);
+  for (size_t t = 0; t < scan.surface.triangles.size(); ++t) {
+    Prism prism = scanPrism(scan, t);
     if (!touchesOwnedBrick(prismBounds(prism))) continue;
     ++stats.prisms;
     rasterizePrism(prism, grid, visit);

@@ -12,7 +12,9 @@ namespace {
 const Eigen::Vector3d kCentre(20.3, 19.6, 20.2);
 const double kRadius = 12.2;
 
-double sphere(const Eigen::Vector3d& p) { return (p - kCentre).norm() - kRadius; }
+double sphere(const Eigen::Vector3d& p) {
+  return (p - kCentre).norm() - kRadius;
+}
 
 /// Bricks of 4^3 unit voxels within reach of the sphere, split over `ranks`.
 BrickLayout sphereLayout(int ranks) {
@@ -75,7 +77,6 @@ TEST(DistributedMesh, SameMeshOnAllRanksAsOnOneRank) {
 
 TEST(Agree, OneFailingRankFailsEveryRank) {
   const bool ok = mpi::rank() != mpi::size() - 1;
-  EXPECT_EQ(mpi::agree(ok, "injected failure (expected in this test)", MPI_COMM_WORLD),
-            false);
+  EXPECT_EQ(mpi::agree(ok, "injected failure (expected in this test)", MPI_COMM_WORLD), false);
   EXPECT_TRUE(mpi::agree(true, "", MPI_COMM_WORLD));
 }

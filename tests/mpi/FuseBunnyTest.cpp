@@ -34,8 +34,8 @@ TEST(FuseBunny, RealScansMatchTheStanfordReconstruction) {
   std::filesystem::remove(o.out);
   DistanceStats accuracy = summarize(sampledDistances(mesh, ref, 100000, 1));
   DistanceStats completeness = summarize(sampledDistances(ref, mesh, 100000, 2));
-  std::printf("bunny 1 mm: accuracy mean %.4f mm, completeness mean %.4f mm\n",
-              accuracy.mean * 1e3, completeness.mean * 1e3);
+  std::printf("bunny 1 mm: accuracy mean %.4f mm, completeness mean %.4f mm\n", accuracy.mean * 1e3,
+              completeness.mean * 1e3);
   EXPECT_LE(accuracy.mean, 0.10e-3);
   EXPECT_LE(completeness.mean, 0.15e-3);
   EXPECT_LE(accuracy.p99, 1e-3);

@@ -20,7 +20,8 @@ struct Cloud {
     return false;
   }
 };
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
+using Tree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
 
 std::vector<Eigen::Vector3d> worldPoints(const io::ConfScan& s, bool transpose) {
   RangeGrid g = io::readRangeGridPly(s.path);
@@ -80,7 +81,8 @@ TEST(Conf, WriteThenReadGivesSameTransforms) {
 TEST(Conf, MeshLinesWarnCameraIgnored) {
   test::TempDir dir;
   io::ConfFile c = io::readConf(dir.write(
-      "a.conf", "camera 1 2 3  0 0 0 1\r\nmesh other.ply 0 0 0 0 0 0 1\nbmesh s.ply 1 2 3 0 0 0 1\n"));
+      "a.conf",
+      "camera 1 2 3  0 0 0 1\r\nmesh other.ply 0 0 0 0 0 0 1\nbmesh s.ply 1 2 3 0 0 0 1\n"));
   ASSERT_EQ(c.scans.size(), 1u);
   EXPECT_EQ(c.scans[0].pose.t, Eigen::Vector3d(1, 2, 3));
   ASSERT_EQ(c.warnings.size(), 1u);
@@ -89,7 +91,8 @@ TEST(Conf, MeshLinesWarnCameraIgnored) {
 
 TEST(Conf, BadLinesNameFileAndLine) {
   test::TempDir dir;
-  const std::string path = dir.write("b.conf", "bmesh a.ply 0 0 0 0 0 0 1\nbmesh b.ply 0 0 0 0 0\n");
+  const std::string path =
+      dir.write("b.conf", "bmesh a.ply 0 0 0 0 0 0 1\nbmesh b.ply 0 0 0 0 0\n");
   try {
     io::readConf(path);
     FAIL();

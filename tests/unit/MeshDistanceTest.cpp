@@ -26,7 +26,8 @@ TriangleMesh randomMesh(std::mt19937& rng, int n) {
   TriangleMesh m;
   for (int i = 0; i < n; ++i) {
     Eigen::Vector3d c(u(rng), u(rng), u(rng));
-    for (int k = 0; k < 3; ++k) m.vertices.push_back(c + 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    for (int k = 0; k < 3; ++k)
+      m.vertices.push_back(c + 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
     m.faces.push_back({3 * i, 3 * i + 1, 3 * i + 2});
   }
   return m;
@@ -46,7 +47,8 @@ TEST(ClosestPoint, MatchesBruteForceInEveryRegion) {
     EXPECT_NEAR(exact, sampled, 4e-3);
   }
   EXPECT_EQ(closestPointOnTriangle({-1, -1, 0}, a, b, c), a);  // vertex region
-  EXPECT_LT((closestPointOnTriangle({0.5, -1, 0}, a, b, c) - Eigen::Vector3d(0.5, 0, 0)).norm(), 1e-15);
+  EXPECT_LT((closestPointOnTriangle({0.5, -1, 0}, a, b, c) - Eigen::Vector3d(0.5, 0, 0)).norm(),
+            1e-15);
 }
 
 TEST(MeshDistance, MatchesBruteForceOverAllTriangles) {
@@ -59,7 +61,8 @@ TEST(MeshDistance, MatchesBruteForceOverAllTriangles) {
     double brute = INFINITY;
     for (const auto& t : m.faces)
       brute = std::min(brute, (p - closestPointOnTriangle(p, m.vertices[t[0]], m.vertices[t[1]],
-                                                          m.vertices[t[2]])).norm());
+                                                          m.vertices[t[2]]))
+                                  .norm());
     EXPECT_EQ(dist.distance(p), brute);
   }
 }

@@ -25,7 +25,9 @@ const char* kAsciiHeader =
     "element vertex 3\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\n"
     "element range_grid 4\r\nproperty list uchar int vertex_indices\r\nend_header\r\n";
 
-std::string asciiBody() { return "0 0 1 \r\n1 0 1 \r\n0 1 1 \r\n1 0\r\n1 1\r\n0\r\n1 2\r\n"; }
+std::string asciiBody() {
+  return "0 0 1 \r\n1 0 1 \r\n0 1 1 \r\n1 0\r\n1 1\r\n0\r\n1 2\r\n";
+}
 
 void expectError(const std::string& path, const std::string& fragment) {
   try {
@@ -153,7 +155,9 @@ TEST(PlyReader, HugeCountRefusedBeforeAllocating) {
   expectError(dir.write("h.ply", h + asciiBody()), "claims 4000000000");
 }
 
-TEST(PlyReader, MissingFile) { expectError("/nonexistent/scan.ply", "cannot open"); }
+TEST(PlyReader, MissingFile) {
+  expectError("/nonexistent/scan.ply", "cannot open");
+}
 
 TEST(MeshPly, ReadsBunnyReference) {
   TriangleMesh m = io::readMeshPly(RANGEFUSE_TEST_DATA "/bunny/bun_zipper.ply");

@@ -13,7 +13,9 @@ const std::array<Eigen::Vector3d, 3> kTri = {Eigen::Vector3d(0, 0, 0), Eigen::Ve
                                              Eigen::Vector3d(0, 1, 0)};
 const std::array<double, 3> kW = {0.2, 0.6, 1.0};
 
-std::array<Eigen::Vector3d, 3> same(const Eigen::Vector3d& n) { return {n, n, n}; }
+std::array<Eigen::Vector3d, 3> same(const Eigen::Vector3d& n) {
+  return {n, n, n};
+}
 
 }  // namespace
 
@@ -47,8 +49,8 @@ TEST(Prism, PlaneDistanceIsHeight) {
     EXPECT_LT((h.gradient - Eigen::Vector3d(0, 0, 1)).norm(), 1e-14);
     EXPECT_NEAR(h.weight, 0.5 * 0.2 + 0.2 * 0.6 + 0.3 * 1.0, 1e-14);
   }
-  EXPECT_FALSE(solvePrismDistance(p, Eigen::Vector3d(0.2, 0.3, 0.6), h));   // beyond envelope
-  EXPECT_FALSE(solvePrismDistance(p, Eigen::Vector3d(0.8, 0.8, 0.1), h));   // beside triangle
+  EXPECT_FALSE(solvePrismDistance(p, Eigen::Vector3d(0.2, 0.3, 0.6), h));  // beyond envelope
+  EXPECT_FALSE(solvePrismDistance(p, Eigen::Vector3d(0.8, 0.8, 0.1), h));  // beside triangle
 }
 
 TEST(Prism, TiltedPlaneDistanceIsSignedDistanceToPlane) {

@@ -18,6 +18,9 @@ bool agree(bool ok, const std::string& message, MPI_Comm comm = MPI_COMM_WORLD);
 /// Gathers every rank's bytes to `root`, concatenated in rank order (empty elsewhere).
 std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm);
 
+/// Every rank's bytes, on every rank, indexed by rank.
+std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm);
+
 /// Sends bytes out[r] to each rank r; returns what each rank sent to this one.
 std::vector<std::vector<char>> exchangeBytes(const std::vector<std::vector<char>>& out,
                                              MPI_Comm comm);

@@ -10,17 +10,27 @@
 
 namespace rangefuse {
 
-/// The prism of triangle `t` of a scan, with envelope `eps` (world units).
-Prism scanPrism(const ScanSurface& scan, size_t t, double eps);
+/// Per triangle of a scan, the [dMin, dMax] of its prism with envelope `eps` (Eqs. 9-10).
+/// Computed once per scan (by the rank that read it) and shared.
+using PrismLimits = std::vector<std::array<double, 2>>;
+PrismLimits computePrismLimits(const ScanSurface& scan, double eps);
+
+/// A scan's surface together with its prism limits: what the field stages need.
+struct PrismScan {
+  ScanSurface surface;
+  PrismLimits limits;
+};
+
+/// The prism of triangle `t` of a scan.
+Prism scanPrism(const PrismScan& scan, size_t t);
 
 /// A lattice whose origin is a multiple of the brick size below every prism, so that all
 /// voxel and brick indices are non-negative. Throws InputError if the grid is too large.
-VoxelGrid fitGrid(const std::vector<ScanSurface>& scans, double voxel, int brick, double eps);
+VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps);
 
 /// Every brick some prism's bounding box touches, with the number of such prisms as its
 /// work, split over `ranks`. The same on every rank.
-BrickLayout planBricks(const std::vector<ScanSurface>& scans, const VoxelGrid& grid, double eps,
-                       int ranks);
+BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks);
 
 struct IntegrationStats {
   uint64_t prisms = 0;        ///< prisms rasterized on this rank
@@ -31,8 +41,8 @@ struct IntegrationStats {
 /// smallest |d|; that value is then added, weighted, to the running sums.
 class PrismIntegrator {
  public:
-  PrismIntegrator(BrickStore& store, double eps);
-  IntegrationStats addScan(const ScanSurface& scan);
+  explicit PrismIntegrator(BrickStore& store);
+  IntegrationStats addScan(const PrismScan& scan);
 
  private:
   struct Sample {
@@ -41,7 +51,6 @@ class PrismIntegrator {
   bool touchesOwnedBrick(const Eigen::AlignedBox3d& box) const;
 
   BrickStore& store_;
-  double eps_;
   std::vector<Sample> scratch_;
   std::vector<size_t> touched_;
 };
