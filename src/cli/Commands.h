@@ -16,3 +16,10 @@ namespace rangefuse::cli {
 int evalCommand(int argc, char** argv, MPI_Comm comm);
 
 }  // namespace rangefuse::cli
+
+namespace rangefuse::cli {
+
+/// `rangefuse scan ...`: synthetic range scans with ground truth.
+int scanCommand(int argc, char** argv, MPI_Comm comm);
+
+}  // namespace rangefuse::cli

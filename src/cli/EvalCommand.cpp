@@ -1,38 +1,141 @@
-#include <boost/program_options.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <map>
 
+#include "CliCommon.h"
 #include "Commands.h"
-#include "rangefuse/eval/MeshDistance.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/eval/Comparison.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
-#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/io/RangeGridPly.h"
 
 namespace po = boost::program_options;
+using nlohmann::json;
 
 namespace rangefuse::cli {
 namespace {
 
 struct EvalOptions {
-  std::string mesh, reference;
-  double voxel = 1;
+  std::string mesh, reference, poses, referencePoses, jsonOut;
+  double voxel = 0, tau = 1, spurious = 3;
   size_t samples = 200000;
+  bool json = false;
 };
 
-void printRow(const char* name, const DistanceStats& s, double voxel) {
-  std::printf("%-13s mean %.6g  median %.6g  p90 %.6g  p99 %.6g  max %.6g  (mean %.3f voxel)\n",
-              name, s.mean, s.median, s.p90, s.p99, s.max, s.mean / voxel);
+json statsJson(const DistanceStats& s) {
+  return {{"mean", s.mean}, {"median", s.median}, {"p90", s.p90}, {"p99", s.p99}, {"max", s.max}};
+}
+
+void printStats(const char* name, const DistanceStats& s, double voxel) {
+  std::printf(
+      "%-13s mean %.5g  median %.5g  p90 %.5g  p99 %.5g  max %.5g   (voxels: mean %.3f  p99 "
+      "%.3f)\n",
+      name, s.mean, s.median, s.p90, s.p99, s.max, s.mean / voxel, s.p99 / voxel);
+}
+
+json meshReport(const EvalOptions& o) {
+  const TriangleMesh mesh = io::readMeshPly(o.mesh), ref = io::readMeshPly(o.reference);
+  if (mesh.faces.empty()) throw InputError(o.mesh + ": mesh has no triangles");
+  if (ref.faces.empty()) throw InputError(o.reference + ": mesh has no triangles");
+  CompareSettings s{o.tau * o.voxel, o.spurious * o.voxel, o.samples, 1};
+  const MeshComparison c = compareMeshes(mesh, ref, s);
+  if (!o.json) {
+    std::printf("mesh %s (%zu triangles) against %s (%zu triangles), %zu samples each way\n",
+                o.mesh.c_str(), mesh.faces.size(), o.reference.c_str(), ref.faces.size(),
+                o.samples);
+    printStats("accuracy", c.accuracy, o.voxel);
+    printStats("completeness", c.completeness, o.voxel);
+    std::printf("chamfer       %.5g (%.3f voxels)\n", c.chamfer, c.chamfer / o.voxel);
+    std::printf("tau %.3g voxel: precision %.4f  recall %.4f  F-score %.4f\n", o.tau, c.precision,
+                c.recall, c.fscore);
+    std::printf("spurious area (> %.3g voxels from the reference): %.4f%%\n", o.spurious,
+                100 * c.spuriousAreaFraction);
+  }
+  return {{"mesh", o.mesh},
+          {"reference", o.reference},
+          {"voxel", o.voxel},
+          {"samples", o.samples},
+          {"tau_voxels", o.tau},
+          {"accuracy", statsJson(c.accuracy)},
+          {"completeness", statsJson(c.completeness)},
+          {"chamfer", c.chamfer},
+          {"precision", c.precision},
+          {"recall", c.recall},
+          {"fscore", c.fscore},
+          {"spurious_voxels", o.spurious},
+          {"spurious_area_fraction", c.spuriousAreaFraction}};
+}
+
+std::vector<Eigen::Vector3d> scanPoints(const io::ConfScan& s) {
+  if (!std::filesystem::exists(s.path)) return {};
+  return io::readRangeGridPly(s.path).points;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+json poseReport(const EvalOptions& o) {
+  const io::ConfFile est = io::readConf(o.poses), ref = io::readConf(o.referencePoses);
+  std::map<std::string, const io::ConfScan*> byName;
+  for (const auto& s : ref.scans) byName[s.name] = &s;
+  json scans = json::array();
+  std::vector<double> rot, trans, disp;
+  if (!o.json)
+    std::printf("%-24s %12s %14s %16s %16s\n", "scan", "rot (deg)", "trans (vox)",
+                "disp mean (vox)", "disp max (vox)");
+  for (const auto& s : est.scans) {
+    auto it = byName.find(s.name);
+    if (it == byName.end())
+      throw InputError(o.referencePoses + ": has no scan named '" + s.name + "'");
+    const PoseError e = comparePose(s.pose, it->second->pose, scanPoints(*it->second));
+    rot.push_back(e.rotationDeg);
+    trans.push_back(e.translation);
+    disp.push_back(e.displacementMean);
+    scans.push_back({{"name", s.name},
+                     {"rotation_deg", e.rotationDeg},
+                     {"translation", e.translation},
+                     {"point_displacement_mean", e.displacementMean},
+                     {"point_displacement_max", e.displacementMax},
+                     {"points", e.points}});
+    if (!o.json)
+      std::printf("%-24s %12.5f %14.4f %16.4f %16.4f\n", s.name.c_str(), e.rotationDeg,
+                  e.translation / o.voxel, e.displacementMean / o.voxel,
+                  e.displacementMax / o.voxel);
+  }
+  auto summary = [&](const std::vector<double>& v) {
+    return json{{"median", median(v)},
+                {"max", v.empty() ? 0 : *std::max_element(v.begin(), v.end())}};
+  };
+  if (!o.json)
+    std::printf("median rotation %.5f deg, translation %.4f voxels, displacement %.4f voxels\n",
+                median(rot), median(trans) / o.voxel, median(disp) / o.voxel);
+  return {{"poses", o.poses},
+          {"reference_poses", o.referencePoses},
+          {"voxel", o.voxel},
+          {"scans", scans},
+          {"rotation_deg", summary(rot)},
+          {"translation", summary(trans)},
+          {"point_displacement_mean", summary(disp)}};
 }
 
 int run(const EvalOptions& o) {
-  TriangleMesh mesh = io::readMeshPly(o.mesh), ref = io::readMeshPly(o.reference);
-  DistanceStats acc = summarize(sampledDistances(mesh, ref, o.samples, 1));
-  DistanceStats comp = summarize(sampledDistances(ref, mesh, o.samples, 2));
-  std::printf("mesh %s (%zu triangles) against %s (%zu triangles), %zu samples each way\n",
-              o.mesh.c_str(), mesh.faces.size(), o.reference.c_str(), ref.faces.size(), o.samples);
-  printRow("accuracy", acc, o.voxel);
-  printRow("completeness", comp, o.voxel);
-  std::printf("chamfer       %.6g (%.3f voxel)\n", 0.5 * (acc.mean + comp.mean),
-              0.5 * (acc.mean + comp.mean) / o.voxel);
+  if (!(o.voxel > 0)) throw InputError("eval: --voxel must be positive");
+  const bool meshes = !o.mesh.empty() || !o.reference.empty();
+  const bool poses = !o.poses.empty() || !o.referencePoses.empty();
+  if (meshes == poses)
+    throw InputError("eval: give either --mesh and --reference, or --poses and --reference-poses");
+  if (meshes && (o.mesh.empty() || o.reference.empty()))
+    throw InputError("eval: --mesh and --reference go together");
+  if (poses && (o.poses.empty() || o.referencePoses.empty()))
+    throw InputError("eval: --poses and --reference-poses go together");
+  const json report = meshes ? meshReport(o) : poseReport(o);
+  if (o.json) std::cout << report.dump(2) << std::endl;
+  if (!o.jsonOut.empty()) io::writeJson(o.jsonOut, report);
   return 0;
 }
 
@@ -40,30 +143,26 @@ int run(const EvalOptions& o) {
 
 int evalCommand(int argc, char** argv, MPI_Comm comm) {
   EvalOptions o;
-  po::options_description d("rangefuse eval: distances between a mesh and a reference mesh");
-  d.add_options()("help,h", "show this help")("mesh", po::value(&o.mesh)->required(),
-                                              "mesh to judge")(
-      "reference", po::value(&o.reference)->required(), "reference mesh")(
-      "voxel", po::value(&o.voxel)->default_value(1.0), "voxel size, to report in voxels")(
-      "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh");
-  int code = 0;
-  std::string error;
-  if (mpi::rank(comm) == 0) {
-    try {
-      po::variables_map vm;
-      po::store(po::parse_command_line(argc, argv, d), vm);
-      if (vm.count("help")) {
-        std::cout << d;
-      } else {
-        po::notify(vm);
-        code = run(o);
-      }
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  if (!mpi::agree(error.empty(), error, comm)) return 1;
-  return code;
+  po::options_description d(
+      "rangefuse eval: a mesh against a reference mesh, or poses against reference poses");
+  d.add_options()("help,h", "show this help")("mesh", po::value(&o.mesh), "mesh to judge (PLY)")(
+      "reference", po::value(&o.reference), "reference mesh (PLY)")("poses", po::value(&o.poses),
+                                                                    "estimated poses (.conf)")(
+      "reference-poses", po::value(&o.referencePoses),
+      "reference poses (.conf); its scan files give the points")(
+      "voxel", po::value(&o.voxel), "voxel size (model units): results are also given in voxels")(
+      "tau", po::value(&o.tau)->default_value(1.0), "F-score threshold, voxels")(
+      "spurious", po::value(&o.spurious)->default_value(3.0), "spurious-area distance, voxels")(
+      "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh")(
+      "json", po::bool_switch(&o.json), "print one JSON object instead of the table")(
+      "json-out", po::value(&o.jsonOut), "also write the JSON object to this file");
+  po::variables_map vm;
+  const int parsed = parseCollectively(argc, argv, d, vm,
+                                       "rangefuse eval --mesh out/bunny.ply --reference "
+                                       "tests/data/bunny/bun_zipper.ply --voxel 0.001",
+                                       "eval", comm);
+  if (parsed >= 0) return parsed;
+  return runOnRoot(comm, [&] { return run(o); });
 }
 
 }  // namespace rangefuse::cli

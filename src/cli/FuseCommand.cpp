@@ -2,6 +2,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -32,42 +33,16 @@ po::options_description fuseOptions(FuseOptions& o, std::string& config) {
   return d;
 }
 
-/// Parses command line then config file (command line wins); false after --help.
-bool parse(int argc, char** argv, FuseOptions& o) {
-  std::string config;
-  po::options_description desc = fuseOptions(o, config);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    if (mpi::rank() == 0)
-      std::cout << desc
-                << "\nExample:\n  mpirun -np 2 rangefuse fuse --scans bun.conf --voxel 0.001 --out "
-                   "bunny.ply\n";
-    return false;
-  }
-  if (vm.count("config")) {
-    const std::string path = vm["config"].as<std::string>();
-    std::ifstream in(path);
-    if (!in) throw po::error(path + ": cannot open config file");
-    po::store(po::parse_config_file(in, desc), vm);
-  }
-  po::notify(vm);
-  return true;
-}
-
 }  // namespace
 
 int fuseCommand(int argc, char** argv, MPI_Comm comm) {
   FuseOptions o;
-  std::string error;
-  bool run = false;
-  try {
-    run = parse(argc, argv, o);
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  if (!mpi::agree(error.empty(), error + " (see 'rangefuse fuse --help')", comm)) return 2;
-  return run ? runFuse(o, comm) : 0;
+  std::string config;
+  po::variables_map vm;
+  const int parsed = parseCollectively(
+      argc, argv, fuseOptions(o, config), vm,
+      "mpirun -np 2 rangefuse fuse --scans bun.conf --voxel 0.001 --out bunny.ply", "fuse", comm);
+  return parsed >= 0 ? parsed : runFuse(o, comm);
 }
 
 }  // namespace rangefuse::cli

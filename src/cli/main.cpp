@@ -13,7 +13,8 @@ const char* kUsage =
     "usage: rangefuse COMMAND [options]\n"
     "commands:\n"
     "  fuse    fuse range scans (.conf + range-grid PLY) into one mesh\n"
-    "  eval    compare a mesh with a reference mesh\n"
+    "  eval    compare a mesh with a reference mesh, or poses with reference poses\n"
+    "  scan    synthetic range scans of a mesh or built-in shape, with ground truth\n"
     "run 'rangefuse COMMAND --help' for the options of a command;\n"
     "run under mpirun to spread the volume over ranks.\n";
 
@@ -26,6 +27,8 @@ int main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "";
   if (command == "fuse") {
     code = rangefuse::cli::fuseCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
+  } else if (command == "scan") {
+    code = rangefuse::cli::scanCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
   } else if (command == "eval") {
     code = rangefuse::cli::evalCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
   } else if (command == "--help" || command == "-h") {

@@ -1,0 +1,20 @@
+// JSON files (run reports, scanner ground truth, eval results).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "rangefuse/core/Pose.h"
+
+namespace rangefuse::io {
+
+/// Writes pretty-printed JSON atomically (temporary name, then rename).
+void writeJson(const std::string& path, const nlohmann::json& value);
+
+/// Reads a JSON file; throws InputError naming the file on a parse error.
+nlohmann::json readJson(const std::string& path);
+
+/// A pose as {"rotation": 3x3 rows, "translation": [x, y, z]}.
+nlohmann::json poseToJson(const Pose& pose);
+
+}  // namespace rangefuse::io

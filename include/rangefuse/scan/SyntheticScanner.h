@@ -1,0 +1,60 @@
+// A synthetic pinhole range scanner with ground truth (poses, noise, outliers, patches).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rangefuse/core/Pose.h"
+#include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/core/TriangleMesh.h"
+
+namespace rangefuse {
+
+struct ScanSettings {
+  int views = 24;
+  int width = 320;
+  int height = 240;
+  double voxel = 1.0;   ///< unit of noise and translation
+  double fovDeg = 0;    ///< vertical field of view; 0 = fitted to the object
+  double noise = 0;     ///< Gaussian range noise sigma, voxels
+  double outliers = 0;  ///< fraction of samples moved to a random depth on their ray
+  int patches = 0;      ///< extraneous flat patches, each seen by one scan only
+  double rotDeg = 0;    ///< perturbation: rotation about each axis uniform in [-A, A]
+  double transVox = 0;  ///< perturbation: translation along each axis uniform in [-T, T]
+  uint64_t seed = 1;
+};
+
+/// An extraneous patch: a square floating in front of the object in one scan only.
+struct SyntheticPatch {
+  int scan = 0;
+  std::array<Eigen::Vector3d, 4> corners;  ///< world coordinates
+};
+
+struct SyntheticScan {
+  std::string name;  ///< file name, scan_NNN.ply
+  RangeGrid grid;    ///< scan frame: sensor at the origin looking toward -z, pinhole intrinsics
+  Pose truth;        ///< exact scan-to-world pose
+  Pose perturbed;    ///< truth moved by the drawn perturbation (scan 0 exact)
+  Eigen::Vector3d rotationDeg = Eigen::Vector3d::Zero();  ///< drawn angles about x, y, z
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  ///< drawn translation, world units
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+};
+
+struct SyntheticSet {
+  std::vector<SyntheticScan> scans;
+  std::vector<SyntheticPatch> patches;
+  Eigen::Vector3d centre;  ///< centre of the object's bounding sphere
+  double radius = 0;       ///< its radius
+};
+
+/// Renders `settings.views` range grids of the mesh from viewpoints spread evenly over a
+/// sphere (Fibonacci), by exact first-hit ray casting through a BVH, then applies the
+/// corruptions. Deterministic for a given seed. Throws InputError on bad settings.
+SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& settings);
+
+/// A mesh of the patches (two triangles each), e.g. to measure what survives of them.
+TriangleMesh patchMesh(const std::vector<SyntheticPatch>& patches);
+
+}  // namespace rangefuse

@@ -1,0 +1,30 @@
+#include "rangefuse/io/Json.h"
+
+#include <fstream>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/io/AtomicFile.h"
+
+namespace rangefuse::io {
+
+void writeJson(const std::string& path, const nlohmann::json& value) {
+  writeAtomically(path, [&](std::ostream& out) { out << value.dump(2) << '\n'; });
+}
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open file");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path + ": not valid JSON: " + e.what());
+  }
+}
+
+nlohmann::json poseToJson(const Pose& pose) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < 3; ++r) rows.push_back({pose.R(r, 0), pose.R(r, 1), pose.R(r, 2)});
+  return {{"rotation", rows}, {"translation", {pose.t.x(), pose.t.y(), pose.t.z()}}};
+}
+
+}  // namespace rangefuse::io

@@ -1,0 +1,28 @@
+// Shared plumbing of the subcommands: option parsing and running on rank 0.
+#pragma once
+
+#include <mpi.h>
+
+#include <boost/program_options.hpp>
+#include <functional>
+#include <string>
+
+namespace rangefuse::cli {
+
+/// Parses the command line, then `--config FILE` if the description has it (the command
+/// line wins). Prints the help on rank 0 and returns false for --help. Throws on bad options.
+bool parseOptions(int argc, char** argv, const boost::program_options::options_description& desc,
+                  boost::program_options::variables_map& vm, const std::string& example);
+
+/// Parses collectively: every rank returns 2 on a bad option (message printed once), 0
+/// after --help, -1 when the command should run.
+int parseCollectively(int argc, char** argv,
+                      const boost::program_options::options_description& desc,
+                      boost::program_options::variables_map& vm, const std::string& example,
+                      const std::string& command, MPI_Comm comm);
+
+/// Runs fn on rank 0 only; every rank returns its exit code, or 1 if it threw (the error
+/// printed once).
+int runOnRoot(MPI_Comm comm, const std::function<int()>& fn);
+
+}  // namespace rangefuse::cli

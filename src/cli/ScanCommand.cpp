@@ -1,0 +1,131 @@
+#include <cstdio>
+#include <filesystem>
+
+#include "CliCommon.h"
+#include "Commands.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/io/Json.h"
+#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/scan/Shapes.h"
+#include "rangefuse/scan/SyntheticScanner.h"
+
+namespace po = boost::program_options;
+using nlohmann::json;
+
+namespace rangefuse::cli {
+namespace {
+
+struct ScanOptions {
+  std::string mesh, shape, out;
+  bool ascii = false;
+  ScanSettings settings;
+};
+
+json vec(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
+  const ScanSettings& s = o.settings;
+  json j = {{"source", o.mesh.empty() ? "shape:" + o.shape : o.mesh},
+            {"settings",
+             {{"views", s.views},
+              {"width", s.width},
+              {"height", s.height},
+              {"voxel", s.voxel},
+              {"fov_deg", s.fovDeg},
+              {"noise_voxels", s.noise},
+              {"outliers", s.outliers},
+              {"patches", s.patches},
+              {"rot_deg", s.rotDeg},
+              {"trans_voxels", s.transVox},
+              {"seed", s.seed}}},
+            {"object_centre", vec(set.centre)},
+            {"object_radius", set.radius}};
+  for (const auto& sc : set.scans)
+    j["scans"].push_back(
+        {{"name", sc.name},
+         {"viewpoint", vec(sc.viewpoint)},
+         {"points", sc.grid.points.size()},
+         {"fx", sc.grid.pinhole->fx},
+         {"fy", sc.grid.pinhole->fy},
+         {"cx", sc.grid.pinhole->cx},
+         {"cy", sc.grid.pinhole->cy},
+         {"truth", io::poseToJson(sc.truth)},
+         {"perturbed", io::poseToJson(sc.perturbed)},
+         {"perturbation",
+          {{"rotation_deg", vec(sc.rotationDeg)}, {"translation", vec(sc.translation)}}}});
+  j["patches"] = json::array();
+  for (const auto& p : set.patches) {
+    json corners = json::array();
+    for (const auto& c : p.corners) corners.push_back(vec(c));
+    j["patches"].push_back({{"scan", p.scan}, {"corners", corners}});
+  }
+  return j;
+}
+
+int run(const ScanOptions& o) {
+  if (o.mesh.empty() == o.shape.empty())
+    throw InputError("scan: give exactly one of --mesh and --shape");
+  if (o.out.empty()) throw InputError("scan: --out DIR is required");
+  const TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh);
+  const SyntheticSet set = scanMesh(mesh, o.settings);
+  std::filesystem::create_directories(o.out);
+  const auto file = [&](const std::string& name) {
+    return (std::filesystem::path(o.out) / name).string();
+  };
+  std::vector<io::ConfScan> truth, perturbed;
+  size_t points = 0;
+  for (const auto& s : set.scans) {
+    io::writeRangeGridPly(file(s.name), s.grid,
+                          o.ascii ? io::PlyEncoding::Ascii : io::PlyEncoding::BinaryLittleEndian);
+    truth.push_back({s.name, file(s.name), s.truth});
+    perturbed.push_back({s.name, file(s.name), s.perturbed});
+    points += s.grid.points.size();
+  }
+  io::writeConf(file("truth.conf"), truth);
+  io::writeConf(file("perturbed.conf"), perturbed);
+  io::writeMeshPly(file("truth.ply"), mesh);
+  io::writeMeshPly(file("patches.ply"), patchMesh(set.patches));
+  io::writeJson(file("scan.json"), groundTruth(o, set));
+  std::printf("scan: %zu views of %zu triangles, %zu points, %zu patches -> %s\n", set.scans.size(),
+              mesh.faces.size(), points, set.patches.size(), o.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int scanCommand(int argc, char** argv, MPI_Comm comm) {
+  ScanOptions o;
+  ScanSettings& s = o.settings;
+  po::options_description d("rangefuse scan: synthetic range scans of a mesh, with ground truth");
+  d.add_options()("help,h", "show this help")("config", po::value<std::string>(),
+                                              "read options from an .ini file")(
+      "mesh", po::value(&o.mesh), "mesh to scan (PLY)")(
+      "shape", po::value(&o.shape), "built-in shape instead: sphere, torus or composite")(
+      "views", po::value(&s.views)->default_value(24), "number of scans")(
+      "width", po::value(&s.width)->default_value(320), "pixels per row")(
+      "height", po::value(&s.height)->default_value(240), "rows")(
+      "voxel", po::value(&s.voxel)->required(), "voxel size: the unit of --noise and --trans-vox")(
+      "fov", po::value(&s.fovDeg)->default_value(0.0), "field of view, degrees (0: fitted)")(
+      "noise", po::value(&s.noise)->default_value(0.0), "range noise sigma along the ray, voxels")(
+      "outliers", po::value(&s.outliers)->default_value(0.0), "fraction of outlier samples")(
+      "patches", po::value(&s.patches)->default_value(0), "extraneous patches, one scan each")(
+      "rot-deg", po::value(&s.rotDeg)->default_value(0.0), "pose perturbation: max angle per axis")(
+      "trans-vox", po::value(&s.transVox)->default_value(0.0),
+      "pose perturbation: max shift per axis, voxels")("seed", po::value(&s.seed)->default_value(1),
+                                                       "random seed")(
+      "ascii", po::bool_switch(&o.ascii), "write ASCII range grids (default binary)")(
+      "out", po::value(&o.out), "output folder");
+  po::variables_map vm;
+  const int parsed = parseCollectively(
+      argc, argv, d, vm,
+      "rangefuse scan --shape composite --views 24 --voxel 1 --noise 0.5 --out synth", "scan",
+      comm);
+  if (parsed >= 0) return parsed;
+  return runOnRoot(comm, [&] { return run(o); });
+}
+
+}  // namespace rangefuse::cli

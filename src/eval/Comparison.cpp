@@ -1,0 +1,49 @@
+#include "rangefuse/eval/Comparison.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rangefuse {
+namespace {
+
+double fractionWithin(const std::vector<double>& d, double limit) {
+  if (d.empty()) return 0;
+  return double(std::count_if(d.begin(), d.end(), [&](double x) { return x <= limit; })) / d.size();
+}
+
+}  // namespace
+
+MeshComparison compareMeshes(const TriangleMesh& mesh, const TriangleMesh& reference,
+                             const CompareSettings& s) {
+  const std::vector<double> acc = sampledDistances(mesh, reference, s.samples, s.seed);
+  const std::vector<double> comp = sampledDistances(reference, mesh, s.samples, s.seed + 1);
+  MeshComparison c;
+  c.accuracy = summarize(acc);
+  c.completeness = summarize(comp);
+  c.chamfer = 0.5 * (c.accuracy.mean + c.completeness.mean);
+  c.precision = fractionWithin(acc, s.tau);
+  c.recall = fractionWithin(comp, s.tau);
+  c.fscore = c.precision + c.recall > 0 ? 2 * c.precision * c.recall / (c.precision + c.recall) : 0;
+  // Samples are area-weighted, so a fraction of samples is a fraction of area.
+  c.spuriousAreaFraction = acc.empty() ? 0 : 1 - fractionWithin(acc, s.spuriousDistance);
+  return c;
+}
+
+PoseError comparePose(const Pose& estimate, const Pose& reference,
+                      const std::vector<Eigen::Vector3d>& points) {
+  PoseError e;
+  const Eigen::AngleAxisd delta(Eigen::Matrix3d(estimate.R * reference.R.transpose()));
+  e.rotationDeg = std::abs(delta.angle()) * 180 / M_PI;
+  e.translation = (estimate.t - reference.t).norm();
+  double sum = 0;
+  for (const auto& p : points) {
+    const double d = (estimate.apply(p) - reference.apply(p)).norm();
+    sum += d;
+    e.displacementMax = std::max(e.displacementMax, d);
+  }
+  e.points = points.size();
+  e.displacementMean = points.empty() ? 0 : sum / points.size();
+  return e;
+}
+
+}  // namespace rangefuse

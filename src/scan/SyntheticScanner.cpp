@@ -1,0 +1,172 @@
+#include "rangefuse/scan/SyntheticScanner.h"
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/scan/Bvh.h"
+
+namespace rangefuse {
+namespace {
+
+constexpr double kDistance = 3.0;  // camera distance, in bounding radii
+
+void validate(const TriangleMesh& mesh, const ScanSettings& s) {
+  if (mesh.faces.empty()) throw InputError("scan: the mesh has no triangles");
+  if (s.views < 1) throw InputError("scan: --views must be at least 1");
+  if (s.width < 2 || s.height < 2 || double(s.width) * s.height > 1e8)
+    throw InputError("scan: --width and --height must be between 2 and 10^8 pixels in all");
+  if (!(s.voxel > 0)) throw InputError("scan: --voxel must be positive");
+  if (s.noise < 0) throw InputError("scan: --noise must not be negative");
+  if (s.outliers < 0 || s.outliers > 1) throw InputError("scan: --outliers must be in [0, 1]");
+  if (s.patches < 0 || s.patches > s.views)
+    throw InputError("scan: --patches must be between 0 and the number of views");
+  if (s.rotDeg < 0 || s.transVox < 0)
+    throw InputError("scan: --rot-deg and --trans-vox must not be negative");
+  if (s.fovDeg < 0 || s.fovDeg >= 180) throw InputError("scan: --fov must be in (0, 180) degrees");
+}
+
+/// Camera looking at `target` from `eye`: columns x, y, z with the sensor looking along -z.
+Pose cameraPose(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (eye - target).normalized();
+  Eigen::Vector3d up = std::abs(z.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d x = up.cross(z).normalized(), y = z.cross(x);
+  Pose p;
+  p.R.col(0) = x;
+  p.R.col(1) = y;
+  p.R.col(2) = z;
+  p.t = eye;
+  return p;
+}
+
+Eigen::Vector3d fibonacciDirection(int i, int n) {
+  const double z = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - z * z);
+  const double phi = i * M_PI * (3 - std::sqrt(5.0));
+  return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centre, double radius,
+                         std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double eyeDistance = (cam.t - centre).norm();
+  const Eigen::Vector3d look = -cam.R.col(2);
+  const Eigen::Vector3d mid = cam.t + (eyeDistance - 1.25 * radius) * look +
+                              0.25 * radius * (u(rng) * cam.R.col(0) + u(rng) * cam.R.col(1));
+  const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.25 * u(rng), cam.R.col(0)) *
+                                Eigen::AngleAxisd(0.25 * u(rng), cam.R.col(1)))
+                                   .toRotationMatrix();
+  const Eigen::Vector3d ax = tilt * cam.R.col(0), ay = tilt * cam.R.col(1);
+  const double h = 0.175 * radius;
+  SyntheticPatch p;
+  p.scan = scan;
+  p.corners = {mid - h * ax - h * ay, mid + h * ax - h * ay, mid + h * ax + h * ay,
+               mid - h * ax + h * ay};
+  return p;
+}
+
+void perturb(SyntheticScan& s, const Eigen::Vector3d& centre, const ScanSettings& set,
+             std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> angle(-set.rotDeg, set.rotDeg),
+      shift(-set.transVox * set.voxel, set.transVox * set.voxel);
+  for (int a = 0; a < 3; ++a) s.rotationDeg[a] = angle(rng);
+  for (int a = 0; a < 3; ++a) s.translation[a] = shift(rng);
+  const Eigen::Vector3d rad = s.rotationDeg * M_PI / 180;
+  const Eigen::Matrix3d dR = (Eigen::AngleAxisd(rad.z(), Eigen::Vector3d::UnitZ()) *
+                              Eigen::AngleAxisd(rad.y(), Eigen::Vector3d::UnitY()) *
+                              Eigen::AngleAxisd(rad.x(), Eigen::Vector3d::UnitX()))
+                                 .toRotationMatrix();
+  s.perturbed.R = dR * s.truth.R;
+  s.perturbed.t = dR * (s.truth.t - centre) + centre + s.translation;
+}
+
+/// Casts one ray per pixel; returns the hit distance along the unit ray, or NaN.
+double castPixel(const Bvh& bvh, const TriangleMesh& patches, const Eigen::Vector3d& eye,
+                 const Eigen::Vector3d& dir) {
+  RayHit hit;
+  double t = bvh.firstHit(eye, dir, 0, INFINITY, hit) ? hit.t : NAN;
+  for (const Triangle& f : patches.faces) {
+    double tp;
+    const double limit = std::isnan(t) ? INFINITY : t;
+    if (intersectTriangle(eye, dir, patches.vertices[f[0]], patches.vertices[f[1]],
+                          patches.vertices[f[2]], 0, limit, tp))
+      t = tp;
+  }
+  return t;
+}
+
+void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, double depthLo,
+            double depthHi, const ScanSettings& set, std::mt19937_64& rng) {
+  RangeGrid& g = s.grid;
+  g.cols = set.width;
+  g.rows = set.height;
+  g.cell.assign(static_cast<size_t>(g.cols) * g.rows, -1);
+  std::normal_distribution<double> noise(0, set.noise * set.voxel);
+  std::uniform_real_distribution<double> unit(0, 1), depth(depthLo, depthHi);
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const Eigen::Vector3d ray = Eigen::Vector3d((c - g.pinhole->cx) / g.pinhole->fx,
+                                                  (r - g.pinhole->cy) / g.pinhole->fy, -1)
+                                      .normalized();
+      double t = castPixel(bvh, patches, s.truth.t, s.truth.R * ray);
+      if (std::isnan(t)) continue;
+      if (set.outliers > 0 && unit(rng) < set.outliers)
+        t = depth(rng);
+      else if (set.noise > 0)
+        t += noise(rng);
+      g.cell[static_cast<size_t>(r) * g.cols + c] = static_cast<int32_t>(g.points.size());
+      g.points.push_back(t * ray);
+    }
+}
+
+}  // namespace
+
+SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
+  validate(mesh, set);
+  SyntheticSet out;
+  Eigen::AlignedBox3d box;
+  for (const auto& v : mesh.vertices) box.extend(v);
+  out.centre = box.center();
+  for (const auto& v : mesh.vertices) out.radius = std::max(out.radius, (v - out.centre).norm());
+  const Bvh bvh(mesh);
+  std::mt19937_64 rng(set.seed);
+  const double eyeDistance = kDistance * out.radius;
+  const double halfFov =
+      set.fovDeg > 0 ? 0.5 * set.fovDeg * M_PI / 180 : 1.05 * std::asin(out.radius / eyeDistance);
+  const double f = 0.5 * std::min(set.width, set.height) / std::tan(halfFov);
+  // Patches go to evenly spaced scans so that no two share one.
+  std::vector<int> patchOf(set.views, -1);
+  for (int k = 0; k < set.patches; ++k) patchOf[(k * set.views) / set.patches] = k;
+  for (int i = 0; i < set.views; ++i) {
+    SyntheticScan s;
+    char name[32];
+    std::snprintf(name, sizeof(name), "scan_%03d.ply", i);
+    s.name = name;
+    s.viewpoint = out.centre + eyeDistance * fibonacciDirection(i, set.views);
+    s.truth = cameraPose(s.viewpoint, out.centre);
+    s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
+    TriangleMesh patches;
+    if (patchOf[i] >= 0) {
+      out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, rng));
+      patches = patchMesh({out.patches.back()});
+    }
+    render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, set, rng);
+    s.perturbed = s.truth;
+    if (i > 0) perturb(s, out.centre, set, rng);
+    out.scans.push_back(std::move(s));
+  }
+  return out;
+}
+
+TriangleMesh patchMesh(const std::vector<SyntheticPatch>& patches) {
+  TriangleMesh m;
+  for (const auto& p : patches) {
+    const int32_t b = static_cast<int32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), p.corners.begin(), p.corners.end());
+    m.faces.push_back({b, b + 1, b + 2});
+    m.faces.push_back({b, b + 2, b + 3});
+  }
+  return m;
+}
+
+}  // namespace rangefuse
