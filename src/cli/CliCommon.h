@@ -7,6 +7,8 @@
 #include <functional>
 #include <string>
 
+#include "rangefuse/fuse/FuseJob.h"
+
 namespace rangefuse::cli {
 
 /// Parses the command line, then `--config FILE` if the description has it (the command
@@ -20,6 +22,10 @@ int parseCollectively(int argc, char** argv,
                       const boost::program_options::options_description& desc,
                       boost::program_options::variables_map& vm, const std::string& example,
                       const std::string& command, MPI_Comm comm);
+
+/// Adds the options that define the fused field (scans, voxel, envelope, ...) and
+/// --help/--config: shared by fuse and render.
+void addFieldOptions(boost::program_options::options_description& desc, FuseOptions& options);
 
 /// Runs fn on rank 0 only; every rank returns its exit code, or 1 if it threw (the error
 /// printed once).

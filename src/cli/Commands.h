@@ -23,3 +23,10 @@ namespace rangefuse::cli {
 int scanCommand(int argc, char** argv, MPI_Comm comm);
 
 }  // namespace rangefuse::cli
+
+namespace rangefuse::cli {
+
+/// `rangefuse render ...`: pictures of the fused field.
+int renderCommand(int argc, char** argv, MPI_Comm comm);
+
+}  // namespace rangefuse::cli

@@ -19,13 +19,13 @@ struct MeshDistance::Index {
   };
   using Tree =
       nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
-  const TriangleMesh& mesh;
+  const TriangleMesh mesh;  // a copy: callers may pass temporaries
   Cloud centroids;
   double radius = 0;  // largest centroid-to-vertex distance
   std::unique_ptr<Tree> tree;
 
   explicit Index(const TriangleMesh& m) : mesh(m) {
-    for (const Triangle& t : m.faces) {
+    for (const Triangle& t : mesh.faces) {
       Eigen::Vector3d c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
       for (int k = 0; k < 3; ++k) radius = std::max(radius, (m.vertices[t[k]] - c).norm());
       centroids.pts.push_back(c);

@@ -2,18 +2,17 @@
 
 #include <sys/resource.h>
 
-#include <algorithm>
 #include <sstream>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/Progress.h"
+#include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
-#include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/Png.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/MarchingCubes.h"
 #include "rangefuse/parallel/Mpi.h"
-#include "rangefuse/prism/PrismField.h"
+#include "rangefuse/render/Render.h"
 
 namespace rangefuse {
 namespace {
@@ -51,27 +50,16 @@ std::string perRank(MPI_Comm comm, uint64_t value) {
   return s.str();
 }
 
-uint64_t peakMemoryMiB() {
-  struct rusage u;
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
-}
-
 void validate(const FuseOptions& o) {
   if (o.scans.empty()) throw InputError("--scans is required (a .conf file)");
-  if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
   if (!(o.voxel > 0)) throw InputError("--voxel must be positive (in the scans' units)");
   if (!(o.envelope > 0)) throw InputError("--envelope must be positive (in voxels)");
   if (o.brick < 2 || o.brick > 64) throw InputError("--brick must be between 2 and 64");
   if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
 }
 
-}  // namespace
-
-int runFuse(const FuseOptions& o, MPI_Comm comm) {
-  Progress progress(comm);
-  const bool root = progress.isRoot();
-  if (!collectively(comm, [&] { validate(o); })) return 1;
+bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress,
+               std::vector<PrismScan>& scans) {
   const double eps = o.envelope * o.voxel;
   io::ConfFile conf;
   IndexedScans mine;
@@ -79,47 +67,88 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
         conf = io::readConf(o.scans);
         mine = loadScanShare(conf, o.surface, eps, mpi::rank(comm), mpi::size(comm));
       }))
-    return 1;
-  const std::vector<PrismScan> scans = shareScans(mine, conf.scans.size(), comm);
-  mine.clear();
-  if (root) {
+    return false;
+  scans = shareScans(mine, conf.scans.size(), comm);
+  if (progress.isRoot()) {
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
     warnEmptyScans(conf, scans);
   }
   progress.stage("read", std::to_string(scans.size()) + " scans, " +
                              std::to_string(countTriangles(scans)) + " triangles");
+  return true;
+}
 
-  BrickLayout layout;
+bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
+                  TriangleMesh& mesh) {
   if (!collectively(comm, [&] {
-        layout = planBricks(scans, fitGrid(scans, o.voxel, o.brick, eps), mpi::size(comm));
-      }))
-    return 1;
-  BrickStore store(layout, mpi::rank(comm));
-  progress.stage("bricks", std::to_string(layout.codes.size()) + " bricks of " +
-                               std::to_string(o.brick) + "^3, per rank " +
-                               perRank(comm, store.brickCount()));
-
-  PrismIntegrator integrator(store);
-  uint64_t updates = 0;
-  for (const auto& s : scans) updates += integrator.addScan(s).voxelUpdates;
-  const std::string updated = perRank(comm, updates);
-  progress.stage("field", "voxels updated per rank " + updated);
-
-  MeshStats ms;
-  TriangleMesh mesh = extractDistributedMesh(store, o.minWeight, comm, &ms);
-  const std::string halo = perRank(comm, ms.haloBricksReceived);
-  progress.stage("mesh", std::to_string(mesh.faces.size()) + " triangles, " +
-                             std::to_string(mesh.vertices.size()) +
-                             " vertices, halo bricks per rank " + halo);
-  if (!collectively(comm, [&] {
-        if (!root) return;
+        if (!mpi::rank(comm) == 0) return;
         if (o.normals) mesh.normals = vertexNormals(mesh);
         io::writeMeshPly(o.out, mesh);
       }))
+    return false;
+  if (o.preview.empty()) return true;
+  const SparseField all = SparseField::gather(*field.store, o.minWeight, 0, comm);
+  return collectively(comm, [&] {
+    if (mpi::rank(comm) == 0) io::writePng(o.preview, renderField(all, ViewSettings{}));
+  });
+}
+
+}  // namespace
+
+uint64_t peakMemoryMiB() {
+  struct rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
+}
+
+bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedField& field,
+                RankCounters& counters) {
+  if (!collectively(comm, [&] { validate(o); })) return false;
+  if (!loadScans(o, comm, progress, field.scans)) return false;
+  const double eps = o.envelope * o.voxel;
+  if (!collectively(comm, [&] {
+        field.layout =
+            planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps), mpi::size(comm));
+      }))
+    return false;
+  field.store = std::make_unique<BrickStore>(field.layout, mpi::rank(comm));
+  counters.bricks = field.store->brickCount();
+  progress.stage("bricks", std::to_string(field.layout.codes.size()) + " bricks of " +
+                               std::to_string(o.brick) + "^3, per rank " +
+                               perRank(comm, counters.bricks));
+  PrismIntegrator integrator(*field.store);
+  for (const auto& s : field.scans) {
+    const IntegrationStats st = integrator.addScan(s);
+    counters.prisms += st.prisms;
+    counters.voxelUpdates += st.voxelUpdates;
+  }
+  progress.stage("field", "voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+  return true;
+}
+
+int runFuse(const FuseOptions& o, MPI_Comm comm) {
+  Progress progress(comm);
+  if (!collectively(comm, [&] {
+        if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
+      }))
     return 1;
-  progress.stage("write", o.out);
+  FusedField field;
+  RankCounters counters;
+  if (!buildField(o, comm, progress, field, counters)) return 1;
+  MeshStats ms;
+  TriangleMesh mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms);
+  counters.haloBricks = ms.haloBricksReceived;
+  counters.triangles = ms.localTriangles;
+  progress.stage("mesh", std::to_string(mesh.faces.size()) + " triangles, " +
+                             std::to_string(mesh.vertices.size()) +
+                             " vertices, halo bricks per rank " +
+                             perRank(comm, ms.haloBricksReceived));
+  if (!writeOutputs(o, comm, field, mesh)) return 1;
+  progress.stage("write", o.out + (o.preview.empty() ? "" : ", " + o.preview));
   progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));
-  return 0;
+  if (o.report.empty()) return 0;
+  return collectively(comm, [&] { writeRunReport(o, comm, progress, counters, field, mesh); }) ? 0
+                                                                                               : 1;
 }
 
 }  // namespace rangefuse

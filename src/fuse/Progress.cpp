@@ -11,6 +11,7 @@ Progress::Progress(MPI_Comm comm)
 
 void Progress::stage(const std::string& name, const std::string& message) {
   const double now = MPI_Wtime();
+  stages_.emplace_back(name, now - stageStart_);
   if (root_) {
     std::printf("[%7.2fs] %-10s %s (%.2fs)\n", now - start_, name.c_str(), message.c_str(),
                 now - stageStart_);
@@ -19,8 +20,8 @@ void Progress::stage(const std::string& name, const std::string& message) {
   stageStart_ = now;
 }
 
-double Progress::stageSeconds() const {
-  return MPI_Wtime() - stageStart_;
+double Progress::elapsed() const {
+  return MPI_Wtime() - start_;
 }
 
 }  // namespace rangefuse

@@ -3,8 +3,12 @@
 
 #include <mpi.h>
 
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "rangefuse/fuse/Progress.h"
+#include "rangefuse/prism/PrismField.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
@@ -12,6 +16,8 @@ namespace rangefuse {
 struct FuseOptions {
   std::string scans;       ///< .conf file
   std::string out;         ///< mesh .ply
+  std::string report;      ///< run report .json (optional)
+  std::string preview;     ///< rendered picture .png (optional)
   double voxel = 0;        ///< in the scans' units
   double envelope = 3.0;   ///< prism half-thickness, in voxels
   int brick = 8;           ///< voxels per brick edge
@@ -20,8 +26,25 @@ struct FuseOptions {
   SurfaceOptions surface;
 };
 
-/// Runs the job on every rank of comm. Returns the process exit code: 0 on success, 1 when
-/// any rank failed (the failure is printed once, by the lowest failing rank).
+/// The fused field of one job: every rank holds all scans and its own bricks.
+struct FusedField {
+  std::vector<PrismScan> scans;
+  BrickLayout layout;
+  std::unique_ptr<BrickStore> store;
+};
+
+/// Per-rank counters of a run, gathered into the report.
+struct RankCounters {
+  uint64_t bricks = 0, prisms = 0, voxelUpdates = 0, haloBricks = 0, triangles = 0;
+};
+
+/// Collective: reads the scans and builds the field. False when any rank failed (the
+/// failure printed once).
+bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
+                RankCounters& counters);
+
+/// Runs the whole job on every rank of comm. Returns the process exit code: 0 on success, 1
+/// when any rank failed (the failure is printed once, by the lowest failing rank).
 int runFuse(const FuseOptions& options, MPI_Comm comm);
 
 }  // namespace rangefuse

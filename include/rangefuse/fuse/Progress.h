@@ -1,24 +1,29 @@
-// Stage-by-stage progress lines printed by rank 0.
+// Stage-by-stage progress lines printed by rank 0, and each rank's stage times.
 #pragma once
 
 #include <mpi.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace rangefuse {
 
 class Progress {
  public:
   explicit Progress(MPI_Comm comm);
-  /// Prints "[elapsed] stage: message" on rank 0 and restarts the stage clock.
+  /// Prints "[elapsed] stage: message (stage seconds)" on rank 0, records this rank's time
+  /// for the stage and restarts the stage clock.
   void stage(const std::string& name, const std::string& message);
-  /// Seconds since the last stage() call.
-  double stageSeconds() const;
   bool isRoot() const { return root_; }
+  double elapsed() const;
+  /// This rank's (stage, seconds) in order.
+  const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
 
  private:
   bool root_;
   double start_, stageStart_;
+  std::vector<std::pair<std::string, double>> stages_;
 };
 
 }  // namespace rangefuse

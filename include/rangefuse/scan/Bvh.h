@@ -39,7 +39,7 @@ class Bvh {
   };
   int32_t build(int32_t begin, int32_t end);
 
-  const TriangleMesh& mesh_;
+  const TriangleMesh mesh_;  // a copy: callers may pass temporaries
   std::vector<int32_t> order_;
   std::vector<Eigen::Vector3d> centroids_;
   std::vector<Node> nodes_;

@@ -1,0 +1,20 @@
+// The run report: inputs, parameters, per-rank stage times and counters, mesh size.
+#pragma once
+
+#include <mpi.h>
+
+#include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/fuse/FuseJob.h"
+
+namespace rangefuse {
+
+/// This process's peak resident memory, MiB.
+uint64_t peakMemoryMiB();
+
+/// Collective: gathers every rank's stage times and counters; rank 0 writes the JSON report
+/// to options.report. Throws InputError on a write failure (on rank 0).
+void writeRunReport(const FuseOptions& options, MPI_Comm comm, const Progress& progress,
+                    const RankCounters& counters, const FusedField& field,
+                    const TriangleMesh& mesh);
+
+}  // namespace rangefuse

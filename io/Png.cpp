@@ -1,0 +1,44 @@
+#include "rangefuse/io/Png.h"
+
+#include <png.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "rangefuse/core/Error.h"
+
+namespace rangefuse::io {
+
+void writePng(const std::string& path, const Image& image) {
+  const std::string tmp = path + ".tmp";
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = image.width;
+  png.height = image.height;
+  png.format = PNG_FORMAT_RGB;
+  if (!png_image_write_to_file(&png, tmp.c_str(), 0, image.rgb.data(), 0, nullptr)) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot write PNG: " + png.message);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot rename temporary file into place: " + ec.message());
+  }
+}
+
+Image readPng(const std::string& path) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&png, path.c_str()))
+    throw InputError(path + ": cannot read PNG: " + png.message);
+  png.format = PNG_FORMAT_RGB;
+  Image image(png.width, png.height, 0);
+  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr))
+    throw InputError(path + ": cannot decode PNG: " + png.message);
+  return image;
+}
+
+}  // namespace rangefuse::io

@@ -1,0 +1,75 @@
+#include "CliCommon.h"
+#include "Commands.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/io/Png.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/render/Render.h"
+
+namespace po = boost::program_options;
+
+namespace rangefuse::cli {
+namespace {
+
+struct RenderOptions {
+  FuseOptions field;
+  std::string out, view, slice, checkpoint;
+  int width = 512, height = 512;
+};
+
+Image picture(const RenderOptions& o, const SparseField& field) {
+  if (!o.slice.empty()) {
+    int axis;
+    double value;
+    parseSlice(o.slice, axis, value);
+    return renderSlice(field, axis, value);
+  }
+  ViewSettings view;
+  view.width = o.width;
+  view.height = o.height;
+  if (!o.view.empty()) parseView(o.view, view);
+  return renderField(field, view);
+}
+
+int run(const RenderOptions& o, MPI_Comm comm) {
+  std::string error;
+  if (!o.checkpoint.empty())
+    error = "render: --checkpoint is not available yet (HDF5 checkpoints); use --scans";
+  else if (o.out.empty())
+    error = "render: --out FILE.png is required";
+  else if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
+    error = "render: --width and --height must be between 1 and 16384";
+  if (!mpi::agree(error.empty(), error, comm)) return 2;
+  Progress progress(comm);
+  FusedField field;
+  RankCounters counters;
+  if (!buildField(o.field, comm, progress, field, counters)) return 1;
+  const SparseField all = SparseField::gather(*field.store, o.field.minWeight, 0, comm);
+  return runOnRoot(comm, [&] {
+    const Image img = picture(o, all);
+    io::writePng(o.out, img);
+    std::printf("render: %dx%d picture -> %s\n", img.width, img.height, o.out.c_str());
+    return 0;
+  });
+}
+
+}  // namespace
+
+int renderCommand(int argc, char** argv, MPI_Comm comm) {
+  RenderOptions o;
+  po::options_description d("rangefuse render: a PNG of the fused field (surface or slice)");
+  addFieldOptions(d, o.field);
+  d.add_options()("out", po::value(&o.out), "PNG to write")(
+      "view", po::value(&o.view), "AZIMUTH,ELEVATION in degrees (azimuth about +y, 0 = from +z)")(
+      "slice", po::value(&o.slice), "AXIS=VALUE: a slice of the distance field instead")(
+      "width", po::value(&o.width)->default_value(512), "picture width, pixels")(
+      "height", po::value(&o.height)->default_value(512), "picture height, pixels")(
+      "checkpoint", po::value(&o.checkpoint), "render from an HDF5 checkpoint (not yet)");
+  po::variables_map vm;
+  const int parsed = parseCollectively(
+      argc, argv, d, vm,
+      "mpirun -np 2 rangefuse render --scans bun.conf --voxel 0.001 --view 30,20 --out bunny.png",
+      "render", comm);
+  return parsed >= 0 ? parsed : run(o, comm);
+}
+
+}  // namespace rangefuse::cli

@@ -1,0 +1,68 @@
+#include "rangefuse/fuse/RunReport.h"
+
+#include "rangefuse/io/Json.h"
+#include "rangefuse/parallel/Mpi.h"
+
+using nlohmann::json;
+
+namespace rangefuse {
+namespace {
+
+json parameters(const FuseOptions& o) {
+  return {{"voxel", o.voxel},
+          {"envelope_voxels", o.envelope},
+          {"brick", o.brick},
+          {"min_weight", o.minWeight},
+          {"normal_passes", o.surface.normalPasses},
+          {"max_edge", o.surface.maxEdgeFactor},
+          {"min_cosine", o.surface.minCosine},
+          {"method", "prism"}};
+}
+
+/// One rank's entry, as JSON text (gathered as bytes).
+std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounters& c) {
+  json stages = json::object();
+  for (const auto& [name, seconds] : progress.stages()) stages[name] = seconds;
+  return json{{"rank", mpi::rank(comm)},
+              {"stage_seconds", stages},
+              {"bricks", c.bricks},
+              {"prisms", c.prisms},
+              {"voxels_updated", c.voxelUpdates},
+              {"halo_bricks_received", c.haloBricks},
+              {"triangles", c.triangles},
+              {"peak_memory_mib", peakMemoryMiB()}}
+      .dump();
+}
+
+}  // namespace
+
+void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progress,
+                    const RankCounters& counters, const FusedField& field,
+                    const TriangleMesh& mesh) {
+  const std::string mine = rankEntry(comm, progress, counters);
+  std::vector<char> bytes(mine.begin(), mine.end());
+  bytes.push_back('\n');
+  const std::vector<char> all = mpi::gatherBytes(bytes, 0, comm);
+  if (mpi::rank(comm) != 0) return;
+  json ranks = json::array();
+  std::string text(all.begin(), all.end());
+  for (size_t pos = 0, end; (end = text.find('\n', pos)) != std::string::npos; pos = end + 1)
+    ranks.push_back(json::parse(text.substr(pos, end - pos)));
+  size_t triangles = 0;
+  for (const auto& s : field.scans) triangles += s.surface.triangles.size();
+  json report = {
+      {"command", "fuse"},
+      {"inputs",
+       {{"scans", o.scans}, {"scan_count", field.scans.size()}, {"scan_triangles", triangles}}},
+      {"parameters", parameters(o)},
+      {"ranks", mpi::size(comm)},
+      {"total_bricks", field.layout.codes.size()},
+      {"wall_seconds", progress.elapsed()},
+      {"per_rank", ranks},
+      {"mesh",
+       {{"file", o.out}, {"triangles", mesh.faces.size()}, {"vertices", mesh.vertices.size()}}},
+      {"registration", json::array()}};
+  io::writeJson(o.report, report);
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,94 @@
+#include <algorithm>
+#include <cmath>
+
+#include "rangefuse/render/Render.h"
+
+namespace rangefuse {
+namespace {
+
+struct Camera {
+  Eigen::Vector3d toCamera, right, up, centre;
+  double radius;
+};
+
+Camera makeCamera(const SparseField& field, const ViewSettings& view) {
+  const double az = view.azimuthDeg * M_PI / 180, el = view.elevationDeg * M_PI / 180;
+  Camera c;
+  c.toCamera =
+      Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  const Eigen::Vector3d worldUp =
+      std::abs(c.toCamera.y()) > 0.99 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  c.right = worldUp.cross(c.toCamera).normalized();
+  c.up = c.toCamera.cross(c.right);
+  const Eigen::AlignedBox3d box = field.bounds();
+  c.centre = box.center();
+  c.radius = 0.5 * box.diagonal().norm();
+  return c;
+}
+
+/// Where the ray leaves the lattice cell block of brick b (cells whose low corner is in b).
+double brickExit(const SparseField& f, const BrickCoord& b, const Eigen::Vector3d& o,
+                 const Eigen::Vector3d& d) {
+  const VoxelGrid& g = f.grid();
+  double exit = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0) continue;
+    const double lo = g.origin[a] + g.voxel * b[a] * g.brick;
+    const double hi = lo + g.voxel * g.brick;
+    exit = std::min(exit, ((d[a] > 0 ? hi : lo) - o[a]) / d[a]);
+  }
+  return exit;
+}
+
+/// First outside-to-inside crossing along o + t d, t in [0, tMax]; NaN when none.
+double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                     double tMax) {
+  const double step = 0.5 * f.grid().voxel;
+  bool havePrev = false;
+  double prev = 0;
+  for (double t = 0; t <= tMax; t += step) {
+    const Eigen::Vector3d p = o + t * d;
+    VoxelIndex cell;
+    for (int a = 0; a < 3; ++a) cell[a] = static_cast<int>(std::floor(f.grid().coord(p, a)));
+    const BrickCoord b = brickOf(cell, f.grid().brick);
+    if ((cell.array() < 0).any() || !f.hasBrick(b)) {
+      havePrev = false;
+      t = std::max(t, brickExit(f, b, o, d) - step + 1e-9 * step);
+      continue;
+    }
+    double cur;
+    if (!f.distance(p, cur)) {
+      havePrev = false;
+      continue;
+    }
+    if (havePrev && prev > 0 && cur <= 0) return t - step + step * prev / (prev - cur);
+    prev = cur;
+    havePrev = true;
+  }
+  return NAN;
+}
+
+}  // namespace
+
+Image renderField(const SparseField& field, const ViewSettings& view) {
+  Image img(view.width, view.height, 255);
+  if (field.bounds().isEmpty()) return img;
+  const Camera cam = makeCamera(field, view);
+  const double aspect = double(view.width) / view.height;
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      const double u = ((x + 0.5) / view.width * 2 - 1) * aspect * cam.radius;
+      const double v = (1 - (y + 0.5) / view.height * 2) * cam.radius;
+      const Eigen::Vector3d o =
+          cam.centre + 1.5 * cam.radius * cam.toCamera + u * cam.right + v * cam.up;
+      const double t = firstCrossing(field, o, -cam.toCamera, 3 * cam.radius);
+      if (std::isnan(t)) continue;
+      const Eigen::Vector3d n = field.gradient(o - t * cam.toCamera);
+      const double shade = 0.15 + 0.85 * std::max(0.0, n.dot(cam.toCamera));
+      img.set(x, y, static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
+              static_cast<uint8_t>(205 * shade));
+    }
+  return img;
+}
+
+}  // namespace rangefuse
