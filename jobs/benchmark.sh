@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Benchmark: the bunny fuse at two voxel sizes on 1 and 2 ranks, in one run, with wall
-# time, peak memory per rank, accuracy against bun_zipper.ply and the 2-vs-1 speed-up.
-# Usage: bash jobs/benchmark.sh [repeats]   (prints a Markdown table; best of `repeats`)
+# Benchmark, in one run: the bunny fuse at two voxel sizes on 1 and 2 ranks, and the
+# synthetic scanner's default set (composite shape, 24 views at 320x240, noise 0.5 voxel,
+# 1% outliers, 2 patches). Prints a Markdown table with wall time, peak memory per rank,
+# accuracy (from `rangefuse eval`) and the 2-vs-1-rank speed-up; best of `repeats` runs.
+# Usage: bash jobs/benchmark.sh [repeats]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repeats=${1:-3}
@@ -9,40 +11,51 @@ bash jobs/setup.sh >/dev/null
 source jobs/mpi_env.sh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-data=tests/data/bunny
+bin=build/rangefuse
 
 calc() { awk "BEGIN { printf \"$1\", $2 }"; }
+field() { grep "] $1 " "$tmp/best.log" | sed "$2"; }
 
-echo "| voxel (mm) | ranks | mpirun wall (s) | job (s) | field (s) | bricks | peak MiB per rank | accuracy mean (mm) | completeness mean (mm) | speed-up 2 vs 1 (job / wall) |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
-for voxel in 0.001 0.0005; do
-  declare -A best=() job=()
+# bench DATASET METHOD CONF REFERENCE VOXEL UNIT-NAME UNIT-SCALE: one row per rank count.
+bench() {
+  local dataset=$1 method=$2 conf=$3 ref=$4 voxel=$5 unit=$6 scale=$7
+  local job1=""
   for ranks in 1 2; do
-    best[$ranks]=999
+    local best=999 wall
     for ((i = 0; i < repeats; i++)); do
+      local start
       start=$(date +%s.%N)
-      mpirun -np "$ranks" build/rangefuse fuse --scans $data/bun.conf --voxel $voxel \
-        --out "$tmp/m$ranks.ply" >"$tmp/log"
+      mpirun -np "$ranks" $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/mesh.ply" >"$tmp/log"
       wall=$(calc %.3f "$(date +%s.%N) - $start")
-      if [[ $(calc %d "$wall < ${best[$ranks]}") == 1 ]]; then
-        best[$ranks]=$wall
-        cp "$tmp/log" "$tmp/best$ranks.log"
-      fi
+      if [[ $(calc %d "$wall < $best") == 1 ]]; then best=$wall && cp "$tmp/log" "$tmp/best.log"; fi
     done
-    build/rangefuse eval --mesh "$tmp/m$ranks.ply" --reference $data/bun_zipper.ply \
-      --voxel $voxel >"$tmp/eval"
-    acc=$(awk '/^accuracy/ {printf "%.4f", $3 * 1000}' "$tmp/eval")
-    comp=$(awk '/^completeness/ {printf "%.4f", $3 * 1000}' "$tmp/eval")
-    field=$(grep '] field ' "$tmp/best$ranks.log" | sed 's/.*(\(.*\)s)$/\1/')
-    bricks=$(grep '] bricks ' "$tmp/best$ranks.log" | awk '{print $4}')
-    mem=$(grep '] done ' "$tmp/best$ranks.log" | sed 's/.*(MiB) \(.*\) (.*/\1/')
-    job[$ranks]=$(grep '] done ' "$tmp/best$ranks.log" | sed 's/^\[ *\([0-9.]*\)s\].*/\1/')
-    speedup=""
-    [[ $ranks == 2 ]] && speedup="$(calc %.2f "${job[1]} / ${job[2]}") / $(calc %.2f "${best[1]} / ${best[2]}")"
-    printf "| %s | %s | %.2f | %s | %s | %s | %s | %s | %s | %s |\n" "$(calc %g "$voxel * 1000")" \
-      "$ranks" "${best[$ranks]}" "${job[$ranks]}" "$field" "$bricks" "$mem" "$acc" "$comp" "$speedup"
+    $bin eval --mesh "$tmp/mesh.ply" --reference "$ref" --voxel "$voxel" >"$tmp/eval"
+    local acc comp chamfer fscore spurious job mem speedup=""
+    acc=$(awk -v s="$scale" '/^accuracy/ {printf "%.4f", $3 * s}' "$tmp/eval")
+    comp=$(awk -v s="$scale" '/^completeness/ {printf "%.4f", $3 * s}' "$tmp/eval")
+    chamfer=$(awk '/^chamfer/ {gsub("\\(", "", $3); printf "%.3f", $3}' "$tmp/eval")
+    fscore=$(awk '/F-score/ {print $NF}' "$tmp/eval")
+    spurious=$(awk '/^spurious/ {print $NF}' "$tmp/eval")
+    job=$(field done 's/^\[ *\([0-9.]*\)s\].*/\1/')
+    mem=$(field done 's/.*(MiB) \(.*\) (.*/\1/')
+    [[ $ranks == 1 ]] && job1=$job
+    [[ $ranks == 2 ]] && speedup=$(calc %.2f "$job1 / $job")
+    printf "| %s | %s | %s | %s | %.2f | %s | %s | %s | %s | %s | %s | %s | %s |\n" "$dataset" "$method" \
+      "$ranks" "$(calc %g "$voxel * $scale") $unit" "$best" "$job" "$mem" "$acc" "$comp" "$chamfer" \
+      "$fscore" "$spurious" "$speedup"
   done
-done
+}
+
+$bin scan --shape composite --views 24 --width 320 --height 240 --voxel 1 --noise 0.5 \
+  --outliers 0.01 --patches 2 --rot-deg 5 --trans-vox 5 --seed 1 --out "$tmp/synth" >"$tmp/scan.log"
+
+echo "| dataset | method | ranks | voxel | mpirun wall (s) | job (s) | peak MiB per rank | accuracy mean | completeness mean | chamfer (voxels) | F-score (1 voxel) | spurious area | speed-up 2 vs 1 (job) |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+bench bunny prism tests/data/bunny/bun.conf tests/data/bunny/bun_zipper.ply 0.001 mm 1000
+bench bunny prism tests/data/bunny/bun.conf tests/data/bunny/bun_zipper.ply 0.0005 mm 1000
+bench "synthetic composite" prism "$tmp/synth/truth.conf" "$tmp/synth/truth.ply" 1 units 1
 echo
+echo "Accuracy/completeness: mean distance (mm for the bunny, model units for the synthetic set);"
 echo "mpirun wall = the whole command including MPI start-up; job = rangefuse's own elapsed time"
-echo "(read, triangulate, fields, mesh, write); best of $repeats runs; $(nproc) cores."
+echo "(read, triangulate, fields, mesh, write). Best of $repeats runs; $(nproc) cores."
+echo "Synthetic set: $(cat "$tmp/scan.log")"

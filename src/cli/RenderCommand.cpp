@@ -16,28 +16,37 @@ struct RenderOptions {
   int width = 512, height = 512;
 };
 
-Image picture(const RenderOptions& o, const SparseField& field) {
-  if (!o.slice.empty()) {
-    int axis;
-    double value;
-    parseSlice(o.slice, axis, value);
-    return renderSlice(field, axis, value);
-  }
+/// What to draw, parsed and checked before any work is done.
+struct Picture {
+  bool slice = false;
+  int axis = 0;
+  double value = 0;
   ViewSettings view;
-  view.width = o.width;
-  view.height = o.height;
-  if (!o.view.empty()) parseView(o.view, view);
-  return renderField(field, view);
+};
+
+Picture parsePicture(const RenderOptions& o) {
+  if (!o.checkpoint.empty())
+    throw InputError("render: --checkpoint is not available yet (HDF5 checkpoints); use --scans");
+  if (o.out.empty()) throw InputError("render: --out FILE.png is required");
+  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
+    throw InputError("render: --width and --height must be between 1 and 16384");
+  Picture p;
+  p.slice = !o.slice.empty();
+  if (p.slice) parseSlice(o.slice, p.axis, p.value);
+  p.view.width = o.width;
+  p.view.height = o.height;
+  if (!o.view.empty()) parseView(o.view, p.view);
+  return p;
 }
 
 int run(const RenderOptions& o, MPI_Comm comm) {
   std::string error;
-  if (!o.checkpoint.empty())
-    error = "render: --checkpoint is not available yet (HDF5 checkpoints); use --scans";
-  else if (o.out.empty())
-    error = "render: --out FILE.png is required";
-  else if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-    error = "render: --width and --height must be between 1 and 16384";
+  Picture pic;
+  try {
+    pic = parsePicture(o);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
   if (!mpi::agree(error.empty(), error, comm)) return 2;
   Progress progress(comm);
   FusedField field;
@@ -45,7 +54,8 @@ int run(const RenderOptions& o, MPI_Comm comm) {
   if (!buildField(o.field, comm, progress, field, counters)) return 1;
   const SparseField all = SparseField::gather(*field.store, o.field.minWeight, 0, comm);
   return runOnRoot(comm, [&] {
-    const Image img = picture(o, all);
+    const Image img =
+        pic.slice ? renderSlice(all, pic.axis, pic.value) : renderField(all, pic.view);
     io::writePng(o.out, img);
     std::printf("render: %dx%d picture -> %s\n", img.width, img.height, o.out.c_str());
     return 0;

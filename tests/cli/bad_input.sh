@@ -24,8 +24,17 @@ make_case() {  # $1 = name, $2 = scan file content (printf format)
 expect() {
   local name=$1 text=$2
   shift 2
+  run_case "$name" "$text" fuse --out "$tmp/$name.out.ply" "$@"
+}
+
+# run_case NAME EXPECTED-TEXT COMMAND [options...]: the output checked is $tmp/NAME.out.*
+run_case() {
+  local name=$1 text=$2
+  shift 2
   local out="$tmp/$name.out.ply"
-  timeout 60 mpirun -np 2 "$bin" fuse --out "$out" "$@" >"$tmp/$name.stdout" 2>"$tmp/$name.stderr"
+  [[ $1 == scan ]] && out="$tmp/$name.out.dir"
+  [[ $1 == render ]] && out="$tmp/$name.out.png"
+  timeout 60 mpirun -np 2 "$bin" "$@" >"$tmp/$name.stdout" 2>"$tmp/$name.stderr"
   local rc=$?
   local errors
   errors=$(grep -c 'rangefuse: error' "$tmp/$name.stderr")
@@ -60,5 +69,14 @@ expect conf-line "short.conf: line 1" --scans "$tmp/truncated/short.conf" --voxe
 expect no-conf "nothing.conf: cannot open" --scans "$tmp/nothing.conf" --voxel 0.1
 expect voxel "--voxel" --scans "$tmp/extra/scans.conf" --voxel -1
 expect option "unrecognised option" --scans "$tmp/extra/scans.conf" --voxel 1 --frobnicate 3
+
+run_case scan-mesh "nothing.ply: cannot open" scan --mesh "$tmp/nothing.ply" --voxel 1 --out "$tmp/scan-mesh.out.dir"
+run_case scan-views "--views" scan --shape sphere --views 0 --voxel 1 --out "$tmp/scan-views.out.dir"
+run_case scan-noise "--noise" scan --shape sphere --noise -1 --voxel 1 --out "$tmp/scan-noise.out.dir"
+run_case scan-shape "--shape" scan --shape cube --voxel 1 --out "$tmp/scan-shape.out.dir"
+run_case eval-missing "gone.ply: cannot open" eval --mesh "$tmp/gone.ply" --reference "$tmp/gone.ply" --voxel 1
+run_case eval-mix "either --mesh" eval --mesh a.ply --poses b.conf --voxel 1
+run_case render-slice "--slice" render --scans "$tmp/nothing.conf" --voxel 1 --slice w=3 --out "$tmp/render-slice.out.png"
+run_case render-scans "nothing.conf: cannot open" render --scans "$tmp/nothing.conf" --voxel 1 --out "$tmp/render-scans.out.png"
 
 [[ $failures -eq 0 ]] && echo "all bad-input cases passed" || { echo "$failures case(s) failed"; exit 1; }

@@ -39,7 +39,8 @@ TEST(Bvh, FirstHitMatchesBruteForceOnRandomRays) {
     Eigen::Vector3d target(40 * u(rng), 40 * u(rng), 30 * u(rng));
     Eigen::Vector3d d = (target - o).normalized();
     RayHit a, b;
-    const bool fa = bvh.firstHit(o, d, 0, INFINITY, a), fb = bvh.firstHitBruteForce(o, d, 0, INFINITY, b);
+    const bool fa = bvh.firstHit(o, d, 0, INFINITY, a),
+               fb = bvh.firstHitBruteForce(o, d, 0, INFINITY, b);
     ASSERT_EQ(fa, fb);
     if (!fa) continue;
     ++hits;
@@ -169,7 +170,8 @@ TEST(SyntheticScanner, EachPatchIsSeenByItsScanOnly) {
   const MeshDistance patch0(patchMesh({set.patches[0]})), patch1(patchMesh({set.patches[1]}));
   for (const auto& sc : set.scans) {
     size_t on0 = 0, on1 = 0;
-    for (const auto& p : worldPoints(sc)) on0 += patch0.distance(p) < 1e-6, on1 += patch1.distance(p) < 1e-6;
+    for (const auto& p : worldPoints(sc))
+      on0 += patch0.distance(p) < 1e-6, on1 += patch1.distance(p) < 1e-6;
     const int scan = static_cast<int>(&sc - set.scans.data());
     EXPECT_EQ(on0 > 0, scan == set.patches[0].scan) << scan;
     EXPECT_EQ(on1 > 0, scan == set.patches[1].scan) << scan;

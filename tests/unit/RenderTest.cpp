@@ -1,0 +1,107 @@
+#include <gtest/gtest.h>
+
+#include "TempDir.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/io/Png.h"
+#include "rangefuse/render/Render.h"
+
+using namespace rangefuse;
+
+namespace {
+
+const Eigen::Vector3d kCentre(16.3, 15.8, 16.1);
+const double kRadius = 9.0;
+
+/// An analytic sphere field, observed within 3 voxels of the surface.
+SparseField sphereField() {
+  VoxelGrid grid;
+  grid.brick = 8;
+  SparseField f(grid, 0);
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) {
+        std::vector<VoxelSums> sums(512);
+        bool any = false;
+        for (int i = 0; i < 512; ++i) {
+          const Eigen::Vector3d p(8 * x + i % 8, 8 * y + (i / 8) % 8, 8 * z + i / 64);
+          const double d = (p - kCentre).norm() - kRadius;
+          if (std::abs(d) > 3) continue;
+          const Eigen::Vector3d n = (p - kCentre).normalized();
+          sums[i] = VoxelSums{float(d), 1, {float(n.x()), float(n.y()), float(n.z())}};
+          any = true;
+        }
+        if (any) f.addBrick(mortonEncode({x, y, z}), std::move(sums));
+      }
+  return f;
+}
+
+bool isWhite(const Image& img, int x, int y) {
+  const uint8_t* p = &img.rgb[(size_t(y) * img.width + x) * 3];
+  return p[0] == 255 && p[1] == 255 && p[2] == 255;
+}
+
+}  // namespace
+
+TEST(Png, WriteThenReadGivesSamePixels) {
+  test::TempDir dir;
+  Image img(7, 5, 0);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 7; ++x) img.set(x, y, uint8_t(30 * x), uint8_t(50 * y), 200);
+  io::writePng(dir.file("a.png"), img);
+  const Image back = io::readPng(dir.file("a.png"));
+  EXPECT_EQ(back.width, 7);
+  EXPECT_EQ(back.height, 5);
+  EXPECT_EQ(back.rgb, img.rgb);
+  EXPECT_THROW(io::readPng(dir.write("b.png", "not a png")), InputError);
+}
+
+TEST(RenderField, SphereSilhouetteAndShading) {
+  const SparseField f = sphereField();
+  ViewSettings view;
+  view.elevationDeg = 0;
+  view.width = view.height = 200;
+  const Image img = renderField(f, view);
+  EXPECT_EQ(img.width, 200);
+  EXPECT_FALSE(isWhite(img, 100, 100));
+  EXPECT_TRUE(isWhite(img, 2, 2));
+  // Facing the camera at the centre: full headlight shading.
+  EXPECT_GT(img.rgb[(100 * 200 + 100) * 3], 225);
+  // The silhouette covers pi r^2 of the (2 x half-diagonal)^2 view window.
+  size_t covered = 0;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x) covered += !isWhite(img, x, y);
+  const Eigen::AlignedBox3d box = f.bounds();
+  const double window = box.diagonal().norm();
+  const double expected = M_PI * kRadius * kRadius / (window * window) * 200 * 200;
+  EXPECT_NEAR(covered / expected, 1.0, 0.05);
+}
+
+TEST(RenderSlice, SurfaceDarkUnobservedBlue) {
+  const SparseField f = sphereField();
+  const Image img = renderSlice(f, 2, kCentre.z());
+  ASSERT_GT(img.width, 10);
+  // The centre of the sphere is beyond the band: unobserved, blue.
+  const int cx = img.width / 2, cy = img.height / 2;
+  const uint8_t* p = &img.rgb[(size_t(cy) * img.width + cx) * 3];
+  EXPECT_LT(p[0], p[2]);
+  size_t dark = 0;
+  for (size_t i = 0; i < img.rgb.size(); i += 3)
+    dark += img.rgb[i] < 40 && img.rgb[i] == img.rgb[i + 2];
+  EXPECT_GT(dark, 20u);  // the zero crossing
+}
+
+TEST(RenderOptions, BadViewAndSliceAreRefused) {
+  ViewSettings v;
+  EXPECT_NO_THROW(parseView("30,-10", v));
+  EXPECT_EQ(v.azimuthDeg, 30);
+  EXPECT_EQ(v.elevationDeg, -10);
+  EXPECT_THROW(parseView("30", v), InputError);
+  EXPECT_THROW(parseView("a,b", v), InputError);
+  int axis;
+  double value;
+  EXPECT_NO_THROW(parseSlice("y=0.25", axis, value));
+  EXPECT_EQ(axis, 1);
+  EXPECT_EQ(value, 0.25);
+  EXPECT_THROW(parseSlice("w=1", axis, value), InputError);
+  EXPECT_THROW(parseSlice("z=", axis, value), InputError);
+}
