@@ -1,31 +1,40 @@
 #include <boost/program_options.hpp>
-#include <fstream>
-#include <iostream>
 
 #include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/parallel/Mpi.h"
 
 namespace po = boost::program_options;
 
 namespace rangefuse::cli {
 
 void addFieldOptions(po::options_description& d, FuseOptions& o) {
-  d.add_options()("help,h", "show this help")(
-      "config", po::value<std::string>(),
-      "read options from an .ini file (key = value, same names)")(
-      "scans", po::value(&o.scans), "scan list (.conf, Stanford bmesh lines)")(
-      "voxel", po::value(&o.voxel), "voxel size, in the scans' units")(
-      "envelope", po::value(&o.envelope)->default_value(3.0), "prism half-thickness, voxels")(
-      "brick", po::value(&o.brick)->default_value(8), "voxels per brick edge")(
-      "min-weight", po::value(&o.minWeight)->default_value(0.0f),
-      "voxels whose summed confidence is not above this are unobserved")(
-      "normal-passes", po::value(&o.surface.normalPasses)->default_value(2),
-      "neighbour-averaging passes over vertex normals")(
-      "max-edge", po::value(&o.surface.maxEdgeFactor)->default_value(4.0),
-      "drop scan triangles with an edge longer than this x grid spacing")(
-      "min-cosine", po::value(&o.surface.minCosine)->default_value(0.15),
+  auto add = d.add_options();
+  add("help,h", "show this help");
+  add("config", po::value<std::string>(),
+      "read options from an .ini file (key = value, same names)");
+  add("scans", po::value(&o.scans), "scan list (.conf, Stanford bmesh lines)");
+  add("voxel", po::value(&o.voxel), "voxel size, in the scans' units");
+  add("method", po::value(&o.method)->default_value("prism"),
+      "field: prism (Tubic et al.), consensus (Wheeler et al.) or naive (closest surface)");
+  add("envelope", po::value(&o.envelope)->default_value(3.0), "prism half-thickness, voxels");
+  add("quorum", po::value(&o.quorum)->default_value(-1),
+      "consensus: summed confidence a consensus surface needs (-1: 2.25 x views / 48)");
+  add("edge-angle", po::value(&o.edgeAngle)->default_value(78),
+      "consensus: a point whose offset from its surface point is more than this many degrees "
+      "from the normal lies beside an open edge and stays unobserved (90: off)");
+  add("same-distance", po::value(&o.sameDistance)->default_value(2.0),
+      "consensus: observations within this many voxels may be the same surface");
+  add("same-angle", po::value(&o.sameAngle)->default_value(45.0),
+      "consensus: ... if their normals differ by at most this many degrees");
+  add("brick", po::value(&o.brick)->default_value(8), "voxels per brick edge");
+  add("min-weight", po::value(&o.minWeight)->default_value(0.0f),
+      "voxels whose summed confidence is not above this are unobserved");
+  add("normal-passes", po::value(&o.surface.normalPasses)->default_value(2),
+      "neighbour-averaging passes over vertex normals");
+  add("max-edge", po::value(&o.surface.maxEdgeFactor)->default_value(4.0),
+      "drop scan triangles with an edge longer than this x grid spacing");
+  add("min-cosine", po::value(&o.surface.minCosine)->default_value(0.15),
       "drop scan triangles whose normal makes a cosine below this with the view ray");
 }
 
@@ -33,11 +42,11 @@ namespace {
 
 po::options_description fuseOptions(FuseOptions& o) {
   po::options_description d("rangefuse fuse: fuse range scans into one mesh");
-  d.add_options()("out", po::value(&o.out), "output mesh (.ply, binary)")(
-      "report", po::value(&o.report),
-      "write a JSON run report (stage times, counts, memory per rank)")(
-      "preview", po::value(&o.preview), "write a ray-cast PNG picture of the fused field")(
-      "normals", po::value(&o.normals)->default_value(true), "write vertex normals");
+  auto add = d.add_options();
+  add("out", po::value(&o.out), "output mesh (.ply, binary)");
+  add("report", po::value(&o.report), "write a JSON run report (stage times, counts, memory)");
+  add("preview", po::value(&o.preview), "write a ray-cast PNG picture of the fused field");
+  add("normals", po::value(&o.normals)->default_value(true), "write vertex normals");
   addFieldOptions(d, o);
   return d;
 }

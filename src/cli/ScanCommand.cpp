@@ -89,6 +89,8 @@ int run(const ScanOptions& o) {
   io::writeConf(file("perturbed.conf"), perturbed);
   io::writeMeshPly(file("truth.ply"), mesh);
   io::writeMeshPly(file("patches.ply"), patchMesh(set.patches));
+  for (size_t k = 0; k < set.patches.size(); ++k)
+    io::writeMeshPly(file("patch_" + std::to_string(k) + ".ply"), patchMesh({set.patches[k]}));
   io::writeJson(file("scan.json"), groundTruth(o, set));
   std::printf("scan: %zu views of %zu triangles, %zu points, %zu patches -> %s\n", set.scans.size(),
               mesh.faces.size(), points, set.patches.size(), o.out.c_str());

@@ -2,8 +2,10 @@
 
 #include <sys/resource.h>
 
+#include <cmath>
 #include <sstream>
 
+#include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
@@ -56,6 +58,15 @@ void validate(const FuseOptions& o) {
   if (!(o.envelope > 0)) throw InputError("--envelope must be positive (in voxels)");
   if (o.brick < 2 || o.brick > 64) throw InputError("--brick must be between 2 and 64");
   if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
+  if (o.method != "prism" && o.method != "consensus" && o.method != "naive")
+    throw InputError("--method must be prism, consensus or naive, not '" + o.method + "'");
+  if (!(o.quorum >= 0) && o.quorum != -1)
+    throw InputError("--quorum must not be negative (or -1: scaled to the number of views)");
+  if (!(o.edgeAngle >= 0 && o.edgeAngle <= 90))
+    throw InputError("--edge-angle must be in [0, 90] degrees");
+  if (!(o.sameDistance > 0)) throw InputError("--same-distance must be positive (voxels)");
+  if (!(o.sameAngle > 0 && o.sameAngle <= 180))
+    throw InputError("--same-angle must be in (0, 180] degrees");
 }
 
 bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress,
@@ -93,7 +104,27 @@ bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
   });
 }
 
+/// Consensus or naive distances near the surface of every local brick.
+EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& field) {
+  std::vector<ViewIndex> views;
+  for (const auto& s : field.scans) views.emplace_back(s.surface);
+  ConsensusParams params;
+  params.quorum = o.quorum >= 0 ? o.quorum : autoQuorum(field.scans.size());
+  params.sameDistance = o.sameDistance * o.voxel;
+  params.sameCosine = std::cos(o.sameAngle * M_PI / 180);
+  params.edgeCosine = std::cos(o.edgeAngle * M_PI / 180);
+  params.edgeSlack = 0.5 * o.voxel;
+  // Past the largest distance a brick-sized cell is refined at, plus delta_d.
+  const double margin = (std::sqrt(3.0) * (0.5 * o.brick + 1) + 1) * o.voxel + params.sameDistance;
+  ConsensusSampler sampler(views, params, o.method == "naive", margin);
+  return evaluateNearSurface(*field.store, sampler);
+}
+
 }  // namespace
+
+double autoQuorum(size_t views) {
+  return 2.25 * static_cast<double>(views) / 48;
+}
 
 uint64_t peakMemoryMiB() {
   struct rusage u;
@@ -116,13 +147,21 @@ bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedFi
   progress.stage("bricks", std::to_string(field.layout.codes.size()) + " bricks of " +
                                std::to_string(o.brick) + "^3, per rank " +
                                perRank(comm, counters.bricks));
-  PrismIntegrator integrator(*field.store);
-  for (const auto& s : field.scans) {
-    const IntegrationStats st = integrator.addScan(s);
-    counters.prisms += st.prisms;
-    counters.voxelUpdates += st.voxelUpdates;
+  if (o.method == "prism") {
+    PrismIntegrator integrator(*field.store);
+    for (const auto& s : field.scans) {
+      const IntegrationStats st = integrator.addScan(s);
+      counters.prisms += st.prisms;
+      counters.voxelUpdates += st.voxelUpdates;
+    }
+    progress.stage("field", "voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+    return true;
   }
-  progress.stage("field", "voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+  const EvaluationStats st = evaluateClosestSurfaceField(o, field);
+  counters.evaluatedPoints = st.points;
+  counters.voxelUpdates = st.voxels;
+  progress.stage("field", o.method + ": evaluated points per rank " + perRank(comm, st.points) +
+                              ", voxels " + perRank(comm, st.voxels));
   return true;
 }
 

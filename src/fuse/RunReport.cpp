@@ -8,7 +8,7 @@ using nlohmann::json;
 namespace rangefuse {
 namespace {
 
-json parameters(const FuseOptions& o) {
+json parameters(const FuseOptions& o, const FusedField& field) {
   return {{"voxel", o.voxel},
           {"envelope_voxels", o.envelope},
           {"brick", o.brick},
@@ -16,7 +16,11 @@ json parameters(const FuseOptions& o) {
           {"normal_passes", o.surface.normalPasses},
           {"max_edge", o.surface.maxEdgeFactor},
           {"min_cosine", o.surface.minCosine},
-          {"method", "prism"}};
+          {"method", o.method},
+          {"quorum", o.quorum >= 0 ? o.quorum : autoQuorum(field.scans.size())},
+          {"edge_angle_deg", o.edgeAngle},
+          {"same_distance_voxels", o.sameDistance},
+          {"same_angle_deg", o.sameAngle}};
 }
 
 /// One rank's entry, as JSON text (gathered as bytes).
@@ -28,6 +32,7 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
               {"bricks", c.bricks},
               {"prisms", c.prisms},
               {"voxels_updated", c.voxelUpdates},
+              {"evaluated_points", c.evaluatedPoints},
               {"halo_bricks_received", c.haloBricks},
               {"triangles", c.triangles},
               {"peak_memory_mib", peakMemoryMiB()}}
@@ -54,7 +59,7 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
       {"command", "fuse"},
       {"inputs",
        {{"scans", o.scans}, {"scan_count", field.scans.size()}, {"scan_triangles", triangles}}},
-      {"parameters", parameters(o)},
+      {"parameters", parameters(o, field)},
       {"ranks", mpi::size(comm)},
       {"total_bricks", field.layout.codes.size()},
       {"wall_seconds", progress.elapsed()},

@@ -14,6 +14,10 @@ namespace rangefuse {
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                        const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
+/// The same, as barycentric coordinates (weights of a, b, c).
+Eigen::Vector3d closestBarycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                   const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
 /// Exact distance from points to a triangle mesh. A k-d tree over triangle centroids finds
 /// the candidates: every triangle whose centroid lies within (nearest centroid distance +
 /// largest centroid-to-vertex radius) is tested, so no closer triangle can be missed.

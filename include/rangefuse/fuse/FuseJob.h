@@ -14,16 +14,21 @@
 namespace rangefuse {
 
 struct FuseOptions {
-  std::string scans;       ///< .conf file
-  std::string out;         ///< mesh .ply
-  std::string report;      ///< run report .json (optional)
-  std::string preview;     ///< rendered picture .png (optional)
-  double voxel = 0;        ///< in the scans' units
-  double envelope = 3.0;   ///< prism half-thickness, in voxels
-  int brick = 8;           ///< voxels per brick edge
-  float minWeight = 0.0f;  ///< voxels with summed weight not above this are unobserved
-  bool normals = true;     ///< write vertex normals
+  std::string scans;             ///< .conf file
+  std::string out;               ///< mesh .ply
+  std::string report;            ///< run report .json (optional)
+  std::string preview;           ///< rendered picture .png (optional)
+  std::string method = "prism";  ///< prism, consensus or naive
+  double voxel = 0;              ///< in the scans' units
+  double envelope = 3.0;         ///< prism half-thickness, in voxels
+  int brick = 8;                 ///< voxels per brick edge
+  float minWeight = 0.0f;        ///< voxels with summed weight not above this are unobserved
+  bool normals = true;           ///< write vertex normals
   SurfaceOptions surface;
+  double quorum = -1;         ///< consensus: summed confidence needed; -1: autoQuorum
+  double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge
+  double sameDistance = 2.0;  ///< consensus: delta_d, voxels
+  double sameAngle = 45.0;    ///< consensus: theta_n, degrees
 };
 
 /// The fused field of one job: every rank holds all scans and its own bricks.
@@ -36,12 +41,17 @@ struct FusedField {
 /// Per-rank counters of a run, gathered into the report.
 struct RankCounters {
   uint64_t bricks = 0, prisms = 0, voxelUpdates = 0, haloBricks = 0, triangles = 0;
+  uint64_t evaluatedPoints = 0;  ///< consensus and naive: distance evaluations
 };
 
 /// Collective: reads the scans and builds the field. False when any rank failed (the
 /// failure printed once).
 bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters);
+
+/// The default quorum: Wheeler et al.'s 2.25 for 48 views, in proportion to the view count
+/// (the number of views that see a surface point grows with the number of views).
+double autoQuorum(size_t views);
 
 /// Runs the whole job on every rank of comm. Returns the process exit code: 0 on success, 1
 /// when any rank failed (the failure is printed once, by the lowest failing rank).

@@ -1,0 +1,30 @@
+// The consensus (or naive) signed distance as a brick-by-brick field sampler.
+#pragma once
+
+#include "rangefuse/consensus/NearSurface.h"
+
+namespace rangefuse {
+
+class ConsensusSampler : public FieldSampler {
+ public:
+  /// `margin` (world units): views farther than this from a brick are consulted only when
+  /// the nearer ones cannot decide; it changes speed, never results.
+  ConsensusSampler(const std::vector<ViewIndex>& views, const ConsensusParams& params, bool naive,
+                   double margin)
+      : region_(views), params_(params), naive_(naive), margin_(margin) {}
+
+  void enterBrick(const Eigen::AlignedBox3d& bounds) override { region_.focus(bounds, margin_); }
+
+  bool sample(const Eigen::Vector3d& x, SignedDistance& out) override {
+    return naive_ ? naiveSignedDistance(x, region_, params_, out)
+                  : consensusSignedDistance(x, region_, params_, out);
+  }
+
+ private:
+  RegionViews region_;
+  ConsensusParams params_;
+  bool naive_;
+  double margin_;
+};
+
+}  // namespace rangefuse
