@@ -17,6 +17,14 @@ SignedDistance signedFrom(const Eigen::Vector3d& x, const SurfaceObservation& s)
   return out;
 }
 
+/// x lies beside the open edge of the surface at s rather than above or below it.
+bool besideEdge(const Eigen::Vector3d& x, const SurfaceObservation& s, double cosine,
+                double slack) {
+  const Eigen::Vector3d r = x - s.point;
+  const double dist = r.norm();
+  return dist > slack && std::abs(s.normal.dot(r)) < cosine * dist;
+}
+
 /// Runs fn(view) over the near views, then over the others unless done() says the near
 /// ones decided; views are visited in ascending order within each pass.
 template <class Fn, class Done>
@@ -61,6 +69,9 @@ SurfaceObservation consensusSurface(const Eigen::Vector3d& p, const Eigen::Vecto
     SurfaceObservation o;
     if (!views.all()[v].closest(p, params.sameDistance, o)) return;  // farther fails Eq. 1
     if (!sameSurface(p, n, o.point, o.normal, params)) return;
+    // A view whose surface ends beside p does not observe p: its rim point would pull the
+    // average off the surface.
+    if (besideEdge(p, o, params.edgeCosine, params.memberSlack)) return;
     sum.point += o.confidence * o.point;
     sum.normal += o.confidence * o.normal;
     sum.confidence += o.confidence;
@@ -142,9 +153,7 @@ bool consensusSignedDistance(const Eigen::Vector3d& x, const RegionViews& views,
   SurfaceObservation s;
   if (!closestConsensusSurface(x, views, params, s)) return false;
   out = signedFrom(x, s);
-  // Beside an open edge of the surface rather than above or below it: no evidence here.
-  const double along = std::abs(s.normal.dot(x - s.point));
-  return !(s.distance > params.edgeSlack && along < params.edgeCosine * s.distance);
+  return !besideEdge(x, s, params.edgeCosine, params.edgeSlack);  // no evidence there
 }
 
 bool naiveSignedDistance(const Eigen::Vector3d& x, const RegionViews& views,

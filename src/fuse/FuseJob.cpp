@@ -113,7 +113,10 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   params.sameDistance = o.sameDistance * o.voxel;
   params.sameCosine = std::cos(o.sameAngle * M_PI / 180);
   params.edgeCosine = std::cos(o.edgeAngle * M_PI / 180);
+  // Near the surface the offset's direction is noise: half a voxel of slack for the final
+  // test; joining a consensus is judged tighter, as a rim point biases the average.
   params.edgeSlack = 0.5 * o.voxel;
+  params.memberSlack = 0.05 * o.voxel;
   // Past the largest distance a brick-sized cell is refined at, plus delta_d.
   const double margin = (std::sqrt(3.0) * (0.5 * o.brick + 1) + 1) * o.voxel + params.sameDistance;
   ConsensusSampler sampler(views, params, o.method == "naive", margin);

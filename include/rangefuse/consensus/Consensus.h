@@ -15,6 +15,7 @@ struct ConsensusParams {
   double reach = INFINITY;     ///< closest-surface queries look no farther, world units
   double edgeCosine = 0;       ///< x is unobserved where |n.(x-p)| < this |x-p| ...
   double edgeSlack = 0;        ///< ... and |x-p| > this (world units): beside an open edge
+  double memberSlack = 0;      ///< the same test for an observation joining a consensus
 };
 
 /// The views, and which of them come near a region. Queries start with the near views and
