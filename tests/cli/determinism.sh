@@ -4,10 +4,14 @@ set -euo pipefail
 bin=$1 data=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-for n in 1 2 3; do
-  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$data/bunny/bun.conf" --voxel 0.0015 \
-    --out "$tmp/mesh$n.ply" >"$tmp/log$n"
+for method in prism consensus; do
+  voxel=0.0015
+  [[ $method == consensus ]] && voxel=0.0025
+  for n in 1 2 3; do
+    mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$data/bunny/bun.conf" --voxel $voxel \
+      --method $method --out "$tmp/mesh$n.ply" >"$tmp/log$n"
+  done
+  cmp "$tmp/mesh1.ply" "$tmp/mesh2.ply"
+  cmp "$tmp/mesh1.ply" "$tmp/mesh3.ply"
+  echo "$method: 1, 2 and 3 ranks give identical meshes ($(stat -c %s "$tmp/mesh1.ply") bytes)"
 done
-cmp "$tmp/mesh1.ply" "$tmp/mesh2.ply"
-cmp "$tmp/mesh1.ply" "$tmp/mesh3.ply"
-echo "1, 2 and 3 ranks: identical ($(stat -c %s "$tmp/mesh1.ply") bytes)"

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "rangefuse/eval/Comparison.h"
@@ -18,8 +19,10 @@ using namespace rangefuse;
 
 namespace {
 
-/// Scans the composite shape into a fresh folder on rank 0; returns the folder.
-std::string scanComposite(double noise) {
+/// Scans the composite shape into a fresh folder on rank 0; returns the folder and, through
+/// `patches`, the extraneous patches.
+std::string scanComposite(double noise, double outliers = 0, int patchCount = 0,
+                          std::vector<SyntheticPatch>* patches = nullptr) {
   std::string dir =
       (std::filesystem::temp_directory_path() / ("rangefuse-synth-" + std::to_string(getpid())))
           .string();
@@ -31,7 +34,10 @@ std::string scanComposite(double noise) {
     s.width = 160;
     s.height = 120;
     s.noise = noise;
+    s.outliers = outliers;
+    s.patches = patchCount;
     const SyntheticSet set = scanMesh(makeComposite(), s);
+    if (patches) *patches = set.patches;
     std::vector<io::ConfScan> conf;
     for (const auto& sc : set.scans) {
       io::writeRangeGridPly(dir + "/" + sc.name, sc.grid, io::PlyEncoding::BinaryLittleEndian);
@@ -75,6 +81,49 @@ TEST(SyntheticFuse, CompositeWithNoiseIsAccurateAndReported) {
     const Image img = io::readPng(o.preview);
     EXPECT_EQ(img.width, 512);
     EXPECT_EQ(img.height, 512);
+    std::filesystem::remove_all(dir);
+  }
+}
+
+namespace {
+
+/// Share of a patch's area within one unit of the mesh.
+double patchKept(const SyntheticPatch& patch, const TriangleMesh& mesh) {
+  const std::vector<double> d = sampledDistances(patchMesh({patch}), mesh, 4000, 7);
+  return double(std::count_if(d.begin(), d.end(), [](double x) { return x <= 1.0; })) / d.size();
+}
+
+}  // namespace
+
+TEST(SyntheticFuse, ConsensusDropsExtraneousPatchesNaiveKeepsThem) {
+  std::vector<SyntheticPatch> patches;
+  const std::string dir = scanComposite(0.5, 0.01, 2, &patches);
+  FuseOptions o;
+  o.scans = dir + "/truth.conf";
+  o.voxel = 1;
+  o.quorum = 1.2;  // 12 views: above one view's confidence, so one view alone is no quorum
+  double kept[2][2];
+  for (int m = 0; m < 2; ++m) {
+    o.method = m == 0 ? "consensus" : "naive";
+    o.out = dir + "/" + o.method + ".ply";
+    ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+    if (mpi::rank() != 0) continue;
+    const TriangleMesh mesh = io::readMeshPly(o.out);
+    for (int k = 0; k < 2; ++k) kept[m][k] = patchKept(patches[k], mesh);
+    if (m == 0) {
+      const MeshComparison c = compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1});
+      std::printf("consensus: chamfer %.3f voxel, F %.4f, spurious %.4f%%, patches kept %.3f %.3f\n",
+                  c.chamfer, c.fscore, 100 * c.spuriousAreaFraction, kept[0][0], kept[0][1]);
+      EXPECT_LT(c.spuriousAreaFraction, 0.001);
+      EXPECT_GT(c.fscore, 0.98);
+    }
+  }
+  if (mpi::rank() == 0) {
+    std::printf("naive: patches kept %.3f %.3f\n", kept[1][0], kept[1][1]);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_LE(kept[0][k], 0.05);
+      EXPECT_GE(kept[1][k], 0.5);
+    }
     std::filesystem::remove_all(dir);
   }
 }
