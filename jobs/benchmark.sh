@@ -16,16 +16,17 @@ bin=build/rangefuse
 calc() { awk "BEGIN { printf \"$1\", $2 }"; }
 field() { grep "] $1 " "$tmp/best.log" | sed "$2"; }
 
-# bench DATASET METHOD CONF REFERENCE VOXEL UNIT-NAME UNIT-SCALE: one row per rank count.
+# bench DATASET METHOD CONF REFERENCE VOXEL UNIT-NAME UNIT-SCALE [REPEATS]: a row per rank count.
 bench() {
-  local dataset=$1 method=$2 conf=$3 ref=$4 voxel=$5 unit=$6 scale=$7
+  local dataset=$1 method=$2 conf=$3 ref=$4 voxel=$5 unit=$6 scale=$7 repeats=${8:-$repeats}
   local job1=""
   for ranks in 1 2; do
     local best=999 wall
     for ((i = 0; i < repeats; i++)); do
       local start
       start=$(date +%s.%N)
-      mpirun -np "$ranks" $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/mesh.ply" >"$tmp/log"
+      mpirun -np "$ranks" $bin fuse --scans "$conf" --voxel "$voxel" --method "$method" \
+        --out "$tmp/mesh.ply" >"$tmp/log"
       wall=$(calc %.3f "$(date +%s.%N) - $start")
       if [[ $(calc %d "$wall < $best") == 1 ]]; then best=$wall && cp "$tmp/log" "$tmp/best.log"; fi
     done
@@ -53,9 +54,23 @@ echo "| dataset | method | ranks | voxel | mpirun wall (s) | job (s) | peak MiB 
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 bench bunny prism tests/data/bunny/bun.conf tests/data/bunny/bun_zipper.ply 0.001 mm 1000
 bench bunny prism tests/data/bunny/bun.conf tests/data/bunny/bun_zipper.ply 0.0005 mm 1000
-bench "synthetic composite" prism "$tmp/synth/truth.conf" "$tmp/synth/truth.ply" 1 units 1
+bench bunny consensus tests/data/bunny/bun.conf tests/data/bunny/bun_zipper.ply 0.001 mm 1000 1
+bench bunny naive tests/data/bunny/bun.conf tests/data/bunny/bun_zipper.ply 0.001 mm 1000 1
+for method in prism consensus naive; do
+  bench "synthetic composite" $method "$tmp/synth/truth.conf" "$tmp/synth/truth.ply" 1 units 1 1
+done
 echo
 echo "Accuracy/completeness: mean distance (mm for the bunny, model units for the synthetic set);"
 echo "mpirun wall = the whole command including MPI start-up; job = rangefuse's own elapsed time"
 echo "(read, triangulate, fields, mesh, write). Best of $repeats runs; $(nproc) cores."
 echo "Synthetic set: $(cat "$tmp/scan.log")"
+echo
+echo "Extraneous patches of the synthetic set: share of each patch's area within 1 voxel of the mesh"
+for method in consensus naive; do
+  mpirun -np 2 $bin fuse --scans "$tmp/synth/truth.conf" --voxel 1 --method $method --out "$tmp/p.ply" >/dev/null
+  kept=""
+  for k in 0 1; do
+    kept+=" $($bin eval --mesh "$tmp/synth/patch_$k.ply" --reference "$tmp/p.ply" --voxel 1 --samples 20000 | awk '/precision/ {print $5}')"
+  done
+  echo "- $method:$kept"
+done
