@@ -47,6 +47,17 @@ po::options_description fuseOptions(FuseOptions& o) {
   add("report", po::value(&o.report), "write a JSON run report (stage times, counts, memory)");
   add("preview", po::value(&o.preview), "write a ray-cast PNG picture of the fused field");
   add("normals", po::value(&o.normals)->default_value(true), "write vertex normals");
+  add("register", po::value(&o.registration)->default_value("none"),
+      "refine poses against the field: none, incremental (Algorithm 1), simultaneous "
+      "(Algorithm 2) or both (1 then 2)");
+  add("anchor", po::value(&o.anchor), "registration: scan name that stays fixed (default: first)");
+  add("control-stride", po::value(&o.controlStride)->default_value(1),
+      "registration: every k-th scan vertex is a control point");
+  add("max-iterations", po::value(&o.maxIterations)->default_value(30),
+      "registration: fits per scan (Algorithm 1) or per field rebuild (Algorithm 2)");
+  add("max-rounds", po::value(&o.maxRounds)->default_value(8),
+      "registration: field rebuilds in Algorithm 2");
+  add("poses-out", po::value(&o.posesOut), "write the refined poses (.conf)");
   addFieldOptions(d, o);
   return d;
 }

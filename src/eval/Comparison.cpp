@@ -34,7 +34,11 @@ PoseError comparePose(const Pose& estimate, const Pose& reference,
   PoseError e;
   const Eigen::AngleAxisd delta(Eigen::Matrix3d(estimate.R * reference.R.transpose()));
   e.rotationDeg = std::abs(delta.angle()) * 180 / M_PI;
-  e.translation = (estimate.t - reference.t).norm();
+  // Translation where the scan is, not at its frame's origin (the sensor, often far away):
+  // there a rotation error would count again, times the lever arm.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : points) centre += p / static_cast<double>(points.size());
+  e.translation = (estimate.apply(centre) - reference.apply(centre)).norm();
   double sum = 0;
   for (const auto& p : points) {
     const double d = (estimate.apply(p) - reference.apply(p)).norm();

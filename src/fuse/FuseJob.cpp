@@ -9,11 +9,13 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/MarchingCubes.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/register/Registration.h"
 #include "rangefuse/render/Render.h"
 
 namespace rangefuse {
@@ -29,13 +31,6 @@ bool collectively(MPI_Comm comm, Fn&& fn) {
     error = e.what();
   }
   return mpi::agree(error.empty(), error, comm);
-}
-
-void warnEmptyScans(const io::ConfFile& conf, const std::vector<PrismScan>& scans) {
-  for (size_t i = 0; i < scans.size(); ++i)
-    if (scans[i].surface.triangles.empty())
-      std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
-                   conf.scans[i].path.c_str());
 }
 
 size_t countTriangles(const std::vector<PrismScan>& scans) {
@@ -67,41 +62,12 @@ void validate(const FuseOptions& o) {
   if (!(o.sameDistance > 0)) throw InputError("--same-distance must be positive (voxels)");
   if (!(o.sameAngle > 0 && o.sameAngle <= 180))
     throw InputError("--same-angle must be in (0, 180] degrees");
-}
-
-bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress,
-               std::vector<PrismScan>& scans) {
-  const double eps = o.envelope * o.voxel;
-  io::ConfFile conf;
-  IndexedScans mine;
-  if (!collectively(comm, [&] {
-        conf = io::readConf(o.scans);
-        mine = loadScanShare(conf, o.surface, eps, mpi::rank(comm), mpi::size(comm));
-      }))
-    return false;
-  scans = shareScans(mine, conf.scans.size(), comm);
-  if (progress.isRoot()) {
-    for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
-    warnEmptyScans(conf, scans);
-  }
-  progress.stage("read", std::to_string(scans.size()) + " scans, " +
-                             std::to_string(countTriangles(scans)) + " triangles");
-  return true;
-}
-
-bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
-                  TriangleMesh& mesh) {
-  if (!collectively(comm, [&] {
-        if (!mpi::rank(comm) == 0) return;
-        if (o.normals) mesh.normals = vertexNormals(mesh);
-        io::writeMeshPly(o.out, mesh);
-      }))
-    return false;
-  if (o.preview.empty()) return true;
-  const SparseField all = SparseField::gather(*field.store, o.minWeight, 0, comm);
-  return collectively(comm, [&] {
-    if (mpi::rank(comm) == 0) io::writePng(o.preview, renderField(all, ViewSettings{}));
-  });
+  const std::string& r = o.registration;
+  if (r != "none" && r != "incremental" && r != "simultaneous" && r != "both")
+    throw InputError("--register must be none, incremental, simultaneous or both, not '" + r + "'");
+  if (o.controlStride < 1) throw InputError("--control-stride must be at least 1");
+  if (o.maxIterations < 1 || o.maxRounds < 1)
+    throw InputError("--max-iterations and --max-rounds must be at least 1");
 }
 
 /// Consensus or naive distances near the surface of every local brick.
@@ -123,6 +89,94 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   return evaluateNearSurface(*field.store, sampler);
 }
 
+bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
+                  TriangleMesh& mesh) {
+  if (!collectively(comm, [&] {
+        if (mpi::rank(comm) != 0) return;
+        if (o.normals) mesh.normals = vertexNormals(mesh);
+        io::writeMeshPly(o.out, mesh);
+      }))
+    return false;
+  if (o.preview.empty()) return true;
+  const SparseField all = SparseField::gather(*field.store, o.minWeight, 0, comm);
+  return collectively(comm, [&] {
+    if (mpi::rank(comm) == 0) io::writePng(o.preview, renderField(all, ViewSettings{}));
+  });
+}
+
+std::vector<PrismScan> placeAll(const LoadedScans& scans, const std::vector<size_t>& which,
+                                const std::vector<Pose>& poses) {
+  std::vector<PrismScan> world;
+  for (size_t i : which) world.push_back(placeScan(scans.local[i], poses[i]));
+  return world;
+}
+
+std::vector<size_t> allScans(const LoadedScans& scans) {
+  std::vector<size_t> all(scans.local.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  return all;
+}
+
+RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans& scans) {
+  RegistrationOptions r;
+  r.mode = o.registration;
+  r.controlStride = o.controlStride;
+  r.maxIterations = o.maxIterations;
+  r.maxRounds = o.maxRounds;
+  r.translationTol = 1e-3 * o.voxel;
+  r.correspondences.maxDistance = o.envelope * o.voxel;
+  if (!o.anchor.empty()) {
+    auto it = std::find(scans.names.begin(), scans.names.end(), o.anchor);
+    if (it == scans.names.end())
+      throw InputError("--anchor " + o.anchor + ": no scan of that name");
+    r.anchor = static_cast<size_t>(it - scans.names.begin());
+  }
+  return r;
+}
+
+void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel) {
+  std::printf(
+      "[register] %-12s round %d it %2d %-14s %8llu corr  rms %.4f vox  dR %.5f deg  dt %.4f "
+      "vox%s\n",
+      s.algorithm.c_str(), s.round, s.iteration, scans.names[s.scan].c_str(),
+      static_cast<unsigned long long>(s.correspondences), s.rms / voxel, s.rotationDeg,
+      s.translation / voxel, s.applied ? "" : "  (too few correspondences: left as given)");
+  std::fflush(stdout);
+}
+
+/// Collective: refines scans.poses as asked; false when any rank failed.
+bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+                   std::vector<RegistrationStep>& steps) {
+  if (o.registration == "none") return true;
+  RegistrationOptions r;
+  if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
+  FusedField field;
+  RankCounters ignored;
+  bool ok = true;
+  FieldFactory build = [&](const std::vector<size_t>& which,
+                           const std::vector<Pose>& poses) -> const BrickStore& {
+    ok = buildFieldOf(o, placeAll(scans, which, poses), comm, field, ignored) && ok;
+    return *field.store;
+  };
+  registerScans(scans.local, scans.poses, r, build, comm, [&](const RegistrationStep& s) {
+    steps.push_back(s);
+    if (progress.isRoot()) printStep(s, scans, o.voxel);
+  });
+  progress.stage("register", o.registration + ": " + std::to_string(steps.size()) + " fits");
+  return ok;
+}
+
+bool writePoses(const FuseOptions& o, MPI_Comm comm, const LoadedScans& scans) {
+  if (o.posesOut.empty()) return true;
+  return collectively(comm, [&] {
+    if (mpi::rank(comm) != 0) return;
+    std::vector<io::ConfScan> out;
+    for (size_t i = 0; i < scans.names.size(); ++i)
+      out.push_back({scans.names[i], "", scans.poses[i]});
+    io::writeConf(o.posesOut, out);
+  });
+}
+
 }  // namespace
 
 double autoQuorum(size_t views) {
@@ -135,21 +189,45 @@ uint64_t peakMemoryMiB() {
   return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
 }
 
-bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedField& field,
-                RankCounters& counters) {
+bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
   if (!collectively(comm, [&] { validate(o); })) return false;
-  if (!loadScans(o, comm, progress, field.scans)) return false;
   const double eps = o.envelope * o.voxel;
+  io::ConfFile conf;
+  IndexedScans mine;
+  if (!collectively(comm, [&] {
+        conf = io::readConf(o.scans);
+        mine = loadScanShare(conf, o.surface, eps, mpi::rank(comm), mpi::size(comm));
+      }))
+    return false;
+  scans.local = shareScans(mine, conf.scans.size(), comm);
+  for (const auto& c : conf.scans) {
+    scans.names.push_back(c.name);
+    scans.poses.push_back(c.pose);
+  }
+  if (progress.isRoot()) {
+    for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+    for (size_t i = 0; i < scans.local.size(); ++i)
+      if (scans.local[i].surface.triangles.empty())
+        std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
+                     conf.scans[i].path.c_str());
+  }
+  progress.stage("read", std::to_string(scans.local.size()) + " scans, " +
+                             std::to_string(countTriangles(scans.local)) + " triangles");
+  return true;
+}
+
+bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm comm,
+                  FusedField& field, RankCounters& counters) {
+  const double eps = o.envelope * o.voxel;
+  field.scans = std::move(world);
   if (!collectively(comm, [&] {
         field.layout =
             planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps), mpi::size(comm));
       }))
     return false;
   field.store = std::make_unique<BrickStore>(field.layout, mpi::rank(comm));
+  counters = RankCounters{};
   counters.bricks = field.store->brickCount();
-  progress.stage("bricks", std::to_string(field.layout.codes.size()) + " bricks of " +
-                               std::to_string(o.brick) + "^3, per rank " +
-                               perRank(comm, counters.bricks));
   if (o.method == "prism") {
     PrismIntegrator integrator(*field.store);
     for (const auto& s : field.scans) {
@@ -157,14 +235,23 @@ bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedFi
       counters.prisms += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
     }
-    progress.stage("field", "voxels updated per rank " + perRank(comm, counters.voxelUpdates));
     return true;
   }
   const EvaluationStats st = evaluateClosestSurfaceField(o, field);
   counters.evaluatedPoints = st.points;
   counters.voxelUpdates = st.voxels;
-  progress.stage("field", o.method + ": evaluated points per rank " + perRank(comm, st.points) +
-                              ", voxels " + perRank(comm, st.voxels));
+  return true;
+}
+
+bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedField& field,
+                RankCounters& counters) {
+  LoadedScans scans;
+  if (!loadScans(o, comm, progress, scans)) return false;
+  if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
+    return false;
+  progress.stage("field", o.method + ": " + std::to_string(field.layout.codes.size()) +
+                              " bricks, per rank " + perRank(comm, counters.bricks) +
+                              "; voxels updated per rank " + perRank(comm, counters.voxelUpdates));
   return true;
 }
 
@@ -174,9 +261,17 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
         if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
       }))
     return 1;
+  LoadedScans scans;
+  if (!loadScans(o, comm, progress, scans)) return 1;
+  std::vector<RegistrationStep> steps;
+  if (!registerPoses(o, comm, progress, scans, steps)) return 1;
   FusedField field;
   RankCounters counters;
-  if (!buildField(o, comm, progress, field, counters)) return 1;
+  if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
+    return 1;
+  progress.stage("field", o.method + ": " + std::to_string(field.layout.codes.size()) +
+                              " bricks, per rank " + perRank(comm, counters.bricks) +
+                              "; voxels updated per rank " + perRank(comm, counters.voxelUpdates));
   MeshStats ms;
   TriangleMesh mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms);
   counters.haloBricks = ms.haloBricksReceived;
@@ -185,12 +280,15 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
                              std::to_string(mesh.vertices.size()) +
                              " vertices, halo bricks per rank " +
                              perRank(comm, ms.haloBricksReceived));
-  if (!writeOutputs(o, comm, field, mesh)) return 1;
-  progress.stage("write", o.out + (o.preview.empty() ? "" : ", " + o.preview));
+  if (!writeOutputs(o, comm, field, mesh) || !writePoses(o, comm, scans)) return 1;
+  progress.stage("write", o.out + (o.preview.empty() ? "" : ", " + o.preview) +
+                              (o.posesOut.empty() ? "" : ", " + o.posesOut));
   progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));
   if (o.report.empty()) return 0;
-  return collectively(comm, [&] { writeRunReport(o, comm, progress, counters, field, mesh); }) ? 0
-                                                                                               : 1;
+  return collectively(comm,
+                      [&] { writeRunReport(o, comm, progress, counters, field, mesh, steps); })
+             ? 0
+             : 1;
 }
 
 }  // namespace rangefuse

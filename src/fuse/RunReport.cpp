@@ -20,7 +20,12 @@ json parameters(const FuseOptions& o, const FusedField& field) {
           {"quorum", o.quorum >= 0 ? o.quorum : autoQuorum(field.scans.size())},
           {"edge_angle_deg", o.edgeAngle},
           {"same_distance_voxels", o.sameDistance},
-          {"same_angle_deg", o.sameAngle}};
+          {"same_angle_deg", o.sameAngle},
+          {"register", o.registration},
+          {"anchor", o.anchor},
+          {"control_stride", o.controlStride},
+          {"max_iterations", o.maxIterations},
+          {"max_rounds", o.maxRounds}};
 }
 
 /// One rank's entry, as JSON text (gathered as bytes).
@@ -39,11 +44,26 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
       .dump();
 }
 
+json registrationJson(const FuseOptions& o, const std::vector<RegistrationStep>& steps) {
+  json fits = json::array();
+  for (const auto& s : steps)
+    fits.push_back({{"algorithm", s.algorithm},
+                    {"round", s.round},
+                    {"iteration", s.iteration},
+                    {"scan", s.scan},
+                    {"correspondences", s.correspondences},
+                    {"rms", s.rms},
+                    {"rotation_deg", s.rotationDeg},
+                    {"translation", s.translation},
+                    {"applied", s.applied}});
+  return {{"mode", o.registration}, {"fits", fits}};
+}
+
 }  // namespace
 
 void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progress,
-                    const RankCounters& counters, const FusedField& field,
-                    const TriangleMesh& mesh) {
+                    const RankCounters& counters, const FusedField& field, const TriangleMesh& mesh,
+                    const std::vector<RegistrationStep>& steps) {
   const std::string mine = rankEntry(comm, progress, counters);
   std::vector<char> bytes(mine.begin(), mine.end());
   bytes.push_back('\n');
@@ -66,7 +86,7 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
       {"per_rank", ranks},
       {"mesh",
        {{"file", o.out}, {"triangles", mesh.faces.size()}, {"vertices", mesh.vertices.size()}}},
-      {"registration", json::array()}};
+      {"registration", registrationJson(o, steps)}};
   io::writeJson(o.report, report);
 }
 

@@ -49,7 +49,7 @@ IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& optio
   for (size_t i = rank; i < conf.scans.size(); i += ranks) {
     const io::ConfScan& c = conf.scans[i];
     PrismScan s;
-    s.surface = buildScanSurface(io::readRangeGridPly(c.path), c.pose, options);
+    s.surface = buildScanSurface(io::readRangeGridPly(c.path), Pose{}, options);
     s.limits = computePrismLimits(s.surface, eps);
     mine.emplace_back(i, std::move(s));
   }
@@ -67,6 +67,17 @@ std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Co
       all[i] = std::move(s);
     }
   return all;
+}
+
+}  // namespace rangefuse
+
+namespace rangefuse {
+
+PrismScan placeScan(const PrismScan& local, const Pose& pose) {
+  PrismScan s = local;
+  for (auto& p : s.surface.points) p = pose.apply(p);
+  for (auto& n : s.surface.normals) n = pose.rotate(n);
+  return s;
 }
 
 }  // namespace rangefuse

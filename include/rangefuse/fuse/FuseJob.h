@@ -29,6 +29,19 @@ struct FuseOptions {
   double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge
   double sameDistance = 2.0;  ///< consensus: delta_d, voxels
   double sameAngle = 45.0;    ///< consensus: theta_n, degrees
+  std::string registration = "none";  ///< none, incremental, simultaneous or both
+  std::string anchor;                 ///< scan name that fixes the frame (default: the first)
+  int controlStride = 1;              ///< registration: every k-th vertex is a control point
+  int maxIterations = 30;             ///< registration: fits per scan (per round in Alg. 2)
+  int maxRounds = 8;                  ///< registration: field rebuilds in Algorithm 2
+  std::string posesOut;               ///< refined poses .conf (optional)
+};
+
+/// Scans as read: each in its own frame, with its name and current pose.
+struct LoadedScans {
+  std::vector<std::string> names;
+  std::vector<PrismScan> local;
+  std::vector<Pose> poses;
 };
 
 /// The fused field of one job: every rank holds all scans and its own bricks.
@@ -44,8 +57,15 @@ struct RankCounters {
   uint64_t evaluatedPoints = 0;  ///< consensus and naive: distance evaluations
 };
 
-/// Collective: reads the scans and builds the field. False when any rank failed (the
-/// failure printed once).
+/// Collective: reads the scans (each rank a share, then shared). False when any rank failed
+/// (the failure printed once).
+bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans);
+
+/// Collective: the field of world-placed scans on new bricks. False on failure (printed once).
+bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_Comm comm,
+                  FusedField& field, RankCounters& counters);
+
+/// Collective: reads the scans and builds the field at the .conf poses, with progress lines.
 bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters);
 

@@ -14,12 +14,16 @@ namespace rangefuse {
 
 using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
 
-/// Reads, triangulates and computes prism limits for the scans i with i % ranks == rank.
-/// Throws InputError naming the file on bad input.
+/// Reads, triangulates and computes prism limits for the scans i with i % ranks == rank, in
+/// each scan's own frame (poses are applied later, as registration moves them). Throws
+/// InputError naming the file on bad input.
 IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options, double eps,
                            int rank, int ranks);
 
 /// Collective: every rank's share on every rank, in .conf order.
 std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Comm comm);
+
+/// A scan-frame scan moved to the world by pose (prism limits are rigid-invariant).
+PrismScan placeScan(const PrismScan& local, const Pose& pose);
 
 }  // namespace rangefuse

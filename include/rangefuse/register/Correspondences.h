@@ -1,0 +1,32 @@
+// Correspondences read from the fused field in O(1) (Tubic et al. Eqs. 14-15), summed per
+// brick so that ranks can combine them in an order that does not depend on the rank count.
+#pragma once
+
+#include <mpi.h>
+
+#include <vector>
+
+#include "rangefuse/register/RigidFit.h"
+#include "rangefuse/volume/BrickStore.h"
+
+namespace rangefuse {
+
+struct CorrespondenceSettings {
+  float minWeight = 0.05f;  ///< ignore voxels whose summed weight is below this
+  double maxDistance = 0;   ///< ignore voxels with |d| above this (world units; the envelope)
+};
+
+/// The corresponding point of p from the voxel nearest to it: p - f [d + f.(p - p_v)], with
+/// f the unit gradient. False when that voxel is not local, unobserved, too light or outside
+/// the envelope.
+bool correspondence(const BrickStore& store, const Eigen::Vector3d& p,
+                    const CorrespondenceSettings& settings, Eigen::Vector3d& q);
+
+/// Collective: for control points p (world) with weights, the sums over all correspondences,
+/// made by the ranks owning each point's voxel, added per brick and then in brick order.
+/// Every rank gets the same sums, bit for bit, whatever the number of ranks.
+RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
+                             const std::vector<double>& weights,
+                             const CorrespondenceSettings& settings, MPI_Comm comm);
+
+}  // namespace rangefuse
