@@ -30,3 +30,10 @@ namespace rangefuse::cli {
 int renderCommand(int argc, char** argv, MPI_Comm comm);
 
 }  // namespace rangefuse::cli
+
+namespace rangefuse::cli {
+
+/// `rangefuse perturb ...`: perturbed copies of real poses, for registration tests.
+int perturbCommand(int argc, char** argv, MPI_Comm comm);
+
+}  // namespace rangefuse::cli

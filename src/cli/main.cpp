@@ -14,6 +14,7 @@ const char* kUsage =
     "commands:\n"
     "  fuse    fuse range scans (.conf + range-grid PLY) into one mesh\n"
     "  eval    compare a mesh with a reference mesh, or poses with reference poses\n"
+    "  perturb the scanner's pose perturbation applied to a .conf\n"
     "  render  a PNG of the fused field: ray-cast surface or distance slice\n"
     "  scan    synthetic range scans of a mesh or built-in shape, with ground truth\n"
     "run 'rangefuse COMMAND --help' for the options of a command;\n"
@@ -28,6 +29,8 @@ int main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "";
   if (command == "fuse") {
     code = rangefuse::cli::fuseCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
+  } else if (command == "perturb") {
+    code = rangefuse::cli::perturbCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
   } else if (command == "render") {
     code = rangefuse::cli::renderCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
   } else if (command == "scan") {

@@ -14,6 +14,7 @@ SignedDistance signedFrom(const Eigen::Vector3d& x, const SurfaceObservation& s)
   // The gradient of the signed field points away from the surface outside, toward it inside.
   out.gradient = out.d != 0 ? Eigen::Vector3d(r / out.d) : s.normal;
   out.weight = s.confidence;
+  out.views = s.views;
   return out;
 }
 
@@ -65,6 +66,7 @@ bool sameSurface(const Eigen::Vector3d& p0, const Eigen::Vector3d& n0, const Eig
 SurfaceObservation consensusSurface(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
                                     const RegionViews& views, const ConsensusParams& params) {
   SurfaceObservation sum;
+  int count = 0;
   auto add = [&](int v) {
     SurfaceObservation o;
     if (!views.all()[v].closest(p, params.sameDistance, o)) return;  // farther fails Eq. 1
@@ -75,6 +77,7 @@ SurfaceObservation consensusSurface(const Eigen::Vector3d& p, const Eigen::Vecto
     sum.point += o.confidence * o.point;
     sum.normal += o.confidence * o.normal;
     sum.confidence += o.confidence;
+    ++count;
   };
   // Views that are not near have no triangle within delta_d of p: they add nothing.
   if (views.coversBall(p, params.sameDistance)) {
@@ -87,6 +90,7 @@ SurfaceObservation consensusSurface(const Eigen::Vector3d& p, const Eigen::Vecto
   else
     sum.point = p;
   sum.normal = sum.normal.norm() > 0 ? Eigen::Vector3d(sum.normal.normalized()) : n;
+  sum.views = std::max(1, count);
   return sum;
 }
 

@@ -13,6 +13,7 @@ void store(BrickStore& s, size_t b, const VoxelIndex& v, const SignedDistance& s
   acc.w = w;
   acc.wd = w * static_cast<float>(sd.d);
   for (int k = 0; k < 3; ++k) acc.wf[k] = w * static_cast<float>(sd.gradient[k]);
+  acc.images = static_cast<float>(sd.views);
 }
 
 /// Cell [lo, hi] (inclusive voxel ranges) of local brick b.

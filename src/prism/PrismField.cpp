@@ -134,6 +134,7 @@ IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
     acc.wd += s.w * s.d;
     acc.w += s.w;
     for (int k = 0; k < 3; ++k) acc.wf[k] += s.w * s.f[k];
+    acc.images += 1;
     s.d = kEmpty;
   }
   stats.voxelUpdates = touched_.size();

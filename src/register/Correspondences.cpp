@@ -7,7 +7,7 @@
 
 namespace rangefuse {
 
-bool correspondence(const BrickStore& store, const Eigen::Vector3d& p,
+bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
                     const CorrespondenceSettings& s, Eigen::Vector3d& q) {
   const VoxelGrid& g = store.grid();
   const VoxelIndex v = g.nearest(p);  // Eq. 15
@@ -15,11 +15,12 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p,
   const int64_t b = store.localBrick(mortonEncode(brickOf(v, g.brick)));
   if (b < 0) return false;
   const VoxelSums& sums = store.sums()[store.offset(b, v)];
-  if (!(sums.w > s.minWeight)) return false;
+  if (!(sums.w > s.minWeight) || sums.images < s.minImages) return false;
   const double d = sums.wd / sums.w;
   Eigen::Vector3d f(sums.wf[0], sums.wf[1], sums.wf[2]);
   if (std::abs(d) > s.maxDistance || !(f.norm() > 0)) return false;
   f.normalize();
+  if (f.dot(n) < s.minCosine) return false;
   // Eq. 14 with the gradient of the signed field: step back along it by the distance,
   // corrected to first order for p's offset from the voxel centre.
   q = p - f * (d + f.dot(p - g.centre(v)));
@@ -27,13 +28,14 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p,
 }
 
 RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
+                             const std::vector<Eigen::Vector3d>& normals,
                              const std::vector<double>& weights,
                              const CorrespondenceSettings& settings, MPI_Comm comm) {
   const VoxelGrid& g = store.grid();
   std::map<uint64_t, RigidSums> perBrick;  // global brick position -> this rank's sums
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector3d q;
-    if (!(weights[i] > 0) || !correspondence(store, points[i], settings, q)) continue;
+    if (!(weights[i] > 0) || !correspondence(store, points[i], normals[i], settings, q)) continue;
     const int64_t pos = store.layout().find(mortonEncode(brickOf(g.nearest(points[i]), g.brick)));
     perBrick[static_cast<uint64_t>(pos)].add(points[i], q, weights[i]);
   }

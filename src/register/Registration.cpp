@@ -57,14 +57,16 @@ double acceleration(const Twist& now, const FitHistory& h) {
 /// One fit of scan i against the field: correspondences, sums across ranks, rigid update.
 RegistrationStep fitOnce(const PrismScan& scan, Pose& pose, const BrickStore& field,
                          const RegistrationOptions& o, MPI_Comm comm, FitHistory& history) {
-  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> points, normals;
   std::vector<double> weights;
   const ScanSurface& s = scan.surface;
   for (size_t v = 0; v < s.points.size(); v += o.controlStride) {
     points.push_back(pose.apply(s.points[v]));
+    normals.push_back(pose.rotate(s.normals[v]));
     weights.push_back(s.confidence[v]);
   }
-  const RigidSums sums = correspondenceSums(field, points, weights, o.correspondences, comm);
+  const RigidSums sums =
+      correspondenceSums(field, points, normals, weights, o.correspondences, comm);
   RegistrationStep step;
   step.correspondences = static_cast<uint64_t>(sums.count);
   step.rms = sums.rms();
@@ -110,8 +112,8 @@ void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
 void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
                   RegistrationOptions o, const FieldFactory& build, MPI_Comm comm,
                   const std::function<void(const RegistrationStep&)>& onStep) {
-  // Each round's field still holds every scan's old pose: extrapolating toward it overshoots.
-  o.accelerate = false;
+  // The field holds each scan itself: only voxels another image also saw are overlap.
+  o.correspondences.minImages = 2;
   std::vector<size_t> all;
   for (size_t i = 0; i < scans.size(); ++i) all.push_back(i);
   for (int round = 1; round <= o.maxRounds; ++round) {

@@ -65,21 +65,6 @@ SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centr
   return p;
 }
 
-void perturb(SyntheticScan& s, const Eigen::Vector3d& centre, const ScanSettings& set,
-             std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> angle(-set.rotDeg, set.rotDeg),
-      shift(-set.transVox * set.voxel, set.transVox * set.voxel);
-  for (int a = 0; a < 3; ++a) s.rotationDeg[a] = angle(rng);
-  for (int a = 0; a < 3; ++a) s.translation[a] = shift(rng);
-  const Eigen::Vector3d rad = s.rotationDeg * M_PI / 180;
-  const Eigen::Matrix3d dR = (Eigen::AngleAxisd(rad.z(), Eigen::Vector3d::UnitZ()) *
-                              Eigen::AngleAxisd(rad.y(), Eigen::Vector3d::UnitY()) *
-                              Eigen::AngleAxisd(rad.x(), Eigen::Vector3d::UnitX()))
-                                 .toRotationMatrix();
-  s.perturbed.R = dR * s.truth.R;
-  s.perturbed.t = dR * (s.truth.t - centre) + centre + s.translation;
-}
-
 /// Casts one ray per pixel; returns the hit distance along the unit ray, or NaN.
 double castPixel(const Bvh& bvh, const TriangleMesh& patches, const Eigen::Vector3d& eye,
                  const Eigen::Vector3d& dir) {
@@ -152,10 +137,28 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
     }
     render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, set, rng);
     s.perturbed = s.truth;
-    if (i > 0) perturb(s, out.centre, set, rng);
+    if (i > 0)
+      s.perturbed = perturbPose(s.truth, out.centre, set.rotDeg, set.transVox * set.voxel, rng,
+                                s.rotationDeg, s.translation);
     out.scans.push_back(std::move(s));
   }
   return out;
+}
+
+Pose perturbPose(const Pose& truth, const Eigen::Vector3d& centre, double rotDeg, double shift,
+                 std::mt19937_64& rng, Eigen::Vector3d& angles, Eigen::Vector3d& translation) {
+  std::uniform_real_distribution<double> angle(-rotDeg, rotDeg), move(-shift, shift);
+  for (int a = 0; a < 3; ++a) angles[a] = angle(rng);
+  for (int a = 0; a < 3; ++a) translation[a] = move(rng);
+  const Eigen::Vector3d rad = angles * M_PI / 180;
+  const Eigen::Matrix3d dR = (Eigen::AngleAxisd(rad.z(), Eigen::Vector3d::UnitZ()) *
+                              Eigen::AngleAxisd(rad.y(), Eigen::Vector3d::UnitY()) *
+                              Eigen::AngleAxisd(rad.x(), Eigen::Vector3d::UnitX()))
+                                 .toRotationMatrix();
+  Pose p;
+  p.R = dR * truth.R;
+  p.t = dR * (truth.t - centre) + centre + translation;
+  return p;
 }
 
 TriangleMesh patchMesh(const std::vector<SyntheticPatch>& patches) {

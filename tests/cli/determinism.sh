@@ -15,3 +15,16 @@ for method in prism consensus; do
   cmp "$tmp/mesh1.ply" "$tmp/mesh3.ply"
   echo "$method: 1, 2 and 3 ranks give identical meshes ($(stat -c %s "$tmp/mesh1.ply") bytes)"
 done
+# Registration: identical poses and meshes too.
+"$bin" scan --shape composite --views 6 --width 120 --height 90 --voxel 1 --rot-deg 2 \
+  --trans-vox 2 --out "$tmp/synth" >/dev/null
+for n in 1 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/synth/perturbed.conf" --voxel 1 \
+    --register both --max-iterations 5 --max-rounds 2 --out "$tmp/reg$n.ply" \
+    --poses-out "$tmp/poses$n.conf" >"$tmp/log$n"
+done
+cmp "$tmp/poses1.conf" "$tmp/poses2.conf"
+cmp "$tmp/poses1.conf" "$tmp/poses3.conf"
+cmp "$tmp/reg1.ply" "$tmp/reg2.ply"
+cmp "$tmp/reg1.ply" "$tmp/reg3.ply"
+echo "registration: 1, 2 and 3 ranks give identical poses and meshes"

@@ -111,9 +111,11 @@ TEST(SyntheticFuse, ConsensusDropsExtraneousPatchesNaiveKeepsThem) {
     const TriangleMesh mesh = io::readMeshPly(o.out);
     for (int k = 0; k < 2; ++k) kept[m][k] = patchKept(patches[k], mesh);
     if (m == 0) {
-      const MeshComparison c = compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1});
-      std::printf("consensus: chamfer %.3f voxel, F %.4f, spurious %.4f%%, patches kept %.3f %.3f\n",
-                  c.chamfer, c.fscore, 100 * c.spuriousAreaFraction, kept[0][0], kept[0][1]);
+      const MeshComparison c =
+          compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1});
+      std::printf(
+          "consensus: chamfer %.3f voxel, F %.4f, spurious %.4f%%, patches kept %.3f %.3f\n",
+          c.chamfer, c.fscore, 100 * c.spuriousAreaFraction, kept[0][0], kept[0][1]);
       EXPECT_LT(c.spuriousAreaFraction, 0.001);
       EXPECT_GT(c.fscore, 0.98);
     }

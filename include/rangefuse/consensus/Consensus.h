@@ -63,6 +63,7 @@ struct SignedDistance {
   double d = 0;
   Eigen::Vector3d gradient = Eigen::Vector3d::Zero();  ///< unit, toward increasing d
   double weight = 0;
+  int views = 1;  ///< views behind the surface point (those in its consensus)
 };
 
 /// Algorithm ConsensusSignedDistance: distance to the closest consensus point, signed by its

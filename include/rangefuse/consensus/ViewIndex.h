@@ -14,6 +14,7 @@ struct SurfaceObservation {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   double confidence = 0;
   double distance = 0;  ///< from the query point
+  int views = 1;        ///< observations averaged into it (consensus surfaces)
 };
 
 /// k-d trees over triangle centroids of one view, in two tiers by triangle size so that a

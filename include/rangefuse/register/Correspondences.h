@@ -14,18 +14,22 @@ namespace rangefuse {
 struct CorrespondenceSettings {
   float minWeight = 0.05f;  ///< ignore voxels whose summed weight is below this
   double maxDistance = 0;   ///< ignore voxels with |d| above this (world units; the envelope)
+  double minCosine = 0.5;   ///< ignore voxels whose gradient makes a larger angle with the normal
+  float minImages = 1;      ///< ignore voxels fewer images contributed to
 };
 
-/// The corresponding point of p from the voxel nearest to it: p - f [d + f.(p - p_v)], with
-/// f the unit gradient. False when that voxel is not local, unobserved, too light or outside
-/// the envelope.
-bool correspondence(const BrickStore& store, const Eigen::Vector3d& p,
+/// The corresponding point of p (normal n) from the voxel nearest to it: p - f [d + f.(p - p_v)],
+/// with f the unit gradient. False when that voxel is not local, unobserved, too light, seen by
+/// too few images, outside the envelope, or faces away from n (the other side of a thin part).
+bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
                     const CorrespondenceSettings& settings, Eigen::Vector3d& q);
 
-/// Collective: for control points p (world) with weights, the sums over all correspondences,
+/// Collective: for control points p (world, normals n) with weights, the sums over all
+/// correspondences,
 /// made by the ranks owning each point's voxel, added per brick and then in brick order.
 /// Every rank gets the same sums, bit for bit, whatever the number of ranks.
 RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
+                             const std::vector<Eigen::Vector3d>& normals,
                              const std::vector<double>& weights,
                              const CorrespondenceSettings& settings, MPI_Comm comm);
 

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,12 @@ struct SyntheticSet {
 /// sphere (Fibonacci), by exact first-hit ray casting through a BVH, then applies the
 /// corruptions. Deterministic for a given seed. Throws InputError on bad settings.
 SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& settings);
+
+/// The scanner's pose perturbation: rotation about x, y, z by angles uniform in [-rotDeg,
+/// rotDeg] about `centre`, then a shift uniform in [-shift, shift] per axis (world units).
+/// Returns the perturbed pose; `angles` (degrees) and `translation` receive what was drawn.
+Pose perturbPose(const Pose& truth, const Eigen::Vector3d& centre, double rotDeg, double shift,
+                 std::mt19937_64& rng, Eigen::Vector3d& angles, Eigen::Vector3d& translation);
 
 /// A mesh of the patches (two triangles each), e.g. to measure what survives of them.
 TriangleMesh patchMesh(const std::vector<SyntheticPatch>& patches);

@@ -14,6 +14,7 @@ struct VoxelSums {
   float wd = 0;
   float w = 0;
   float wf[3] = {0, 0, 0};
+  float images = 0;  ///< images that contributed (registration asks for overlap)
 };
 
 class BrickStore {
