@@ -2,33 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <nanoflann.hpp>
 
+#include "rangefuse/core/KdTree.h"
 #include "rangefuse/eval/MeshDistance.h"
 
 namespace rangefuse {
 
 struct ViewIndex::Tier {
-  struct Cloud {
-    std::vector<Eigen::Vector3d> pts;
-    size_t kdtree_get_point_count() const { return pts.size(); }
-    double kdtree_get_pt(size_t i, size_t d) const { return pts[i][d]; }
-    template <class B>
-    bool kdtree_get_bbox(B&) const {
-      return false;
-    }
-  };
-  using Tree =
-      nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
-  Cloud centroids;
+  PointCloud centroids;
   std::vector<int32_t> triangle;  // tier-local index -> scan triangle
   double radius = 0;
-  std::unique_ptr<Tree> tree;
+  std::unique_ptr<KdTree> tree;
 
-  void build() {
-    tree = std::make_unique<Tree>(3, centroids, nanoflann::KDTreeSingleIndexAdaptorParams(8));
-    tree->buildIndex();
-  }
+  void build() { tree = buildKdTree(centroids, 8); }
 };
 
 namespace {

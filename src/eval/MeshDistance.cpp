@@ -2,27 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <nanoflann.hpp>
 #include <random>
+
+#include "rangefuse/core/KdTree.h"
 
 namespace rangefuse {
 
 struct MeshDistance::Index {
-  struct Cloud {
-    std::vector<Eigen::Vector3d> pts;
-    size_t kdtree_get_point_count() const { return pts.size(); }
-    double kdtree_get_pt(size_t i, size_t d) const { return pts[i][d]; }
-    template <class B>
-    bool kdtree_get_bbox(B&) const {
-      return false;
-    }
-  };
-  using Tree =
-      nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
   const TriangleMesh mesh;  // a copy: callers may pass temporaries
-  Cloud centroids;
+  PointCloud centroids;
   double radius = 0;  // largest centroid-to-vertex distance
-  std::unique_ptr<Tree> tree;
+  std::unique_ptr<KdTree> tree;
 
   explicit Index(const TriangleMesh& m) : mesh(m) {
     for (const Triangle& t : mesh.faces) {
@@ -30,8 +20,7 @@ struct MeshDistance::Index {
       for (int k = 0; k < 3; ++k) radius = std::max(radius, (m.vertices[t[k]] - c).norm());
       centroids.pts.push_back(c);
     }
-    tree = std::make_unique<Tree>(3, centroids, nanoflann::KDTreeSingleIndexAdaptorParams(10));
-    tree->buildIndex();
+    tree = buildKdTree(centroids);
   }
 
   double triangleDistance(size_t i, const Eigen::Vector3d& p) const {

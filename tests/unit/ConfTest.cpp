@@ -1,27 +1,14 @@
 #include <gtest/gtest.h>
 
-#include <nanoflann.hpp>
-
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/KdTree.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/RangeGridPly.h"
 
 using namespace rangefuse;
 
 namespace {
-
-struct Cloud {
-  std::vector<Eigen::Vector3d> pts;
-  size_t kdtree_get_point_count() const { return pts.size(); }
-  double kdtree_get_pt(size_t i, size_t d) const { return pts[i][d]; }
-  template <class B>
-  bool kdtree_get_bbox(B&) const {
-    return false;
-  }
-};
-using Tree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
 
 std::vector<Eigen::Vector3d> worldPoints(const io::ConfScan& s, bool transpose) {
   RangeGrid g = io::readRangeGridPly(s.path);
@@ -34,15 +21,14 @@ std::vector<Eigen::Vector3d> worldPoints(const io::ConfScan& s, bool transpose) 
 /// Fraction of bun045's points within 1 mm of some bun000 point.
 double overlapFraction(bool conventionAsMeasured) {
   io::ConfFile conf = io::readConf(RANGEFUSE_TEST_DATA "/bunny/bun.conf");
-  Cloud ref{worldPoints(conf.scans[0], conventionAsMeasured)};
-  Tree tree(3, ref);
-  tree.buildIndex();
+  PointCloud ref{worldPoints(conf.scans[0], conventionAsMeasured)};
+  const auto tree = buildKdTree(ref);
   auto pts = worldPoints(conf.scans[1], conventionAsMeasured);
   size_t close = 0;
   for (const auto& p : pts) {
     uint32_t i;
     double d2;
-    tree.knnSearch(p.data(), 1, &i, &d2);
+    tree->knnSearch(p.data(), 1, &i, &d2);
     close += d2 < 1e-6;
   }
   return double(close) / pts.size();
