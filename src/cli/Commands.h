@@ -20,4 +20,10 @@ int renderCommand(int argc, char** argv, MPI_Comm comm);
 /// `rangefuse perturb ...`: perturbed copies of real poses, for registration tests.
 int perturbCommand(int argc, char** argv, MPI_Comm comm);
 
+/// `rangefuse mesh FILE.h5 --out M.ply`: the mesh of a checkpoint's field, on any ranks.
+int meshCommand(int argc, char** argv, MPI_Comm comm);
+
+/// `rangefuse info FILE.h5`: what a checkpoint holds.
+int infoCommand(int argc, char** argv, MPI_Comm comm);
+
 }  // namespace rangefuse::cli

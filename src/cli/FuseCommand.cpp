@@ -58,6 +58,9 @@ po::options_description fuseOptions(FuseOptions& o) {
   add("max-rounds", po::value(&o.maxRounds)->default_value(8),
       "registration: field rebuilds in Algorithm 2");
   add("poses-out", po::value(&o.posesOut), "write the refined poses (.conf)");
+  add("checkpoint", po::value(&o.checkpoint), "write an HDF5 checkpoint of the field (.h5)");
+  add("resume", po::value(&o.resume),
+      "continue from a checkpoint; options left out come from it, given ones must match");
   addFieldOptions(d, o);
   return d;
 }
@@ -70,7 +73,10 @@ int fuseCommand(int argc, char** argv, MPI_Comm comm) {
   const int parsed = parseCollectively(
       argc, argv, fuseOptions(o), vm,
       "mpirun -np 2 rangefuse fuse --scans bun.conf --voxel 0.001 --out bunny.ply", "fuse", comm);
-  return parsed >= 0 ? parsed : runFuse(o, comm);
+  if (parsed >= 0) return parsed;
+  for (const auto& [name, value] : vm)
+    if (!value.defaulted()) o.givenOptions.push_back(name);
+  return runFuse(o, comm);
 }
 
 }  // namespace rangefuse::cli

@@ -1,4 +1,5 @@
 // rangefuse: fuse range images into one mesh on MPI ranks.
+#include <hdf5.h>
 #include <mpi.h>
 
 #include <cstring>
@@ -14,6 +15,8 @@ const char* kUsage =
     "commands:\n"
     "  fuse    fuse range scans (.conf + range-grid PLY) into one mesh\n"
     "  eval    compare a mesh with a reference mesh, or poses with reference poses\n"
+    "  mesh    the stitched mesh of a checkpoint's field\n"
+    "  info    what a checkpoint holds\n"
     "  perturb the scanner's pose perturbation applied to a .conf\n"
     "  render  a PNG of the fused field: ray-cast surface or distance slice\n"
     "  scan    synthetic range scans of a mesh or built-in shape, with ground truth\n"
@@ -24,11 +27,16 @@ const char* kUsage =
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our own messages
   int rank = 0, code = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   const std::string command = argc > 1 ? argv[1] : "";
   if (command == "fuse") {
     code = rangefuse::cli::fuseCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
+  } else if (command == "mesh") {
+    code = rangefuse::cli::meshCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
+  } else if (command == "info") {
+    code = rangefuse::cli::infoCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
   } else if (command == "perturb") {
     code = rangefuse::cli::perturbCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
   } else if (command == "render") {

@@ -7,6 +7,7 @@
 
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/Conf.h"
@@ -179,6 +180,26 @@ bool writePoses(const FuseOptions& o, MPI_Comm comm, const LoadedScans& scans) {
 
 }  // namespace
 
+nlohmann::json resultParameters(const FuseOptions& o) {
+  return {{"method", o.method},
+          {"voxel", o.voxel},
+          {"envelope_voxels", o.envelope},
+          {"brick", o.brick},
+          {"min_weight", o.minWeight},
+          {"normal_passes", o.surface.normalPasses},
+          {"max_edge", o.surface.maxEdgeFactor},
+          {"min_cosine", o.surface.minCosine},
+          {"quorum", o.quorum},
+          {"same_distance_voxels", o.sameDistance},
+          {"same_angle_deg", o.sameAngle},
+          {"edge_angle_deg", o.edgeAngle},
+          {"register", o.registration},
+          {"anchor", o.anchor},
+          {"control_stride", o.controlStride},
+          {"max_iterations", o.maxIterations},
+          {"max_rounds", o.maxRounds}};
+}
+
 double autoQuorum(size_t views) {
   return 2.25 * static_cast<double>(views) / 48;
 }
@@ -202,6 +223,7 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   scans.local = shareScans(mine, conf.scans.size(), comm);
   for (const auto& c : conf.scans) {
     scans.names.push_back(c.name);
+    scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
   }
   if (progress.isRoot()) {
@@ -255,23 +277,11 @@ bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedFi
   return true;
 }
 
-int runFuse(const FuseOptions& o, MPI_Comm comm) {
-  Progress progress(comm);
-  if (!collectively(comm, [&] {
-        if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
-      }))
-    return 1;
-  LoadedScans scans;
-  if (!loadScans(o, comm, progress, scans)) return 1;
-  std::vector<RegistrationStep> steps;
-  if (!registerPoses(o, comm, progress, scans, steps)) return 1;
-  FusedField field;
-  RankCounters counters;
-  if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
-    return 1;
-  progress.stage("field", o.method + ": " + std::to_string(field.layout.codes.size()) +
-                              " bricks, per rank " + perRank(comm, counters.bricks) +
-                              "; voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+namespace {
+
+/// Mesh, outputs, poses and report of a finished field.
+int finish(const FuseOptions& o, MPI_Comm comm, Progress& progress, const LoadedScans& scans,
+           FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
   MeshStats ms;
   TriangleMesh mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms);
   counters.haloBricks = ms.haloBricksReceived;
@@ -289,6 +299,89 @@ int runFuse(const FuseOptions& o, MPI_Comm comm) {
                       [&] { writeRunReport(o, comm, progress, counters, field, mesh, steps); })
              ? 0
              : 1;
+}
+
+/// Scan names, paths and hashes of the .conf, for checking a resume and writing checkpoints.
+bool identifyScans(const FuseOptions& o, MPI_Comm comm, LoadedScans& scans,
+                   std::vector<std::string>& hashes) {
+  return collectively(comm, [&] {
+    const io::ConfFile conf = io::readConf(o.scans);
+    for (const auto& c : conf.scans) scans.names.push_back(c.name), scans.paths.push_back(c.path);
+    hashes = hashScans(scans.paths, comm);
+  });
+}
+
+/// Continues from a checkpoint that holds the finished field.
+int resumeFromField(const FuseOptions& o, const io::CheckpointMeta& meta, MPI_Comm comm,
+                    Progress& progress) {
+  LoadedScans scans;
+  std::vector<std::string> hashes;
+  if (!identifyScans(o, comm, scans, hashes)) return 1;
+  if (!collectively(comm, [&] { checkScanHashes(meta, scans, hashes); })) return 1;
+  scans.poses = meta.poses;
+  FusedField field;
+  if (!collectively(
+          comm, [&] { field.store = io::readCheckpointField(o.resume, meta, field.layout, comm); }))
+    return 1;
+  RankCounters counters;
+  counters.bricks = field.store->brickCount();
+  progress.stage("resume", o.resume + ": field of " + std::to_string(field.layout.codes.size()) +
+                               " bricks, per rank " + perRank(comm, counters.bricks));
+  return finish(o, comm, progress, scans, field, counters, {});
+}
+
+bool writeFieldCheckpoint(const FuseOptions& o, MPI_Comm comm, Progress& progress,
+                          const LoadedScans& scans, const FusedField& field) {
+  if (o.checkpoint.empty()) return true;
+  if (!collectively(comm, [&] {
+        const std::vector<std::string> hashes = hashScans(scans.paths, comm);
+        io::writeCheckpoint(o.checkpoint,
+                            checkpointMeta(o, scans, hashes, {{"stage", "field"}}, &field),
+                            field.store.get(), comm);
+      }))
+    return false;
+  progress.stage("checkpoint", o.checkpoint);
+  return true;
+}
+
+}  // namespace
+
+int runFuse(const FuseOptions& given, MPI_Comm comm) {
+  Progress progress(comm);
+  FuseOptions o = given;
+  io::CheckpointMeta resumed;
+  if (!o.resume.empty() && !collectively(comm, [&] {
+        resumed = io::readCheckpointMeta(o.resume, comm);
+        adoptCheckpointParameters(resumed, o);
+      }))
+    return 1;
+  if (!collectively(comm, [&] {
+        if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
+        validate(o);
+      }))
+    return 1;
+  if (!o.resume.empty()) {
+    if (resumed.progress.value("stage", "") == "field")
+      return resumeFromField(o, resumed, comm, progress);
+    if (!collectively(comm, [&] {
+          throw InputError(o.resume + ": stage '" + resumed.progress.value("stage", "?") +
+                           "' cannot be resumed by this version");
+        }))
+      return 1;
+  }
+  LoadedScans scans;
+  if (!loadScans(o, comm, progress, scans)) return 1;
+  std::vector<RegistrationStep> steps;
+  if (!registerPoses(o, comm, progress, scans, steps)) return 1;
+  FusedField field;
+  RankCounters counters;
+  if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
+    return 1;
+  progress.stage("field", o.method + ": " + std::to_string(field.layout.codes.size()) +
+                              " bricks, per rank " + perRank(comm, counters.bricks) +
+                              "; voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+  if (!writeFieldCheckpoint(o, comm, progress, scans, field)) return 1;
+  return finish(o, comm, progress, scans, field, counters, steps);
 }
 
 }  // namespace rangefuse

@@ -8,26 +8,6 @@ using nlohmann::json;
 namespace rangefuse {
 namespace {
 
-json parameters(const FuseOptions& o, const FusedField& field) {
-  return {{"voxel", o.voxel},
-          {"envelope_voxels", o.envelope},
-          {"brick", o.brick},
-          {"min_weight", o.minWeight},
-          {"normal_passes", o.surface.normalPasses},
-          {"max_edge", o.surface.maxEdgeFactor},
-          {"min_cosine", o.surface.minCosine},
-          {"method", o.method},
-          {"quorum", o.quorum >= 0 ? o.quorum : autoQuorum(field.scans.size())},
-          {"edge_angle_deg", o.edgeAngle},
-          {"same_distance_voxels", o.sameDistance},
-          {"same_angle_deg", o.sameAngle},
-          {"register", o.registration},
-          {"anchor", o.anchor},
-          {"control_stride", o.controlStride},
-          {"max_iterations", o.maxIterations},
-          {"max_rounds", o.maxRounds}};
-}
-
 /// One rank's entry, as JSON text (gathered as bytes).
 std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounters& c) {
   json stages = json::object();
@@ -79,7 +59,7 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
       {"command", "fuse"},
       {"inputs",
        {{"scans", o.scans}, {"scan_count", field.scans.size()}, {"scan_triangles", triangles}}},
-      {"parameters", parameters(o, field)},
+      {"parameters", resultParameters(o)},
       {"ranks", mpi::size(comm)},
       {"total_bricks", field.layout.codes.size()},
       {"wall_seconds", progress.elapsed()},

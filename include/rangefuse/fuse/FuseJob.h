@@ -35,11 +35,16 @@ struct FuseOptions {
   int maxIterations = 30;             ///< registration: fits per scan (per round in Alg. 2)
   int maxRounds = 8;                  ///< registration: field rebuilds in Algorithm 2
   std::string posesOut;               ///< refined poses .conf (optional)
+  std::string checkpoint;             ///< HDF5 checkpoint to write (optional)
+  std::string resume;                 ///< HDF5 checkpoint to continue from (optional)
+  std::vector<std::string>
+      givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };
 
 /// Scans as read: each in its own frame, with its name and current pose.
 struct LoadedScans {
   std::vector<std::string> names;
+  std::vector<std::string> paths;
   std::vector<PrismScan> local;
   std::vector<Pose> poses;
 };
@@ -68,6 +73,9 @@ bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_
 /// Collective: reads the scans and builds the field at the .conf poses, with progress lines.
 bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters);
+
+/// The options that decide the result, as JSON (run report, checkpoints).
+nlohmann::json resultParameters(const FuseOptions& options);
 
 /// The default quorum: Wheeler et al.'s 2.25 for 48 views, in proportion to the view count
 /// (the number of views that see a surface point grows with the number of views).

@@ -1,0 +1,27 @@
+// What a fuse run puts in a checkpoint, and what it checks before resuming from one.
+#pragma once
+
+#include <mpi.h>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Checkpoint.h"
+
+namespace rangefuse {
+
+/// Collective: content hashes of the scan files (rank 0 reads, all ranks get them).
+std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm);
+
+/// The checkpoint meta of a run at `stage` with the scans' current poses.
+io::CheckpointMeta checkpointMeta(const FuseOptions& options, const LoadedScans& scans,
+                                  const std::vector<std::string>& hashes,
+                                  const nlohmann::json& progress, const FusedField* field);
+
+/// Fills the result-deciding options the user did not give from the checkpoint, and throws
+/// InputError listing every given option that differs from the checkpoint's.
+void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& options);
+
+/// Throws InputError naming each scan whose file changed since the checkpoint.
+void checkScanHashes(const io::CheckpointMeta& meta, const LoadedScans& scans,
+                     const std::vector<std::string>& hashes);
+
+}  // namespace rangefuse

@@ -1,0 +1,304 @@
+#include "rangefuse/io/Checkpoint.h"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse::io {
+namespace {
+
+static_assert(sizeof(VoxelSums) == 6 * sizeof(float), "checkpoint stores 6 floats a voxel");
+constexpr const char* kFormat = "rangefuse-checkpoint";
+
+/// Owns an HDF5 handle; closes it with the matching function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  operator hid_t() const { return id_; }
+  bool ok() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+void check(bool ok, const std::string& path, const std::string& what) {
+  if (!ok) throw InputError(path + ": " + what);
+}
+
+Handle accessList(MPI_Comm comm) {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  return fapl;
+}
+
+/// A 1-D or 2-D dataset of `type`, rows x cols.
+Handle createDataset(hid_t file, const char* name, hid_t type, hsize_t rows, hsize_t cols,
+                     const std::string& path) {
+  const hsize_t dims[2] = {rows, cols};
+  Handle space(H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose);
+  Handle set(H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  check(set.ok(), path, std::string("cannot create dataset ") + name);
+  return set;
+}
+
+/// Writes rows [first, first + count) of a dataset from this rank (independent I/O).
+void writeRows(hid_t set, hid_t type, hsize_t first, hsize_t count, hsize_t cols, const void* data,
+               const std::string& path, const char* name) {
+  Handle space(H5Dget_space(set), H5Sclose);
+  const hsize_t start[2] = {first, 0}, size[2] = {count, cols};
+  if (count == 0) {
+    H5Sselect_none(space);
+  } else {
+    H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, size, nullptr);
+  }
+  Handle mem(H5Screate_simple(cols ? 2 : 1, size, nullptr), H5Sclose);
+  if (count == 0) H5Sselect_none(mem);
+  check(H5Dwrite(set, type, mem, space, H5P_DEFAULT, data) >= 0, path,
+        std::string("cannot write ") + name);
+}
+
+nlohmann::json metaJson(const CheckpointMeta& m) {
+  nlohmann::json poses = nlohmann::json::array();
+  for (const Pose& p : m.poses) {
+    std::vector<double> v(p.R.data(), p.R.data() + 9);
+    v.insert(v.end(), p.t.data(), p.t.data() + 3);
+    poses.push_back(v);
+  }
+  nlohmann::json j = {{"parameters", m.parameters},  {"scans", m.scanNames},
+                      {"scan_hashes", m.scanHashes}, {"poses", poses},
+                      {"progress", m.progress},      {"has_field", m.hasField}};
+  if (m.hasField)
+    j["grid"] = {{"origin", {m.grid.origin.x(), m.grid.origin.y(), m.grid.origin.z()}},
+                 {"voxel", m.grid.voxel},
+                 {"brick", m.grid.brick}};
+  return j;
+}
+
+CheckpointMeta metaFrom(const nlohmann::json& j, int version) {
+  CheckpointMeta m;
+  m.version = version;
+  m.parameters = j.at("parameters");
+  m.scanNames = j.at("scans").get<std::vector<std::string>>();
+  m.scanHashes = j.at("scan_hashes").get<std::vector<std::string>>();
+  m.progress = j.at("progress");
+  m.hasField = j.at("has_field").get<bool>();
+  for (const auto& v : j.at("poses")) {
+    const std::vector<double> d = v.get<std::vector<double>>();
+    if (d.size() != 12)
+      throw std::runtime_error("a pose has " + std::to_string(d.size()) + " numbers");
+    Pose p;
+    p.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
+    p.t = Eigen::Vector3d(d[9], d[10], d[11]);
+    m.poses.push_back(p);
+  }
+  if (m.hasField) {
+    const auto& g = j.at("grid");
+    const auto o = g.at("origin").get<std::vector<double>>();
+    if (o.size() != 3) throw std::runtime_error("grid origin needs 3 numbers");
+    m.grid.origin = Eigen::Vector3d(o[0], o[1], o[2]);
+    m.grid.voxel = g.at("voxel").get<double>();
+    m.grid.brick = g.at("brick").get<int>();
+    if (!(m.grid.voxel > 0) || m.grid.brick < 2 || m.grid.brick > 64)
+      throw std::runtime_error("grid voxel or brick out of range");
+  }
+  if (m.scanNames.size() != m.scanHashes.size() || m.scanNames.size() != m.poses.size())
+    throw std::runtime_error("scan names, hashes and poses differ in number");
+  return m;
+}
+
+void writeAttributeInt(hid_t obj, const char* name, int value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle attr(H5Acreate2(obj, name, H5T_NATIVE_INT, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  H5Awrite(attr, H5T_NATIVE_INT, &value);
+}
+
+void writeAttributeString(hid_t obj, const char* name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, value.size());
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle attr(H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  H5Awrite(attr, type, value.data());
+}
+
+std::string readAttributeString(hid_t obj, const char* name) {
+  if (H5Aexists(obj, name) <= 0) return "";
+  Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  Handle type(H5Aget_type(attr), H5Tclose);
+  if (H5Tget_class(type) != H5T_STRING) return "";
+  std::string s(H5Tget_size(type), '\0');
+  Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(mem, s.size());
+  if (H5Aread(attr, mem, s.data()) < 0) return "";
+  return s;
+}
+
+int readAttributeInt(hid_t obj, const char* name, const std::string& path) {
+  check(H5Aexists(obj, name) > 0, path, std::string("no '") + name + "' attribute");
+  Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  int v = 0;
+  check(H5Aread(attr, H5T_NATIVE_INT, &v) >= 0, path, std::string("cannot read '") + name + "'");
+  return v;
+}
+
+/// Dimensions of a dataset, checking its rank.
+std::vector<hsize_t> datasetDims(hid_t file, const char* name, int rank, const std::string& path) {
+  check(H5Lexists(file, name, H5P_DEFAULT) > 0, path, std::string("no dataset ") + name);
+  Handle set(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+  Handle space(H5Dget_space(set), H5Sclose);
+  check(H5Sget_simple_extent_ndims(space) == rank, path,
+        std::string(name) + " has the wrong number of dimensions");
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  return dims;
+}
+
+template <class T>
+std::vector<T> readRows(hid_t file, const char* name, hid_t type, hsize_t first, hsize_t count,
+                        hsize_t cols, const std::string& path) {
+  Handle set(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+  check(set.ok(), path, std::string("cannot open ") + name);
+  Handle space(H5Dget_space(set), H5Sclose);
+  const hsize_t start[2] = {first, 0}, size[2] = {count, cols};
+  std::vector<T> out(count * (cols ? cols : 1));
+  if (count == 0) return out;
+  H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, size, nullptr);
+  Handle mem(H5Screate_simple(cols ? 2 : 1, size, nullptr), H5Sclose);
+  check(H5Dread(set, type, mem, space, H5P_DEFAULT, out.data()) >= 0, path,
+        std::string("cannot read ") + name + " (truncated?)");
+  return out;
+}
+
+void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickStore* store,
+               MPI_Comm comm) {
+  Handle fapl = accessList(comm);
+  Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose);
+  check(file.ok(), tmp, "cannot create checkpoint file");
+  writeAttributeString(file, "format", kFormat);
+  writeAttributeInt(file, "version", meta.version);
+  const std::string json = metaJson(meta).dump();
+  const bool root = mpi::rank(comm) == 0;
+  Handle metaSet = createDataset(file, "meta", H5T_NATIVE_CHAR, json.size(), 0, tmp);
+  writeRows(metaSet, H5T_NATIVE_CHAR, 0, root ? json.size() : 0, 0, json.data(), tmp, "meta");
+  if (!store) return;
+  const BrickLayout& l = store->layout();
+  const hsize_t nb = l.codes.size(), per = store->voxelsPerBrick();
+  Handle codes = createDataset(file, "field_codes", H5T_NATIVE_UINT64, nb, 0, tmp);
+  Handle work = createDataset(file, "field_work", H5T_NATIVE_UINT64, nb, 0, tmp);
+  Handle sums = createDataset(file, "field_sums", H5T_NATIVE_FLOAT, nb, per * 6, tmp);
+  writeRows(codes, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.codes.data(), tmp, "field_codes");
+  writeRows(work, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.work.data(), tmp, "field_work");
+  const int r = mpi::rank(comm);
+  writeRows(sums, H5T_NATIVE_FLOAT, l.rankStart[r], l.rankStart[r + 1] - l.rankStart[r], per * 6,
+            store->sums().data(), tmp, "field_sums");
+}
+
+}  // namespace
+
+void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const BrickStore* store,
+                     MPI_Comm comm) {
+  const std::string tmp = path + ".tmp";
+  std::string error;
+  try {
+    writeFile(tmp, meta, store, comm);  // the file closes (collectively) on the way out
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!mpi::agree(error.empty(), error, comm)) {
+    if (mpi::rank(comm) == 0) std::remove(tmp.c_str());
+    throw InputError(path + ": checkpoint not written");
+  }
+  int renamed = 0;
+  if (mpi::rank(comm) == 0) renamed = std::rename(tmp.c_str(), path.c_str()) == 0;
+  MPI_Bcast(&renamed, 1, MPI_INT, 0, comm);
+  if (!renamed) throw InputError(path + ": cannot rename the temporary checkpoint into place");
+}
+
+CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm) {
+  {
+    std::ifstream probe(path);
+    check(bool(probe), path, "cannot open checkpoint");
+  }
+  check(H5Fis_hdf5(path.c_str()) > 0, path, "not an HDF5 file (or truncated)");
+  Handle fapl = accessList(comm);
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl), H5Fclose);
+  check(file.ok(), path, "cannot open as HDF5 (corrupt or truncated)");
+  check(readAttributeString(file, "format") == kFormat, path, "not a rangefuse checkpoint");
+  const int version = readAttributeInt(file, "version", path);
+  check(version <= kCheckpointVersion, path,
+        "written by a newer rangefuse (format version " + std::to_string(version) +
+            ", this one reads up to " + std::to_string(kCheckpointVersion) + ")");
+  const std::vector<hsize_t> dims = datasetDims(file, "meta", 1, path);
+  const std::vector<char> bytes =
+      readRows<char>(file, "meta", H5T_NATIVE_CHAR, 0, dims[0], 0, path);
+  CheckpointMeta m;
+  try {
+    m = metaFrom(nlohmann::json::parse(std::string(bytes.begin(), bytes.end())), version);
+  } catch (const std::exception& e) {
+    throw InputError(path + ": damaged metadata: " + e.what());
+  }
+  if (m.hasField) {
+    const hsize_t nb = datasetDims(file, "field_codes", 1, path)[0];
+    check(datasetDims(file, "field_work", 1, path)[0] == nb, path,
+          "field_work does not match field_codes");
+    const auto s = datasetDims(file, "field_sums", 2, path);
+    const hsize_t per = hsize_t(m.grid.brick) * m.grid.brick * m.grid.brick;
+    check(s[0] == nb && s[1] == per * 6, path,
+          "field_sums is " + std::to_string(s[0]) + " x " + std::to_string(s[1]) + ", expected " +
+              std::to_string(nb) + " x " + std::to_string(per * 6));
+  }
+  return m;
+}
+
+std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const CheckpointMeta& meta,
+                                                BrickLayout& layout, MPI_Comm comm) {
+  check(meta.hasField, path, "holds no field");
+  Handle fapl = accessList(comm);
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl), H5Fclose);
+  check(file.ok(), path, "cannot open as HDF5 (corrupt or truncated)");
+  const hsize_t nb = datasetDims(file, "field_codes", 1, path)[0];
+  layout = BrickLayout{};
+  layout.grid = meta.grid;
+  layout.codes = readRows<uint64_t>(file, "field_codes", H5T_NATIVE_UINT64, 0, nb, 0, path);
+  layout.work = readRows<uint64_t>(file, "field_work", H5T_NATIVE_UINT64, 0, nb, 0, path);
+  for (size_t i = 1; i < layout.codes.size(); ++i)
+    check(layout.codes[i - 1] < layout.codes[i], path, "field_codes are not in Morton order");
+  layout.rankStart = partitionWork(layout.work, mpi::size(comm));
+  auto store = std::make_unique<BrickStore>(layout, mpi::rank(comm));
+  const int r = mpi::rank(comm);
+  const hsize_t per = store->voxelsPerBrick();
+  const std::vector<float> sums =
+      readRows<float>(file, "field_sums", H5T_NATIVE_FLOAT, layout.rankStart[r],
+                      layout.rankStart[r + 1] - layout.rankStart[r], per * 6, path);
+  std::memcpy(static_cast<void*>(store->sums().data()), sums.data(), sums.size() * sizeof(float));
+  return store;
+}
+
+std::string fileHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  uint64_t h = 1469598103934665603ULL;
+  char buf[1 << 16];
+  while (in.read(buf, sizeof(buf)) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h ^= static_cast<unsigned char>(buf[i]);
+      h *= 1099511628211ULL;
+    }
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+}  // namespace rangefuse::io

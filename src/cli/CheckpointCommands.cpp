@@ -1,0 +1,115 @@
+#include <cstdio>
+#include <iostream>
+
+#include "CliCommon.h"
+#include "Commands.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/mesh/DistributedMesh.h"
+#include "rangefuse/mesh/MarchingCubes.h"
+#include "rangefuse/parallel/Mpi.h"
+
+namespace po = boost::program_options;
+
+namespace rangefuse::cli {
+namespace {
+
+/// Runs fn on every rank; an exception anywhere fails all ranks with one message.
+bool together(MPI_Comm comm, const std::function<void()>& fn) {
+  std::string error;
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  return mpi::agree(error.empty(), error, comm);
+}
+
+int meshFromCheckpoint(const std::string& path, const std::string& out, bool normals,
+                       MPI_Comm comm) {
+  io::CheckpointMeta meta;
+  BrickLayout layout;
+  std::unique_ptr<BrickStore> store;
+  if (!together(comm, [&] {
+        if (out.empty()) throw InputError("mesh: --out MESH.ply is required");
+        meta = io::readCheckpointMeta(path, comm);
+        store = io::readCheckpointField(path, meta, layout, comm);
+      }))
+    return 1;
+  const float minWeight = meta.parameters.value("min_weight", 0.0f);
+  TriangleMesh mesh = extractDistributedMesh(*store, minWeight, comm);
+  if (!together(comm, [&] {
+        if (mpi::rank(comm) != 0) return;
+        if (normals) mesh.normals = vertexNormals(mesh);
+        io::writeMeshPly(out, mesh);
+        std::printf("mesh: %zu triangles from %zu bricks -> %s\n", mesh.faces.size(),
+                    layout.codes.size(), out.c_str());
+      }))
+    return 1;
+  return 0;
+}
+
+void printInfo(const std::string& path, const io::CheckpointMeta& m) {
+  std::printf("%s: rangefuse checkpoint, format version %d\n", path.c_str(), m.version);
+  std::printf("progress:   %s\n", m.progress.dump().c_str());
+  std::printf("parameters: %s\n", m.parameters.dump().c_str());
+  std::printf("scans:      %zu\n", m.scanNames.size());
+  for (size_t i = 0; i < m.scanNames.size(); ++i) {
+    const Eigen::Quaterniond q(m.poses[i].R);
+    std::printf("  %-24s hash %s  t %.6g %.6g %.6g  q %.6g %.6g %.6g %.6g\n",
+                m.scanNames[i].c_str(), m.scanHashes[i].c_str(), m.poses[i].t.x(), m.poses[i].t.y(),
+                m.poses[i].t.z(), q.x(), q.y(), q.z(), q.w());
+  }
+  if (m.hasField)
+    std::printf("field:      voxel %.6g, bricks of %d^3, origin %.6g %.6g %.6g\n", m.grid.voxel,
+                m.grid.brick, m.grid.origin.x(), m.grid.origin.y(), m.grid.origin.z());
+  else
+    std::printf("field:      none\n");
+}
+
+}  // namespace
+
+int meshCommand(int argc, char** argv, MPI_Comm comm) {
+  std::string path, out;
+  bool normals = true;
+  po::options_description d("rangefuse mesh: the stitched mesh of the field in a checkpoint");
+  auto add = d.add_options();
+  add("help,h", "show this help");
+  add("checkpoint", po::value(&path), "HDF5 checkpoint (also the first positional argument)");
+  add("out", po::value(&out), "mesh .ply to write");
+  add("normals", po::value(&normals)->default_value(true), "write vertex normals");
+  po::positional_options_description pos;
+  pos.add("checkpoint", 1);
+  po::variables_map vm;
+  std::string error;
+  bool run = false;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(d).positional(pos).run(), vm);
+    if (vm.count("help")) {
+      if (mpi::rank(comm) == 0)
+        std::cout << d << "\nExample:\n  mpirun -np 2 rangefuse mesh run.h5 --out mesh.ply\n";
+    } else {
+      po::notify(vm);
+      run = true;
+    }
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!mpi::agree(error.empty(), error + " (see 'rangefuse mesh --help')", comm)) return 2;
+  return run ? meshFromCheckpoint(path, out, normals, comm) : 0;
+}
+
+int infoCommand(int argc, char** argv, MPI_Comm comm) {
+  if (argc != 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    if (mpi::rank(comm) == 0) std::cout << "usage: rangefuse info FILE.h5\n";
+    return argc == 2 ? 0 : 2;
+  }
+  const std::string path = argv[1];
+  io::CheckpointMeta meta;
+  if (!together(comm, [&] { meta = io::readCheckpointMeta(path, comm); })) return 1;
+  if (mpi::rank(comm) == 0) printInfo(path, meta);
+  return 0;
+}
+
+}  // namespace rangefuse::cli

@@ -1,0 +1,142 @@
+#include "rangefuse/fuse/Checkpointing.h"
+
+#include <algorithm>
+#include <set>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+/// Option name on the command line for each key of resultParameters.
+const std::map<std::string, std::string> kOptionOf = {{"method", "method"},
+                                                      {"voxel", "voxel"},
+                                                      {"envelope_voxels", "envelope"},
+                                                      {"brick", "brick"},
+                                                      {"min_weight", "min-weight"},
+                                                      {"normal_passes", "normal-passes"},
+                                                      {"max_edge", "max-edge"},
+                                                      {"min_cosine", "min-cosine"},
+                                                      {"quorum", "quorum"},
+                                                      {"same_distance_voxels", "same-distance"},
+                                                      {"same_angle_deg", "same-angle"},
+                                                      {"edge_angle_deg", "edge-angle"},
+                                                      {"register", "register"},
+                                                      {"anchor", "anchor"},
+                                                      {"control_stride", "control-stride"},
+                                                      {"max_iterations", "max-iterations"},
+                                                      {"max_rounds", "max-rounds"},
+                                                      {"scans", "scans"}};
+
+bool given(const FuseOptions& o, const std::string& option) {
+  return std::find(o.givenOptions.begin(), o.givenOptions.end(), option) != o.givenOptions.end();
+}
+
+void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
+  if (key == "method")
+    o.method = v.get<std::string>();
+  else if (key == "voxel")
+    o.voxel = v.get<double>();
+  else if (key == "envelope_voxels")
+    o.envelope = v.get<double>();
+  else if (key == "brick")
+    o.brick = v.get<int>();
+  else if (key == "min_weight")
+    o.minWeight = v.get<float>();
+  else if (key == "normal_passes")
+    o.surface.normalPasses = v.get<int>();
+  else if (key == "max_edge")
+    o.surface.maxEdgeFactor = v.get<double>();
+  else if (key == "min_cosine")
+    o.surface.minCosine = v.get<double>();
+  else if (key == "quorum")
+    o.quorum = v.get<double>();
+  else if (key == "same_distance_voxels")
+    o.sameDistance = v.get<double>();
+  else if (key == "same_angle_deg")
+    o.sameAngle = v.get<double>();
+  else if (key == "edge_angle_deg")
+    o.edgeAngle = v.get<double>();
+  else if (key == "register")
+    o.registration = v.get<std::string>();
+  else if (key == "anchor")
+    o.anchor = v.get<std::string>();
+  else if (key == "control_stride")
+    o.controlStride = v.get<int>();
+  else if (key == "max_iterations")
+    o.maxIterations = v.get<int>();
+  else if (key == "max_rounds")
+    o.maxRounds = v.get<int>();
+  else if (key == "scans")
+    o.scans = v.get<std::string>();
+}
+
+}  // namespace
+
+std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm) {
+  std::string joined;
+  std::string error;
+  if (mpi::rank(comm) == 0) {
+    try {
+      for (const auto& p : paths) joined += io::fileHash(p) + "\n";
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  if (!mpi::agree(error.empty(), error, comm)) throw InputError("cannot hash the input scans");
+  joined = mpi::broadcastString(joined, 0, comm);
+  std::vector<std::string> out;
+  for (size_t pos = 0, end; (end = joined.find('\n', pos)) != std::string::npos; pos = end + 1)
+    out.push_back(joined.substr(pos, end - pos));
+  return out;
+}
+
+io::CheckpointMeta checkpointMeta(const FuseOptions& o, const LoadedScans& scans,
+                                  const std::vector<std::string>& hashes,
+                                  const nlohmann::json& progress, const FusedField* field) {
+  io::CheckpointMeta m;
+  m.parameters = resultParameters(o);
+  m.parameters["scans"] = o.scans;
+  m.scanNames = scans.names;
+  m.scanHashes = hashes;
+  m.poses = scans.poses;
+  m.progress = progress;
+  m.hasField = field != nullptr;
+  if (field) m.grid = field->layout.grid;
+  return m;
+}
+
+void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
+  const nlohmann::json mine = resultParameters(o);
+  std::vector<std::string> differ;
+  for (const auto& [key, option] : kOptionOf) {
+    if (!meta.parameters.contains(key)) continue;
+    const nlohmann::json& theirs = meta.parameters[key];
+    if (!given(o, option)) {
+      assign(o, key, theirs);
+    } else if (key != "scans" && mine.contains(key) && mine[key] != theirs) {
+      differ.push_back("--" + option + " " + mine[key].dump() + " (checkpoint: " + theirs.dump() +
+                       ")");
+    }
+  }
+  if (differ.empty()) return;
+  std::string msg = "--resume " + o.resume + ": parameters differ from the checkpoint's:";
+  for (const auto& d : differ) msg += " " + d + ";";
+  throw InputError(msg + " leave them out to take the checkpoint's");
+}
+
+void checkScanHashes(const io::CheckpointMeta& meta, const LoadedScans& scans,
+                     const std::vector<std::string>& hashes) {
+  std::string changed;
+  if (meta.scanNames != scans.names)
+    throw InputError("--resume: the scan list differs from the checkpoint's (" +
+                     std::to_string(meta.scanNames.size()) + " scans there, " +
+                     std::to_string(scans.names.size()) + " here)");
+  for (size_t i = 0; i < hashes.size(); ++i)
+    if (hashes[i] != meta.scanHashes[i]) changed += " " + scans.paths[i];
+  if (!changed.empty())
+    throw InputError("--resume: input files changed since the checkpoint:" + changed);
+}
+
+}  // namespace rangefuse
