@@ -245,6 +245,8 @@ CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm) {
   CheckpointMeta m;
   try {
     m = metaFrom(nlohmann::json::parse(std::string(bytes.begin(), bytes.end())), version);
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(path + ": damaged metadata (not the JSON a checkpoint holds)");
   } catch (const std::exception& e) {
     throw InputError(path + ": damaged metadata: " + e.what());
   }

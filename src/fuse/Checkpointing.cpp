@@ -84,7 +84,8 @@ std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Co
       error = e.what();
     }
   }
-  if (!mpi::agree(error.empty(), error, comm)) throw InputError("cannot hash the input scans");
+  error = mpi::broadcastString(error, 0, comm);  // the caller reports it, once
+  if (!error.empty()) throw InputError(error);
   joined = mpi::broadcastString(joined, 0, comm);
   std::vector<std::string> out;
   for (size_t pos = 0, end; (end = joined.find('\n', pos)) != std::string::npos; pos = end + 1)
