@@ -59,6 +59,8 @@ po::options_description fuseOptions(FuseOptions& o) {
       "registration: field rebuilds in Algorithm 2");
   add("poses-out", po::value(&o.posesOut), "write the refined poses (.conf)");
   add("checkpoint", po::value(&o.checkpoint), "write an HDF5 checkpoint of the field (.h5)");
+  add("checkpoint-every", po::value(&o.checkpointEvery)->default_value(0.0),
+      "seconds between registration checkpoints (0: after every scan / iteration)");
   add("resume", po::value(&o.resume),
       "continue from a checkpoint; options left out come from it, given ones must match");
   addFieldOptions(d, o);

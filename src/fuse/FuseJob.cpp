@@ -145,9 +145,45 @@ void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel
   std::fflush(stdout);
 }
 
-/// Collective: refines scans.poses as asked; false when any rank failed.
+/// Writes registration checkpoints at boundaries, at most one per `every` seconds.
+class RegistrationCheckpointer {
+ public:
+  RegistrationCheckpointer(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
+      : o_(o), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
+    MPI_Bcast(&last_, 1, MPI_DOUBLE, 0, comm_);  // every rank decides alike
+  }
+
+  bool ok() const { return ok_; }
+
+  void operator()(const RegistrationProgress& p, const std::vector<Pose>& poses) {
+    if (o_.checkpoint.empty() || !ok_) return;
+    double now = MPI_Wtime();
+    MPI_Bcast(&now, 1, MPI_DOUBLE, 0, comm_);  // one decision for all ranks
+    if (p.phase != "done" && now - last_ < o_.checkpointEvery) return;
+    last_ = now;
+    LoadedScans current = scans_;
+    current.poses = poses;
+    ok_ = collectively(comm_, [&] {
+      if (hashes_.empty()) hashes_ = hashScans(scans_.paths, comm_);
+      const nlohmann::json progress = {{"stage", "registration"}, {"registration", p.toJson()}};
+      io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, current, hashes_, progress, nullptr),
+                          nullptr, comm_);
+    });
+  }
+
+ private:
+  const FuseOptions& o_;
+  const LoadedScans& scans_;
+  MPI_Comm comm_;
+  double last_;
+  bool ok_ = true;
+  std::vector<std::string> hashes_;
+};
+
+/// Collective: refines scans.poses as asked, continuing from `progress`; false when any rank
+/// failed.
 bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-                   std::vector<RegistrationStep>& steps) {
+                   RegistrationProgress& state, std::vector<RegistrationStep>& steps) {
   if (o.registration == "none") return true;
   RegistrationOptions r;
   if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
@@ -159,12 +195,19 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
     ok = buildFieldOf(o, placeAll(scans, which, poses), comm, field, ignored) && ok;
     return *field.store;
   };
-  registerScans(scans.local, scans.poses, r, build, comm, [&](const RegistrationStep& s) {
-    steps.push_back(s);
-    if (progress.isRoot()) printStep(s, scans, o.voxel);
-  });
+  RegistrationCheckpointer checkpointer(o, scans, comm);
+  registerScans(
+      scans.local, scans.poses, r, build, comm,
+      [&](const RegistrationStep& s) {
+        steps.push_back(s);
+        if (progress.isRoot()) printStep(s, scans, o.voxel);
+      },
+      state,
+      [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
+        checkpointer(p, poses);
+      });
   progress.stage("register", o.registration + ": " + std::to_string(steps.size()) + " fits");
-  return ok;
+  return ok && checkpointer.ok();
 }
 
 bool writePoses(const FuseOptions& o, MPI_Comm comm, const LoadedScans& scans) {
@@ -361,18 +404,29 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
       }))
     return 1;
   if (!o.resume.empty()) {
-    if (resumed.progress.value("stage", "") == "field")
-      return resumeFromField(o, resumed, comm, progress);
-    if (!collectively(comm, [&] {
-          throw InputError(o.resume + ": stage '" + resumed.progress.value("stage", "?") +
-                           "' cannot be resumed by this version");
+    const std::string stage = resumed.progress.value("stage", "");
+    if (stage == "field") return resumeFromField(o, resumed, comm, progress);
+    if (stage != "registration" && !collectively(comm, [&] {
+          throw InputError(o.resume + ": unknown stage '" + stage + "'");
         }))
       return 1;
   }
   LoadedScans scans;
   if (!loadScans(o, comm, progress, scans)) return 1;
+  RegistrationProgress state;
+  if (!o.resume.empty() && !collectively(comm, [&] {
+        checkScanHashes(resumed, scans, hashScans(scans.paths, comm));
+        scans.poses = resumed.poses;
+        state = RegistrationProgress::fromJson(resumed.progress.at("registration"));
+      }))
+    return 1;
+  if (!o.resume.empty())
+    progress.stage("resume", o.resume + ": registration " + state.phase + ", scan " +
+                                 std::to_string(state.nextScan) + ", round " +
+                                 std::to_string(state.round) + " iteration " +
+                                 std::to_string(state.iteration));
   std::vector<RegistrationStep> steps;
-  if (!registerPoses(o, comm, progress, scans, steps)) return 1;
+  if (!registerPoses(o, comm, progress, scans, state, steps)) return 1;
   FusedField field;
   RankCounters counters;
   if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))

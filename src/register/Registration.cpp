@@ -7,27 +7,6 @@
 namespace rangefuse {
 namespace {
 
-/// A fit's motion as a twist about the control points' centroid: rotation vector scaled by
-/// their RMS radius (so both halves are lengths) and translation of the centroid.
-struct Twist {
-  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();  // axis * angle (radians)
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  double radius = 1;
-
-  Eigen::Matrix<double, 6, 1> vector() const {
-    Eigen::Matrix<double, 6, 1> v;
-    v << radius * rotation, shift;
-    return v;
-  }
-};
-
-/// Successive fits of one scan, for acceleration: a linearly converging fit that keeps
-/// stepping the same way is sped up by the rest of the geometric series (Besl & McKay).
-struct FitHistory {
-  bool have = false;
-  Twist last;
-};
-
 Twist twistOf(const Pose& delta, const Eigen::Vector3d& centre, double radius) {
   const Eigen::AngleAxisd aa(delta.R);
   Twist t;
@@ -46,9 +25,15 @@ Pose poseOf(const Twist& t, const Eigen::Vector3d& centre, double scale) {
 }
 
 /// The extrapolation factor for this fit given the previous one (1: none).
+Eigen::Matrix<double, 6, 1> asVector(const Twist& t) {
+  Eigen::Matrix<double, 6, 1> v;
+  v << t.radius * t.rotation, t.shift;
+  return v;
+}
+
 double acceleration(const Twist& now, const FitHistory& h) {
   if (!h.have) return 1;
-  const auto a = now.vector(), b = h.last.vector();
+  const auto a = asVector(now), b = asVector(h.last);
   if (!(a.norm() > 0 && b.norm() > 0) || a.dot(b) < 0.95 * a.norm() * b.norm()) return 1;
   const double r = a.norm() / b.norm();
   return r < 0.95 ? std::min(8.0, 1 / (1 - r)) : 1;
@@ -89,11 +74,21 @@ bool converged(const RegistrationStep& s, const RegistrationOptions& o) {
   return !s.applied || (s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol);
 }
 
+std::vector<size_t> allOf(size_t n) {
+  std::vector<size_t> all(n);
+  for (size_t i = 0; i < n; ++i) all[i] = i;
+  return all;
+}
+
 void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
                  const RegistrationOptions& o, const FieldFactory& build, MPI_Comm comm,
-                 const std::function<void(const RegistrationStep&)>& onStep) {
+                 const std::function<void(const RegistrationStep&)>& onStep,
+                 RegistrationProgress& progress, const BoundaryCallback& onBoundary) {
+  // The scans placed so far, in the order they joined: the anchor, then by index.
   std::vector<size_t> fused = {o.anchor};
-  for (size_t i = 0; i < scans.size(); ++i) {
+  for (size_t j = 0; j < progress.nextScan; ++j)
+    if (j != o.anchor) fused.push_back(j);
+  for (size_t i = progress.nextScan; i < scans.size(); ++i) {
     if (i == o.anchor) continue;
     const BrickStore& field = build(fused, poses);
     FitHistory history;
@@ -106,36 +101,54 @@ void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
       if (converged(step, o)) break;
     }
     fused.push_back(i);
+    progress.nextScan = i + 1;
+    onBoundary(progress, poses);
   }
+}
+
+void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
+  p.iteration = 0;
+  p.roundMoved = false;
+  p.lastMoved = true;
+  p.roundPoses = poses;
+  p.history.assign(poses.size(), FitHistory{});
 }
 
 void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
                   RegistrationOptions o, const FieldFactory& build, MPI_Comm comm,
-                  const std::function<void(const RegistrationStep&)>& onStep) {
+                  const std::function<void(const RegistrationStep&)>& onStep,
+                  RegistrationProgress& p, const BoundaryCallback& onBoundary) {
   // The field holds each scan itself: only voxels another image also saw are overlap.
   o.correspondences.minImages = 2;
-  std::vector<size_t> all;
-  for (size_t i = 0; i < scans.size(); ++i) all.push_back(i);
-  for (int round = 1; round <= o.maxRounds; ++round) {
-    const BrickStore& field = build(all, poses);
-    std::vector<FitHistory> history(scans.size());
-    bool rebuiltFieldMovedScans = false;
-    for (int it = 1; it <= o.maxIterations; ++it) {
-      bool moved = false;
-      for (size_t i = 0; i < scans.size(); ++i) {
-        if (i == o.anchor) continue;
-        RegistrationStep step = fitOnce(scans[i], poses[i], field, o, comm, history[i]);
-        step.algorithm = "simultaneous";
-        step.round = round;
-        step.iteration = it;
-        step.scan = i;
-        onStep(step);
-        moved |= !converged(step, o);
+  const std::vector<size_t> all = allOf(scans.size());
+  while (p.phase == "simultaneous") {
+    if (p.iteration < o.maxIterations && p.lastMoved) {
+      const BrickStore& field = build(all, p.roundPoses);
+      while (p.iteration < o.maxIterations && p.lastMoved) {
+        bool moved = false;
+        for (size_t i = 0; i < scans.size(); ++i) {
+          if (i == o.anchor) continue;
+          RegistrationStep step = fitOnce(scans[i], poses[i], field, o, comm, p.history[i]);
+          step.algorithm = "simultaneous";
+          step.round = p.round;
+          step.iteration = p.iteration + 1;
+          step.scan = i;
+          onStep(step);
+          moved |= !converged(step, o);
+        }
+        if (++p.iteration == 1) p.roundMoved = moved;
+        p.lastMoved = moved;
+        onBoundary(p, poses);
       }
-      if (it == 1) rebuiltFieldMovedScans = moved;
-      if (!moved) break;
     }
-    if (!rebuiltFieldMovedScans) break;  // the poses stopped changing
+    // The poses stopped changing when a rebuilt field moved nothing.
+    if (!p.roundMoved || p.round >= o.maxRounds) {
+      p.phase = "done";
+    } else {
+      ++p.round;
+      startRound(p, poses);
+    }
+    onBoundary(p, poses);
   }
 }
 
@@ -147,11 +160,70 @@ double rotationDegrees(const Eigen::Matrix3d& R) {
 
 void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
                    const RegistrationOptions& o, const FieldFactory& build, MPI_Comm comm,
-                   const std::function<void(const RegistrationStep&)>& onStep) {
-  if (o.mode == "incremental" || o.mode == "both")
-    incremental(scans, poses, o, build, comm, onStep);
-  if (o.mode == "simultaneous" || o.mode == "both")
-    simultaneous(scans, poses, o, build, comm, onStep);
+                   const std::function<void(const RegistrationStep&)>& onStep,
+                   RegistrationProgress& p, const BoundaryCallback& onBoundary) {
+  const bool first = o.mode == "incremental" || o.mode == "both";
+  const bool second = o.mode == "simultaneous" || o.mode == "both";
+  if (p.phase == "start") p.phase = first ? "incremental" : "simultaneous";
+  if (p.phase == "simultaneous" && p.roundPoses.empty()) startRound(p, poses);
+  if (p.phase == "incremental") {
+    incremental(scans, poses, o, build, comm, onStep, p, onBoundary);
+    p.phase = second ? "simultaneous" : "done";
+    if (second) startRound(p, poses);
+    onBoundary(p, poses);
+  }
+  if (p.phase == "simultaneous") simultaneous(scans, poses, o, build, comm, onStep, p, onBoundary);
+}
+
+nlohmann::json RegistrationProgress::toJson() const {
+  auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+  nlohmann::json poses = nlohmann::json::array(), hist = nlohmann::json::array();
+  for (const Pose& q : roundPoses) {
+    std::vector<double> v(q.R.data(), q.R.data() + 9);
+    v.insert(v.end(), q.t.data(), q.t.data() + 3);
+    poses.push_back(v);
+  }
+  for (const FitHistory& h : history)
+    hist.push_back({{"have", h.have},
+                    {"rotation", vec(h.last.rotation)},
+                    {"shift", vec(h.last.shift)},
+                    {"radius", h.last.radius}});
+  return {{"phase", phase},
+          {"next_scan", nextScan},
+          {"round", round},
+          {"iteration", iteration},
+          {"round_moved", roundMoved},
+          {"last_moved", lastMoved},
+          {"round_poses", poses},
+          {"history", hist}};
+}
+
+RegistrationProgress RegistrationProgress::fromJson(const nlohmann::json& j) {
+  auto vec = [](const nlohmann::json& a) {
+    const auto v = a.get<std::vector<double>>();
+    if (v.size() != 3) throw std::runtime_error("a vector needs 3 numbers");
+    return Eigen::Vector3d(v[0], v[1], v[2]);
+  };
+  RegistrationProgress p;
+  p.phase = j.at("phase").get<std::string>();
+  p.nextScan = j.at("next_scan").get<size_t>();
+  p.round = j.at("round").get<int>();
+  p.iteration = j.at("iteration").get<int>();
+  p.roundMoved = j.at("round_moved").get<bool>();
+  p.lastMoved = j.at("last_moved").get<bool>();
+  for (const auto& v : j.at("round_poses")) {
+    const auto d = v.get<std::vector<double>>();
+    if (d.size() != 12) throw std::runtime_error("a pose needs 12 numbers");
+    Pose q;
+    q.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
+    q.t = Eigen::Vector3d(d[9], d[10], d[11]);
+    p.roundPoses.push_back(q);
+  }
+  for (const auto& h : j.at("history"))
+    p.history.push_back(
+        FitHistory{h.at("have").get<bool>(),
+                   Twist{vec(h.at("rotation")), vec(h.at("shift")), h.at("radius").get<double>()}});
+  return p;
 }
 
 }  // namespace rangefuse

@@ -37,6 +37,7 @@ struct FuseOptions {
   std::string posesOut;               ///< refined poses .conf (optional)
   std::string checkpoint;             ///< HDF5 checkpoint to write (optional)
   std::string resume;                 ///< HDF5 checkpoint to continue from (optional)
+  double checkpointEvery = 0;         ///< seconds between registration checkpoints (0: each)
   std::vector<std::string>
       givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };

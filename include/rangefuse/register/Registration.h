@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -38,15 +39,49 @@ struct RegistrationStep {
   bool applied = false;    ///< false when too few correspondences
 };
 
+/// A fit's motion as a twist about the control points' centroid: rotation vector and shift of
+/// the centroid; `radius` (the points' RMS radius) scales rotation into a length.
+struct Twist {
+  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  double radius = 1;
+};
+
+/// The previous fit of a scan, for acceleration.
+struct FitHistory {
+  bool have = false;
+  Twist last;
+};
+
+/// Where registration stands, enough to continue it exactly (checkpoints).
+struct RegistrationProgress {
+  std::string phase = "start";      ///< start, incremental, simultaneous or done
+  size_t nextScan = 0;              ///< incremental: the next scan to register
+  int round = 1;                    ///< simultaneous: the round in progress
+  int iteration = 0;                ///< simultaneous: iterations done in this round
+  bool roundMoved = false;          ///< simultaneous: this round's first iteration moved a scan
+  bool lastMoved = true;            ///< simultaneous: the last iteration moved a scan
+  std::vector<Pose> roundPoses;     ///< simultaneous: the poses this round's field is built from
+  std::vector<FitHistory> history;  ///< simultaneous: per scan
+
+  nlohmann::json toJson() const;
+  static RegistrationProgress fromJson(const nlohmann::json& j);
+};
+
 /// Builds the field of the listed scans at the given poses (collective) and returns it.
 using FieldFactory =
     std::function<const BrickStore&(const std::vector<size_t>& scans, const std::vector<Pose>&)>;
 
-/// Collective: refines `poses` (the anchor never moves). `scans` are in their own frames.
-/// `onStep` sees every fit (rank 0 prints it). Every rank ends with the same poses.
+/// Called at every boundary (after each scan of Algorithm 1, each iteration of Algorithm 2).
+using BoundaryCallback = std::function<void(const RegistrationProgress&, const std::vector<Pose>&)>;
+
+/// Collective: refines `poses` (the anchor never moves), continuing from `progress`. `scans`
+/// are in their own frames. `onStep` sees every fit (rank 0 prints it); `onBoundary` every
+/// point a checkpoint may be taken. Every rank ends with the same poses.
 void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
                    const RegistrationOptions& options, const FieldFactory& buildField,
-                   MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep);
+                   MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep,
+                   RegistrationProgress& progress, const BoundaryCallback& onBoundary);
 
 /// The change a fit makes: rotation angle (degrees) and translation length.
 double rotationDegrees(const Eigen::Matrix3d& R);
