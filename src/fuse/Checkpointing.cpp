@@ -75,21 +75,29 @@ void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
 }  // namespace
 
 std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm) {
-  std::string joined;
-  std::string error;
-  if (mpi::rank(comm) == 0) {
+  // Each rank hashes every size-th file; hashes and errors are gathered by everyone, so all
+  // ranks throw the same first error (reported once by the caller) or agree on the hashes.
+  const int me = mpi::rank(comm), n = mpi::size(comm);
+  std::string mine;
+  for (size_t i = me; i < paths.size(); i += n) {
+    std::string h;
     try {
-      for (const auto& p : paths) joined += io::fileHash(p) + "\n";
+      h = io::fileHash(paths[i]);
     } catch (const std::exception& e) {
-      error = e.what();
+      h = std::string("!") + e.what();
+    }
+    mine += std::to_string(i) + " " + h + "\n";
+  }
+  std::vector<std::string> out(paths.size());
+  for (const auto& part : mpi::allgatherBytes(std::vector<char>(mine.begin(), mine.end()), comm)) {
+    const std::string text(part.begin(), part.end());
+    for (size_t pos = 0, end; (end = text.find('\n', pos)) != std::string::npos; pos = end + 1) {
+      const size_t space = text.find(' ', pos);
+      out[std::stoul(text.substr(pos, space - pos))] = text.substr(space + 1, end - space - 1);
     }
   }
-  error = mpi::broadcastString(error, 0, comm);  // the caller reports it, once
-  if (!error.empty()) throw InputError(error);
-  joined = mpi::broadcastString(joined, 0, comm);
-  std::vector<std::string> out;
-  for (size_t pos = 0, end; (end = joined.find('\n', pos)) != std::string::npos; pos = end + 1)
-    out.push_back(joined.substr(pos, end - pos));
+  for (const auto& h : out)
+    if (!h.empty() && h[0] == '!') throw InputError(h.substr(1));
   return out;
 }
 
