@@ -1,6 +1,7 @@
 #include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/render/Render.h"
@@ -25,8 +26,8 @@ struct Picture {
 };
 
 Picture parsePicture(const RenderOptions& o) {
-  if (!o.checkpoint.empty())
-    throw InputError("render: --checkpoint is not available yet (HDF5 checkpoints); use --scans");
+  if (!o.checkpoint.empty() && !o.field.scans.empty())
+    throw InputError("render: give --checkpoint or --scans, not both");
   if (o.out.empty()) throw InputError("render: --out FILE.png is required");
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw InputError("render: --width and --height must be between 1 and 16384");
@@ -48,11 +49,25 @@ int run(const RenderOptions& o, MPI_Comm comm) {
     error = e.what();
   }
   if (!mpi::agree(error.empty(), error, comm)) return 2;
-  Progress progress(comm);
   FusedField field;
-  RankCounters counters;
-  if (!buildField(o.field, comm, progress, field, counters)) return 1;
-  const SparseField all = SparseField::gather(*field.store, o.field.minWeight, 0, comm);
+  float minWeight = o.field.minWeight;
+  if (!o.checkpoint.empty()) {
+    // The field as a checkpoint holds it, re-partitioned over these ranks.
+    std::string error;
+    try {
+      const io::CheckpointMeta meta = io::readCheckpointMeta(o.checkpoint, comm);
+      field.store = io::readCheckpointField(o.checkpoint, meta, field.layout, comm);
+      minWeight = meta.parameters.value("min_weight", 0.0f);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    if (!mpi::agree(error.empty(), error, comm)) return 1;
+  } else {
+    Progress progress(comm);
+    RankCounters counters;
+    if (!buildField(o.field, comm, progress, field, counters)) return 1;
+  }
+  const SparseField all = SparseField::gather(*field.store, minWeight, 0, comm);
   return runOnRoot(comm, [&] {
     const Image img =
         pic.slice ? renderSlice(all, pic.axis, pic.value) : renderField(all, pic.view);
@@ -73,7 +88,7 @@ int renderCommand(int argc, char** argv, MPI_Comm comm) {
       "slice", po::value(&o.slice), "AXIS=VALUE: a slice of the distance field instead")(
       "width", po::value(&o.width)->default_value(512), "picture width, pixels")(
       "height", po::value(&o.height)->default_value(512), "picture height, pixels")(
-      "checkpoint", po::value(&o.checkpoint), "render from an HDF5 checkpoint (not yet)");
+      "checkpoint", po::value(&o.checkpoint), "render the field of an HDF5 checkpoint instead");
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

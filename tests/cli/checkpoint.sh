@@ -19,6 +19,9 @@ mpirun -np 3 "$bin" mesh "$tmp/run.h5" --out "$tmp/mesh3.ply" >/dev/null || fail
 for f in one resumed1 resumed2 mesh3; do
   cmp -s "$tmp/direct.ply" "$tmp/$f.ply" && echo "ok   $f.ply identical to the uninterrupted mesh" || fail "$f.ply differs"
 done
+mpirun -np 3 "$bin" render --checkpoint "$tmp/run.h5" --width 64 --height 48 --out "$tmp/r.png" >/dev/null \
+  && [[ $(head -c 8 "$tmp/r.png" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] \
+  && echo "ok   render from the checkpoint on 3 ranks wrote a PNG" || fail "render --checkpoint"
 "$bin" info "$tmp/run.h5" | grep -q '"stage":"field"' && echo "ok   info shows the stage" || fail "info"
 
 # A temporary left by a killed writer does not shadow the checkpoint.
