@@ -15,23 +15,12 @@ namespace po = boost::program_options;
 namespace rangefuse::cli {
 namespace {
 
-/// Runs fn on every rank; an exception anywhere fails all ranks with one message.
-bool together(MPI_Comm comm, const std::function<void()>& fn) {
-  std::string error;
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  return mpi::agree(error.empty(), error, comm);
-}
-
 int meshFromCheckpoint(const std::string& path, const std::string& out, bool normals,
                        MPI_Comm comm) {
   io::CheckpointMeta meta;
   BrickLayout layout;
   std::unique_ptr<BrickStore> store;
-  if (!together(comm, [&] {
+  if (!mpi::collectively(comm, [&] {
         if (out.empty()) throw InputError("mesh: --out MESH.ply is required");
         meta = io::readCheckpointMeta(path, comm);
         store = io::readCheckpointField(path, meta, layout, comm);
@@ -39,7 +28,7 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
     return 1;
   const float minWeight = meta.parameters.value("min_weight", 0.0f);
   TriangleMesh mesh = extractDistributedMesh(*store, minWeight, comm);
-  if (!together(comm, [&] {
+  if (!mpi::collectively(comm, [&] {
         if (mpi::rank(comm) != 0) return;
         if (normals) mesh.normals = vertexNormals(mesh);
         io::writeMeshPly(out, mesh);
@@ -107,7 +96,7 @@ int infoCommand(int argc, char** argv, MPI_Comm comm) {
   }
   const std::string path = argv[1];
   io::CheckpointMeta meta;
-  if (!together(comm, [&] { meta = io::readCheckpointMeta(path, comm); })) return 1;
+  if (!mpi::collectively(comm, [&] { meta = io::readCheckpointMeta(path, comm); })) return 1;
   if (mpi::rank(comm) == 0) printInfo(path, meta);
   return 0;
 }

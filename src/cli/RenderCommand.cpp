@@ -53,15 +53,12 @@ int run(const RenderOptions& o, MPI_Comm comm) {
   float minWeight = o.field.minWeight;
   if (!o.checkpoint.empty()) {
     // The field as a checkpoint holds it, re-partitioned over these ranks.
-    std::string error;
-    try {
-      const io::CheckpointMeta meta = io::readCheckpointMeta(o.checkpoint, comm);
-      field.store = io::readCheckpointField(o.checkpoint, meta, field.layout, comm);
-      minWeight = meta.parameters.value("min_weight", 0.0f);
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    if (!mpi::agree(error.empty(), error, comm)) return 1;
+    if (!mpi::collectively(comm, [&] {
+          const io::CheckpointMeta meta = io::readCheckpointMeta(o.checkpoint, comm);
+          field.store = io::readCheckpointField(o.checkpoint, meta, field.layout, comm);
+          minWeight = meta.parameters.value("min_weight", 0.0f);
+        }))
+      return 1;
   } else {
     Progress progress(comm);
     RankCounters counters;

@@ -22,17 +22,7 @@
 namespace rangefuse {
 namespace {
 
-/// Runs fn; turns any exception into a collective failure reported once.
-template <class Fn>
-bool collectively(MPI_Comm comm, Fn&& fn) {
-  std::string error;
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  return mpi::agree(error.empty(), error, comm);
-}
+using mpi::collectively;
 
 size_t countTriangles(const std::vector<PrismScan>& scans) {
   size_t n = 0;

@@ -3,6 +3,7 @@
 
 #include <mpi.h>
 
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,19 @@ int size(MPI_Comm comm = MPI_COMM_WORLD);
 /// Collective: true when every rank passed ok. Otherwise the lowest failing rank prints
 /// its message to stderr (once for the whole job) and every rank gets false.
 bool agree(bool ok, const std::string& message, MPI_Comm comm = MPI_COMM_WORLD);
+
+/// Collective: runs fn on every rank; if it throws anywhere, every rank returns false and the
+/// lowest failing rank's message is printed once.
+template <class Fn>
+bool collectively(MPI_Comm comm, Fn&& fn) {
+  std::string error;
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  return agree(error.empty(), error, comm);
+}
 
 /// Gathers every rank's bytes to `root`, concatenated in rank order (empty elsewhere).
 std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm);
