@@ -2,7 +2,7 @@
 
 namespace rangefuse {
 
-BrickStore::BrickStore(const BrickLayout& layout, int rank) : layout_(&layout) {
+BrickStore::BrickStore(const BrickLayout& layout, int rank) : layout_(layout) {
   const int B = layout.grid.brick;
   perBrick_ = static_cast<size_t>(B) * B * B;
   for (size_t i = layout.rankStart[rank]; i < layout.rankStart[rank + 1]; ++i) {
@@ -13,7 +13,7 @@ BrickStore::BrickStore(const BrickLayout& layout, int rank) : layout_(&layout) {
 }
 
 size_t BrickStore::offset(size_t b, const VoxelIndex& v) const {
-  const int B = layout_->grid.brick;
+  const int B = layout_.grid.brick;
   const BrickCoord base = mortonDecode(codes_[b]) * B;
   const VoxelIndex l = v - base;
   return b * perBrick_ + (static_cast<size_t>(l.z()) * B + l.y()) * B + l.x();

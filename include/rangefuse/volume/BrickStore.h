@@ -19,10 +19,11 @@ struct VoxelSums {
 
 class BrickStore {
  public:
+  /// Keeps its own copy of the layout (codes and owners: small next to the voxels).
   BrickStore(const BrickLayout& layout, int rank);
 
-  const BrickLayout& layout() const { return *layout_; }
-  const VoxelGrid& grid() const { return layout_->grid; }
+  const BrickLayout& layout() const { return layout_; }
+  const VoxelGrid& grid() const { return layout_.grid; }
   size_t brickCount() const { return codes_.size(); }
   uint64_t code(size_t local) const { return codes_[local]; }
   size_t voxelsPerBrick() const { return perBrick_; }
@@ -39,7 +40,7 @@ class BrickStore {
   const std::vector<VoxelSums>& sums() const { return sums_; }
 
  private:
-  const BrickLayout* layout_;
+  BrickLayout layout_;
   std::vector<uint64_t> codes_;
   std::unordered_map<uint64_t, int64_t> index_;
   size_t perBrick_;
