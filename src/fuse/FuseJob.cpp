@@ -8,6 +8,7 @@
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/Conf.h"
@@ -93,111 +94,6 @@ bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
   return collectively(comm, [&] {
     if (mpi::rank(comm) == 0) io::writePng(o.preview, renderField(all, ViewSettings{}));
   });
-}
-
-std::vector<PrismScan> placeAll(const LoadedScans& scans, const std::vector<size_t>& which,
-                                const std::vector<Pose>& poses) {
-  std::vector<PrismScan> world;
-  for (size_t i : which) world.push_back(placeScan(scans.local[i], poses[i]));
-  return world;
-}
-
-std::vector<size_t> allScans(const LoadedScans& scans) {
-  std::vector<size_t> all(scans.local.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  return all;
-}
-
-RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans& scans) {
-  RegistrationOptions r;
-  r.mode = o.registration;
-  r.controlStride = o.controlStride;
-  r.maxIterations = o.maxIterations;
-  r.maxRounds = o.maxRounds;
-  r.translationTol = 1e-3 * o.voxel;
-  r.correspondences.maxDistance = o.envelope * o.voxel;
-  if (!o.anchor.empty()) {
-    auto it = std::find(scans.names.begin(), scans.names.end(), o.anchor);
-    if (it == scans.names.end())
-      throw InputError("--anchor " + o.anchor + ": no scan of that name");
-    r.anchor = static_cast<size_t>(it - scans.names.begin());
-  }
-  return r;
-}
-
-void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel) {
-  std::printf(
-      "[register] %-12s round %d it %2d %-14s %8llu corr  rms %.4f vox  dR %.5f deg  dt %.4f "
-      "vox%s\n",
-      s.algorithm.c_str(), s.round, s.iteration, scans.names[s.scan].c_str(),
-      static_cast<unsigned long long>(s.correspondences), s.rms / voxel, s.rotationDeg,
-      s.translation / voxel, s.applied ? "" : "  (too few correspondences: left as given)");
-  std::fflush(stdout);
-}
-
-/// Writes registration checkpoints at boundaries, at most one per `every` seconds.
-class RegistrationCheckpointer {
- public:
-  RegistrationCheckpointer(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
-      : o_(o), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
-    MPI_Bcast(&last_, 1, MPI_DOUBLE, 0, comm_);  // every rank decides alike
-  }
-
-  bool ok() const { return ok_; }
-
-  void operator()(const RegistrationProgress& p, const std::vector<Pose>& poses) {
-    if (o_.checkpoint.empty() || !ok_) return;
-    double now = MPI_Wtime();
-    MPI_Bcast(&now, 1, MPI_DOUBLE, 0, comm_);  // one decision for all ranks
-    if (p.phase != "done" && now - last_ < o_.checkpointEvery) return;
-    last_ = now;
-    LoadedScans current = scans_;
-    current.poses = poses;
-    ok_ = collectively(comm_, [&] {
-      if (hashes_.empty()) hashes_ = hashScans(scans_.paths, comm_);
-      const nlohmann::json progress = {{"stage", "registration"}, {"registration", p.toJson()}};
-      io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, current, hashes_, progress, nullptr),
-                          nullptr, comm_);
-    });
-  }
-
- private:
-  const FuseOptions& o_;
-  const LoadedScans& scans_;
-  MPI_Comm comm_;
-  double last_;
-  bool ok_ = true;
-  std::vector<std::string> hashes_;
-};
-
-/// Collective: refines scans.poses as asked, continuing from `progress`; false when any rank
-/// failed.
-bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-                   RegistrationProgress& state, std::vector<RegistrationStep>& steps) {
-  if (o.registration == "none") return true;
-  RegistrationOptions r;
-  if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
-  FusedField field;
-  RankCounters ignored;
-  bool ok = true;
-  FieldFactory build = [&](const std::vector<size_t>& which,
-                           const std::vector<Pose>& poses) -> const BrickStore& {
-    ok = buildFieldOf(o, placeAll(scans, which, poses), comm, field, ignored) && ok;
-    return *field.store;
-  };
-  RegistrationCheckpointer checkpointer(o, scans, comm);
-  registerScans(
-      scans.local, scans.poses, r, build, comm,
-      [&](const RegistrationStep& s) {
-        steps.push_back(s);
-        if (progress.isRoot()) printStep(s, scans, o.voxel);
-      },
-      state,
-      [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
-        checkpointer(p, poses);
-      });
-  progress.stage("register", o.registration + ": " + std::to_string(steps.size()) + " fits");
-  return ok && checkpointer.ok();
 }
 
 bool writePoses(const FuseOptions& o, MPI_Comm comm, const LoadedScans& scans) {

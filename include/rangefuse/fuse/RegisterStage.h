@@ -1,0 +1,28 @@
+// The registration stage of a fuse run: options, progress lines and checkpoints around
+// registerScans.
+#pragma once
+
+#include <mpi.h>
+
+#include <vector>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/register/Registration.h"
+
+namespace rangefuse {
+
+/// The listed scans moved to the world by the given poses.
+std::vector<PrismScan> placeAll(const LoadedScans& scans, const std::vector<size_t>& which,
+                                const std::vector<Pose>& poses);
+
+/// 0, 1, ..., number of scans - 1.
+std::vector<size_t> allScans(const LoadedScans& scans);
+
+/// Collective: refines scans.poses as --register asks, continuing from `state`, writing
+/// checkpoints at boundaries when --checkpoint is set; rank 0 prints a line per fit. False
+/// when any rank failed (reported once).
+bool registerPoses(const FuseOptions& options, MPI_Comm comm, Progress& progress,
+                   LoadedScans& scans, RegistrationProgress& state,
+                   std::vector<RegistrationStep>& steps);
+
+}  // namespace rangefuse
