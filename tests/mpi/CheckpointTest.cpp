@@ -5,11 +5,13 @@
 #include <cstring>
 #include <filesystem>
 
+#include "SharedTemp.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/parallel/Mpi.h"
 
 using namespace rangefuse;
+using test::sharedTempPath;
 
 namespace {
 
@@ -43,11 +45,7 @@ void fill(BrickStore& s) {
 }  // namespace
 
 TEST(Checkpoint, EveryVoxelAndPoseRoundTripsBitForBit) {
-  const std::string path =
-      mpi::broadcastString((std::filesystem::temp_directory_path() /
-                            ("rangefuse-ck-" + std::to_string(getpid()) + ".h5"))
-                               .string(),
-                           0, MPI_COMM_WORLD);
+  const std::string path = sharedTempPath("ck") + ".h5";
   const BrickLayout layout = testLayout(mpi::size());
   BrickStore store(layout, mpi::rank());
   fill(store);
@@ -90,9 +88,7 @@ namespace {
 
 /// An HDF5 file with a `format` attribute (or none) and a `version`, and nothing else.
 std::string foreignFile(const std::string& name, const char* format, int version) {
-  const std::string path = mpi::broadcastString(
-      (std::filesystem::temp_directory_path() / (name + std::to_string(getpid()) + ".h5")).string(),
-      0, MPI_COMM_WORLD);
+  const std::string path = sharedTempPath(name) + ".h5";
   if (mpi::rank() == 0) {
     const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     const hid_t scalar = H5Screate(H5S_SCALAR);
@@ -129,8 +125,8 @@ void expectRefused(const std::string& path, const std::string& fragment) {
 
 TEST(Checkpoint, ForeignAndNewerFilesAreRefused) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  expectRefused(foreignFile("rangefuse-foreign-", nullptr, 1), "not a rangefuse checkpoint");
-  expectRefused(foreignFile("rangefuse-other-", "someone-else", 1), "not a rangefuse checkpoint");
-  expectRefused(foreignFile("rangefuse-newer-", "rangefuse-checkpoint", 99), "newer rangefuse");
-  expectRefused(foreignFile("rangefuse-nometa-", "rangefuse-checkpoint", 1), "no dataset meta");
+  expectRefused(foreignFile("foreign", nullptr, 1), "not a rangefuse checkpoint");
+  expectRefused(foreignFile("other", "someone-else", 1), "not a rangefuse checkpoint");
+  expectRefused(foreignFile("newer", "rangefuse-checkpoint", 99), "newer rangefuse");
+  expectRefused(foreignFile("nometa", "rangefuse-checkpoint", 1), "no dataset meta");
 }

@@ -4,23 +4,16 @@
 #include <filesystem>
 #include <fstream>
 
+#include "SharedTemp.h"
 #include "rangefuse/eval/MeshDistance.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/parallel/Mpi.h"
 
 using namespace rangefuse;
+using test::sharedTempPath;
 
-namespace {
-
-std::string sharedTempPath(const std::string& name) {
-  std::string p = (std::filesystem::temp_directory_path() /
-                   ("rangefuse-" + std::to_string(getpid()) + "-" + name))
-                      .string();
-  return mpi::broadcastString(p, 0, MPI_COMM_WORLD);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST(FuseBunny, RealScansMatchTheStanfordReconstruction) {
   FuseOptions o;

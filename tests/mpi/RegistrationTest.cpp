@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "SharedTemp.h"
 #include "rangefuse/eval/Comparison.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
@@ -12,6 +13,7 @@
 #include "rangefuse/scan/SyntheticScanner.h"
 
 using namespace rangefuse;
+using test::sharedTempPath;
 
 namespace {
 
@@ -26,10 +28,7 @@ struct ScanSet {
 /// Scans the Stanford reconstruction from 8 views into a fresh folder (rank 0 writes).
 ScanSet scanBunny(const std::string& name, double rotDeg, double transVox) {
   ScanSet set;
-  set.dir = mpi::broadcastString((std::filesystem::temp_directory_path() /
-                                  ("rangefuse-reg-" + name + "-" + std::to_string(getpid())))
-                                     .string(),
-                                 0, MPI_COMM_WORLD);
+  set.dir = sharedTempPath("reg-" + name);
   ScanSettings s;
   s.views = 8;
   s.width = 320;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "SharedTemp.h"
 #include "rangefuse/eval/Comparison.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
@@ -16,6 +17,7 @@
 #include "rangefuse/scan/SyntheticScanner.h"
 
 using namespace rangefuse;
+using test::sharedTempPath;
 
 namespace {
 
@@ -23,10 +25,7 @@ namespace {
 /// `patches`, the extraneous patches.
 std::string scanComposite(double noise, double outliers = 0, int patchCount = 0,
                           std::vector<SyntheticPatch>* patches = nullptr) {
-  std::string dir =
-      (std::filesystem::temp_directory_path() / ("rangefuse-synth-" + std::to_string(getpid())))
-          .string();
-  dir = mpi::broadcastString(dir, 0, MPI_COMM_WORLD);
+  const std::string dir = sharedTempPath("synth");
   if (mpi::rank() == 0) {
     std::filesystem::create_directories(dir);
     ScanSettings s;

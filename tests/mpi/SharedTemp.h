@@ -1,0 +1,21 @@
+// A temporary path that every rank of a test agrees on.
+#pragma once
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse::test {
+
+/// temp_dir/rangefuse-NAME-PID with rank 0's PID, the same string on every rank.
+inline std::string sharedTempPath(const std::string& name) {
+  const std::string p = (std::filesystem::temp_directory_path() /
+                         ("rangefuse-" + name + "-" + std::to_string(getpid())))
+                            .string();
+  return mpi::broadcastString(p, 0, MPI_COMM_WORLD);
+}
+
+}  // namespace rangefuse::test
