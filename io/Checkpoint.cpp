@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -101,6 +102,8 @@ CheckpointMeta metaFrom(const nlohmann::json& j, int version) {
     Pose p;
     p.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
     p.t = Eigen::Vector3d(d[9], d[10], d[11]);
+    if (!p.R.allFinite() || !p.t.allFinite() || !(p.R.transpose() * p.R).isIdentity(1e-6))
+      throw std::runtime_error("a pose is not a rigid transform");
     m.poses.push_back(p);
   }
   if (m.hasField) {
@@ -110,7 +113,8 @@ CheckpointMeta metaFrom(const nlohmann::json& j, int version) {
     m.grid.origin = Eigen::Vector3d(o[0], o[1], o[2]);
     m.grid.voxel = g.at("voxel").get<double>();
     m.grid.brick = g.at("brick").get<int>();
-    if (!(m.grid.voxel > 0) || m.grid.brick < 2 || m.grid.brick > 64)
+    if (!m.grid.origin.allFinite() || !(m.grid.voxel > 0) || !std::isfinite(m.grid.voxel) ||
+        m.grid.brick < 2 || m.grid.brick > 64)
       throw std::runtime_error("grid voxel or brick out of range");
   }
   if (m.scanNames.size() != m.scanHashes.size() || m.scanNames.size() != m.poses.size())
@@ -225,7 +229,8 @@ void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const 
   if (!renamed) throw InputError(path + ": cannot rename the temporary checkpoint into place");
 }
 
-CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm) {
+CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm,
+                                  const InputLimits& limits) {
   {
     std::ifstream probe(path);
     check(bool(probe), path, "cannot open checkpoint");
@@ -240,6 +245,8 @@ CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm) {
         "written by a newer rangefuse (format version " + std::to_string(version) +
             ", this one reads up to " + std::to_string(kCheckpointVersion) + ")");
   const std::vector<hsize_t> dims = datasetDims(file, "meta", 1, path);
+  checkLimit(path, "metadata bytes", static_cast<double>(dims[0]), limits.maxElements,
+             "max-elements");
   const std::vector<char> bytes =
       readRows<char>(file, "meta", H5T_NATIVE_CHAR, 0, dims[0], 0, path);
   CheckpointMeta m;
@@ -259,6 +266,7 @@ CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm) {
     check(s[0] == nb && s[1] == per * 6, path,
           "field_sums is " + std::to_string(s[0]) + " x " + std::to_string(s[1]) + ", expected " +
               std::to_string(nb) + " x " + std::to_string(per * 6));
+    checkLimit(path, "field voxels", static_cast<double>(nb) * per, limits.maxVoxels, "max-voxels");
   }
   return m;
 }
@@ -276,6 +284,9 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
   layout.work = readRows<uint64_t>(file, "field_work", H5T_NATIVE_UINT64, 0, nb, 0, path);
   for (size_t i = 1; i < layout.codes.size(); ++i)
     check(layout.codes[i - 1] < layout.codes[i], path, "field_codes are not in Morton order");
+  for (uint64_t code : layout.codes)  // the mesher packs 20 bits of voxel index per axis
+    check((int64_t(mortonDecode(code).maxCoeff()) + 1) * meta.grid.brick <= (1 << 20), path,
+          "field_codes hold a brick outside the lattice");
   layout.rankStart = partitionWork(layout.work, mpi::size(comm));
   auto store = std::make_unique<BrickStore>(layout, mpi::rank(comm));
   const int r = mpi::rank(comm);

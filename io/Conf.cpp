@@ -41,9 +41,7 @@ ConfScan parseBmesh(std::istringstream& in, const std::string& where, const std:
 
 }  // namespace
 
-ConfFile readConf(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open file");
+ConfFile parseConf(const std::string& path, std::istream& in) {
   const std::string dir = std::filesystem::path(path).parent_path().string();
   ConfFile conf;
   std::string line;
@@ -63,6 +61,12 @@ ConfFile readConf(const std::string& path) {
   }
   if (conf.scans.empty()) throw InputError(path + ": no 'bmesh' lines: nothing to fuse");
   return conf;
+}
+
+ConfFile readConf(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open file");
+  return parseConf(path, in);
 }
 
 void writeConf(const std::string& path, const std::vector<ConfScan>& scans) {

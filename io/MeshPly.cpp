@@ -39,10 +39,8 @@ void put(std::ostream& out, T v) {
   out.write(b, sizeof(T));  // the project targets little-endian hosts (x86-64, aarch64)
 }
 
-}  // namespace
-
-TriangleMesh readMeshPly(const std::string& path) {
-  internal::PlyFile f = internal::readPly(path);
+TriangleMesh meshFrom(const internal::PlyFile& f) {
+  const std::string& path = f.path;
   const internal::PlyElementData* v = f.find("vertex");
   if (!v) throw InputError(path + ": no 'vertex' element");
   int cx = v->scalarColumn("x"), cy = v->scalarColumn("y"), cz = v->scalarColumn("z");
@@ -57,6 +55,17 @@ TriangleMesh readMeshPly(const std::string& path) {
   }
   readFaces(f, m);
   return m;
+}
+
+}  // namespace
+
+TriangleMesh parseMeshPly(const std::string& name, const std::string& text,
+                          const InputLimits& limits) {
+  return meshFrom(internal::parsePly(name, text, limits.maxElements));
+}
+
+TriangleMesh readMeshPly(const std::string& path, const InputLimits& limits) {
+  return meshFrom(internal::readPly(path, limits.maxElements));
 }
 
 void writeMeshPly(const std::string& path, const TriangleMesh& mesh) {

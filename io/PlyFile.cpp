@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/Limits.h"
 
 namespace rangefuse::io::internal {
 namespace {
@@ -278,8 +279,13 @@ void readItem(PlyElementData& d, Cursor&, ReadValue&& readValue, Fail&& fail) {
     }
     if (v < 0 || v > kMaxListLength || v != std::floor(v))
       fail("bad list length " + std::to_string(v) + " for '" + p.name + "'");
-    for (int i = 0; i < static_cast<int>(v); ++i)
-      d.listValues[listIdx].push_back(static_cast<int64_t>(readValue(p.type, p.name)));
+    for (int i = 0; i < static_cast<int>(v); ++i) {
+      const double item = readValue(p.type, p.name);
+      // List items are indices: past 2^53 a double no longer holds every integer.
+      if (!(std::abs(item) < 9007199254740992.0))
+        fail("list item " + std::to_string(item) + " of '" + p.name + "' is out of range");
+      d.listValues[listIdx].push_back(static_cast<int64_t>(item));
+    }
     d.listOffsets[listIdx].push_back(static_cast<uint32_t>(d.listValues[listIdx].size()));
     ++listIdx;
   }
@@ -356,8 +362,7 @@ const PlyElementData* PlyFile::find(const std::string& name) const {
   return nullptr;
 }
 
-PlyFile readPly(const std::string& path) {
-  const std::string text = readWholeFile(path);
+PlyFile parsePly(const std::string& path, const std::string& text, uint64_t maxElements) {
   Header h = parseHeader(path, text);
   PlyFile f;
   f.path = path;
@@ -366,6 +371,8 @@ PlyFile readPly(const std::string& path) {
   const bool ascii = h.format == PlyFormat::Ascii;
   size_t body = text.size() - h.bodyOffset;
   for (const auto& e : h.elements) {
+    checkLimit(path, "element '" + e.name + "' count", static_cast<double>(e.count), maxElements,
+               "max-elements");
     if (e.count > body / minItemBytes(e, ascii) + 1)
       throw InputError(path + ": element '" + e.name + "' claims " + std::to_string(e.count) +
                        " items but the body has only " + std::to_string(body) +
@@ -376,6 +383,10 @@ PlyFile readPly(const std::string& path) {
   else
     readBinaryBody(f, h, text);
   return f;
+}
+
+PlyFile readPly(const std::string& path, uint64_t maxElements) {
+  return parsePly(path, readWholeFile(path), maxElements);
 }
 
 }  // namespace rangefuse::io::internal

@@ -53,7 +53,11 @@ struct PlyFile {
   const PlyElementData* find(const std::string& name) const;
 };
 
+/// Parses PLY bytes; `name` (the file) heads every message. Element counts above
+/// maxElements are refused before anything is allocated for them.
+PlyFile parsePly(const std::string& name, const std::string& text, uint64_t maxElements);
+
 /// Reads a whole PLY file; throws InputError naming the file and line or element.
-PlyFile readPly(const std::string& path);
+PlyFile readPly(const std::string& path, uint64_t maxElements);
 
 }  // namespace rangefuse::io::internal

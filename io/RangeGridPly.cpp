@@ -5,6 +5,7 @@
 
 #include "PlyFile.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/Limits.h"
 
 namespace rangefuse::io {
 namespace {
@@ -67,16 +68,15 @@ void readCells(const PlyFile& f, RangeGrid& g) {
   }
 }
 
-}  // namespace
-
-RangeGrid readRangeGridPly(const std::string& path) {
-  PlyFile f = internal::readPly(path);
+RangeGrid gridFrom(const PlyFile& f, const InputLimits& limits) {
+  const std::string& path = f.path;
   RangeGrid g;
   double cols = infoNumber(f, "num_cols", true), rows = infoNumber(f, "num_rows", true);
-  if (cols < 1 || rows < 1 || cols != std::floor(cols) || rows != std::floor(rows) ||
-      cols * rows > 1e9)
+  if (cols < 1 || rows < 1 || cols != std::floor(cols) || rows != std::floor(rows))
     throw InputError(path + ": bad grid size num_cols=" + std::to_string(cols) +
                      " num_rows=" + std::to_string(rows));
+  checkLimit(path, "grid num_cols x num_rows =", cols * rows, limits.maxGridCells,
+             "max-grid-cells");
   g.cols = static_cast<int>(cols);
   g.rows = static_cast<int>(rows);
   readPoints(f, g);
@@ -87,6 +87,17 @@ RangeGrid readRangeGridPly(const std::string& path) {
                         infoNumber(f, "pinhole_cy", true)};
   }
   return g;
+}
+
+}  // namespace
+
+RangeGrid parseRangeGridPly(const std::string& name, const std::string& text,
+                            const InputLimits& limits) {
+  return gridFrom(internal::parsePly(name, text, limits.maxElements), limits);
+}
+
+RangeGrid readRangeGridPly(const std::string& path, const InputLimits& limits) {
+  return gridFrom(internal::readPly(path, limits.maxElements), limits);
 }
 
 }  // namespace rangefuse::io

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages rangefuse needs (skipping those already present), then
 # configures and builds into build/. Safe to run again: it only does what is missing.
+# RANGEFUSE_EXTRA_PACKAGES adds packages (jobs/fuzz.sh: clang and its libFuzzer runtime).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev
           libeigen3-dev libnanoflann-dev libboost-program-options-dev libgtest-dev
-          libpng-dev nlohmann-json3-dev)
+          libpng-dev nlohmann-json3-dev ${RANGEFUSE_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

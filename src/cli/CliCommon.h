@@ -27,6 +27,12 @@ int parseCollectively(int argc, char** argv,
 /// --help/--config: shared by fuse and render.
 void addFieldOptions(boost::program_options::options_description& desc, FuseOptions& options);
 
+/// Every option of `rangefuse fuse`, bound to `options`.
+boost::program_options::options_description fuseOptions(FuseOptions& options);
+
+/// Adds --max-elements, --max-grid-cells and --max-voxels (memory bounds on input).
+void addLimitOptions(boost::program_options::options_description& desc, InputLimits& limits);
+
 /// Runs fn on rank 0 only; every rank returns its exit code, or 1 if it threw (the error
 /// printed once).
 int runOnRoot(MPI_Comm comm, const std::function<int()>& fn);

@@ -23,6 +23,7 @@ struct EvalOptions {
   double voxel = 0, tau = 1, spurious = 3;
   size_t samples = 200000;
   bool json = false;
+  InputLimits limits;
 };
 
 json statsJson(const DistanceStats& s) {
@@ -37,7 +38,10 @@ void printStats(const char* name, const DistanceStats& s, double voxel) {
 }
 
 json meshReport(const EvalOptions& o) {
-  const TriangleMesh mesh = io::readMeshPly(o.mesh), ref = io::readMeshPly(o.reference);
+  checkLimit("eval", "--samples", static_cast<double>(o.samples), o.limits.maxElements,
+             "max-elements");
+  const TriangleMesh mesh = io::readMeshPly(o.mesh, o.limits);
+  const TriangleMesh ref = io::readMeshPly(o.reference, o.limits);
   if (mesh.faces.empty()) throw InputError(o.mesh + ": mesh has no triangles");
   if (ref.faces.empty()) throw InputError(o.reference + ": mesh has no triangles");
   CompareSettings s{o.tau * o.voxel, o.spurious * o.voxel, o.samples, 1};
@@ -156,6 +160,7 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
       "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh")(
       "json", po::bool_switch(&o.json), "print one JSON object instead of the table")(
       "json-out", po::value(&o.jsonOut), "also write the JSON object to this file");
+  addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(argc, argv, d, vm,
                                        "rangefuse eval --mesh out/bunny.ply --reference "

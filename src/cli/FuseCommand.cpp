@@ -36,9 +36,18 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
       "drop scan triangles with an edge longer than this x grid spacing");
   add("min-cosine", po::value(&o.surface.minCosine)->default_value(0.15),
       "drop scan triangles whose normal makes a cosine below this with the view ray");
+  addLimitOptions(d, o.limits);
 }
 
-namespace {
+void addLimitOptions(po::options_description& d, InputLimits& limits) {
+  auto add = d.add_options();
+  add("max-elements", po::value(&limits.maxElements)->default_value(limits.maxElements),
+      "refuse a PLY element (vertices, faces, cells) or checkpoint metadata larger than this");
+  add("max-grid-cells", po::value(&limits.maxGridCells)->default_value(limits.maxGridCells),
+      "refuse a range grid with more num_cols x num_rows cells than this");
+  add("max-voxels", po::value(&limits.maxVoxels)->default_value(limits.maxVoxels),
+      "refuse a field that needs more voxels than this, all ranks together (~40 bytes each)");
+}
 
 po::options_description fuseOptions(FuseOptions& o) {
   po::options_description d("rangefuse fuse: fuse range scans into one mesh");
@@ -66,8 +75,6 @@ po::options_description fuseOptions(FuseOptions& o) {
   addFieldOptions(d, o);
   return d;
 }
-
-}  // namespace
 
 int fuseCommand(int argc, char** argv, MPI_Comm comm) {
   FuseOptions o;

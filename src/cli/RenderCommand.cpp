@@ -54,7 +54,8 @@ int run(const RenderOptions& o, MPI_Comm comm) {
   if (!o.checkpoint.empty()) {
     // The field as a checkpoint holds it, re-partitioned over these ranks.
     if (!mpi::collectively(comm, [&] {
-          const io::CheckpointMeta meta = io::readCheckpointMeta(o.checkpoint, comm);
+          const io::CheckpointMeta meta =
+              io::readCheckpointMeta(o.checkpoint, comm, o.field.limits);
           field.store = io::readCheckpointField(o.checkpoint, meta, field.layout, comm);
           minWeight = meta.parameters.value("min_weight", 0.0f);
         }))

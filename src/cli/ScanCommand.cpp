@@ -19,8 +19,9 @@ namespace {
 
 struct ScanOptions {
   std::string mesh, shape, out;
-  bool ascii = false;
+  bool ascii = false, bigEndian = false;
   ScanSettings settings;
+  InputLimits limits;
 };
 
 json vec(const Eigen::Vector3d& v) {
@@ -70,7 +71,10 @@ int run(const ScanOptions& o) {
   if (o.mesh.empty() == o.shape.empty())
     throw InputError("scan: give exactly one of --mesh and --shape");
   if (o.out.empty()) throw InputError("scan: --out DIR is required");
-  const TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh);
+  checkLimit("scan",
+             "--width x --height =", static_cast<double>(o.settings.width) * o.settings.height,
+             o.limits.maxGridCells, "max-grid-cells");
+  const TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh, o.limits);
   const SyntheticSet set = scanMesh(mesh, o.settings);
   std::filesystem::create_directories(o.out);
   const auto file = [&](const std::string& name) {
@@ -80,7 +84,9 @@ int run(const ScanOptions& o) {
   size_t points = 0;
   for (const auto& s : set.scans) {
     io::writeRangeGridPly(file(s.name), s.grid,
-                          o.ascii ? io::PlyEncoding::Ascii : io::PlyEncoding::BinaryLittleEndian);
+                          o.ascii       ? io::PlyEncoding::Ascii
+                          : o.bigEndian ? io::PlyEncoding::BinaryBigEndian
+                                        : io::PlyEncoding::BinaryLittleEndian);
     truth.push_back({s.name, file(s.name), s.truth});
     perturbed.push_back({s.name, file(s.name), s.perturbed});
     points += s.grid.points.size();
@@ -120,7 +126,9 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "pose perturbation: max shift per axis, voxels")("seed", po::value(&s.seed)->default_value(1),
                                                        "random seed")(
       "ascii", po::bool_switch(&o.ascii), "write ASCII range grids (default binary)")(
+      "big-endian", po::bool_switch(&o.bigEndian), "write big-endian binary range grids")(
       "out", po::value(&o.out), "output folder");
+  addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

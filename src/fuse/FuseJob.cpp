@@ -39,19 +39,31 @@ std::string perRank(MPI_Comm comm, uint64_t value) {
   return s.str();
 }
 
-void validate(const FuseOptions& o) {
+}  // namespace
+
+void validateFuseOptions(const FuseOptions& o) {
   if (o.scans.empty()) throw InputError("--scans is required (a .conf file)");
-  if (!(o.voxel > 0)) throw InputError("--voxel must be positive (in the scans' units)");
-  if (!(o.envelope > 0)) throw InputError("--envelope must be positive (in voxels)");
+  if (!(o.voxel > 0) || !std::isfinite(o.voxel))
+    throw InputError("--voxel must be positive and finite (in the scans' units)");
+  if (!(o.envelope > 0) || !(o.envelope <= 1000))
+    throw InputError("--envelope must be in (0, 1000] voxels");
   if (o.brick < 2 || o.brick > 64) throw InputError("--brick must be between 2 and 64");
   if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
   if (o.method != "prism" && o.method != "consensus" && o.method != "naive")
     throw InputError("--method must be prism, consensus or naive, not '" + o.method + "'");
-  if (!(o.quorum >= 0) && o.quorum != -1)
+  if (!std::isfinite(o.minWeight)) throw InputError("--min-weight must be finite");
+  if (!(o.surface.maxEdgeFactor > 0) || !std::isfinite(o.surface.maxEdgeFactor))
+    throw InputError("--max-edge must be positive and finite");
+  if (!(o.surface.minCosine >= -1 && o.surface.minCosine <= 1))
+    throw InputError("--min-cosine must be in [-1, 1]");
+  if (!(o.checkpointEvery >= 0) || !std::isfinite(o.checkpointEvery))
+    throw InputError("--checkpoint-every must be a finite number of seconds >= 0");
+  if (!std::isfinite(o.quorum) || (!(o.quorum >= 0) && o.quorum != -1))
     throw InputError("--quorum must not be negative (or -1: scaled to the number of views)");
   if (!(o.edgeAngle >= 0 && o.edgeAngle <= 90))
     throw InputError("--edge-angle must be in [0, 90] degrees");
-  if (!(o.sameDistance > 0)) throw InputError("--same-distance must be positive (voxels)");
+  if (!(o.sameDistance > 0) || !(o.sameDistance <= 1000))
+    throw InputError("--same-distance must be in (0, 1000] voxels");
   if (!(o.sameAngle > 0 && o.sameAngle <= 180))
     throw InputError("--same-angle must be in (0, 180] degrees");
   const std::string& r = o.registration;
@@ -61,6 +73,8 @@ void validate(const FuseOptions& o) {
   if (o.maxIterations < 1 || o.maxRounds < 1)
     throw InputError("--max-iterations and --max-rounds must be at least 1");
 }
+
+namespace {
 
 /// Consensus or naive distances near the surface of every local brick.
 EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& field) {
@@ -140,13 +154,13 @@ uint64_t peakMemoryMiB() {
 }
 
 bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
-  if (!collectively(comm, [&] { validate(o); })) return false;
+  if (!collectively(comm, [&] { validateFuseOptions(o); })) return false;
   const double eps = o.envelope * o.voxel;
   io::ConfFile conf;
   IndexedScans mine;
   if (!collectively(comm, [&] {
         conf = io::readConf(o.scans);
-        mine = loadScanShare(conf, o.surface, eps, mpi::rank(comm), mpi::size(comm));
+        mine = loadScanShare(conf, o.surface, o.limits, eps, mpi::rank(comm), mpi::size(comm));
       }))
     return false;
   scans.local = shareScans(mine, conf.scans.size(), comm);
@@ -172,8 +186,8 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   const double eps = o.envelope * o.voxel;
   field.scans = std::move(world);
   if (!collectively(comm, [&] {
-        field.layout =
-            planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps), mpi::size(comm));
+        field.layout = planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps),
+                                  mpi::size(comm), o.limits.maxVoxels);
       }))
     return false;
   field.store = std::make_unique<BrickStore>(field.layout, mpi::rank(comm));
@@ -280,13 +294,13 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
   FuseOptions o = given;
   io::CheckpointMeta resumed;
   if (!o.resume.empty() && !collectively(comm, [&] {
-        resumed = io::readCheckpointMeta(o.resume, comm);
+        resumed = io::readCheckpointMeta(o.resume, comm, o.limits);
         adoptCheckpointParameters(resumed, o);
       }))
     return 1;
   if (!collectively(comm, [&] {
         if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
-        validate(o);
+        validateFuseOptions(o);
       }))
     return 1;
   if (!o.resume.empty()) {

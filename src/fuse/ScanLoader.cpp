@@ -43,13 +43,13 @@ uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
 
 }  // namespace
 
-IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options, double eps,
-                           int rank, int ranks) {
+IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options,
+                           const InputLimits& limits, double eps, int rank, int ranks) {
   IndexedScans mine;
   for (size_t i = rank; i < conf.scans.size(); i += ranks) {
     const io::ConfScan& c = conf.scans[i];
     PrismScan s;
-    s.surface = buildScanSurface(io::readRangeGridPly(c.path), Pose{}, options);
+    s.surface = buildScanSurface(io::readRangeGridPly(c.path, limits), Pose{}, options);
     s.limits = computePrismLimits(s.surface, eps);
     mine.emplace_back(i, std::move(s));
   }

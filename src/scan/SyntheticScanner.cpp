@@ -15,8 +15,8 @@ constexpr double kDistance = 3.0;  // camera distance, in bounding radii
 void validate(const TriangleMesh& mesh, const ScanSettings& s) {
   if (mesh.faces.empty()) throw InputError("scan: the mesh has no triangles");
   if (s.views < 1) throw InputError("scan: --views must be at least 1");
-  if (s.width < 2 || s.height < 2 || double(s.width) * s.height > 1e8)
-    throw InputError("scan: --width and --height must be between 2 and 10^8 pixels in all");
+  if (s.width < 2 || s.height < 2)
+    throw InputError("scan: --width and --height must be at least 2");
   if (!(s.voxel > 0)) throw InputError("scan: --voxel must be positive");
   if (s.noise < 0) throw InputError("scan: --noise must not be negative");
   if (s.outliers < 0 || s.outliers > 1) throw InputError("scan: --outliers must be in [0, 1]");

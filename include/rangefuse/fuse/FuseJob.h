@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/fuse/Progress.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -38,6 +39,7 @@ struct FuseOptions {
   std::string checkpoint;             ///< HDF5 checkpoint to write (optional)
   std::string resume;                 ///< HDF5 checkpoint to continue from (optional)
   double checkpointEvery = 0;         ///< seconds between registration checkpoints (0: each)
+  InputLimits limits;                 ///< refuse input that would need more memory than this
   std::vector<std::string>
       givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };
@@ -74,6 +76,9 @@ bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_
 /// Collective: reads the scans and builds the field at the .conf poses, with progress lines.
 bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters);
+
+/// Throws InputError naming the first option that is out of range.
+void validateFuseOptions(const FuseOptions& options);
 
 /// The options that decide the result, as JSON (run report, checkpoints).
 nlohmann::json resultParameters(const FuseOptions& options);

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/prism/PrismField.h"
 
@@ -17,8 +18,8 @@ using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
 /// Reads, triangulates and computes prism limits for the scans i with i % ranks == rank, in
 /// each scan's own frame (poses are applied later, as registration moves them). Throws
 /// InputError naming the file on bad input.
-IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options, double eps,
-                           int rank, int ranks);
+IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options,
+                           const InputLimits& limits, double eps, int rank, int ranks);
 
 /// Collective: every rank's share on every rank, in .conf order.
 std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Comm comm);

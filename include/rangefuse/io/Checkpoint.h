@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/volume/BrickStore.h"
 
@@ -32,9 +33,10 @@ struct CheckpointMeta {
 void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const BrickStore* store,
                      MPI_Comm comm);
 
-/// Collective: reads and checks the meta (format, version, shapes). Throws InputError naming
-/// the file and what is wrong.
-CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm);
+/// Collective: reads and checks the meta (format, version, shapes, sizes against limits).
+/// Throws InputError naming the file and what is wrong.
+CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm,
+                                  const InputLimits& limits = {});
 
 /// Collective: the field of a checkpoint, re-partitioned over comm's ranks; each rank reads
 /// only its own bricks.

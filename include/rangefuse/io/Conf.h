@@ -1,6 +1,7 @@
 // Stanford .conf scan lists: `bmesh FILE tx ty tz qx qy qz qw`.
 #pragma once
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ struct ConfFile {
 /// Reads a .conf in the Stanford convention p_world = R(q)^T p + t (measured on the bunny).
 /// Throws InputError naming the file and line; does not open the scan files.
 ConfFile readConf(const std::string& path);
+
+/// The same from a stream; `path` heads every message and scan names resolve against its folder.
+ConfFile parseConf(const std::string& path, std::istream& in);
 
 /// Writes scans in the same convention, so that readConf gives back the same transforms.
 void writeConf(const std::string& path, const std::vector<ConfScan>& scans);

@@ -3,12 +3,17 @@
 
 #include <string>
 
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/core/TriangleMesh.h"
 
 namespace rangefuse::io {
 
 /// Reads vertices (x, y, z) and, when present, faces (polygons are fanned into triangles).
-TriangleMesh readMeshPly(const std::string& path);
+TriangleMesh readMeshPly(const std::string& path, const InputLimits& limits = {});
+
+/// The same from bytes in memory; `name` heads every message.
+TriangleMesh parseMeshPly(const std::string& name, const std::string& text,
+                          const InputLimits& limits = {});
 
 /// Writes binary little-endian PLY with float vertices, optional float normals and
 /// int faces; written to a temporary name and renamed into place when complete.

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/core/RangeGrid.h"
 
 namespace rangefuse::io {
@@ -10,7 +11,11 @@ namespace rangefuse::io {
 /// Reads a range grid: size from `obj_info num_cols/num_rows`, optional pinhole
 /// intrinsics from `obj_info pinhole_fx/fy/cx/cy`. Throws InputError naming the file and
 /// the line or element on any malformed content.
-RangeGrid readRangeGridPly(const std::string& path);
+RangeGrid readRangeGridPly(const std::string& path, const InputLimits& limits = {});
+
+/// The same from bytes in memory; `name` heads every message (fuzzing, embedded data).
+RangeGrid parseRangeGridPly(const std::string& name, const std::string& text,
+                            const InputLimits& limits = {});
 
 enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/prism/Prism.h"
 #include "rangefuse/surface/ScanSurface.h"
 #include "rangefuse/volume/BrickStore.h"
@@ -29,8 +30,10 @@ Prism scanPrism(const PrismScan& scan, size_t t);
 VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps);
 
 /// Every brick some prism's bounding box touches, with the number of such prisms as its
-/// work, split over `ranks`. The same on every rank.
-BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks);
+/// work, split over `ranks`. The same on every rank. Throws InputError, before allocating
+/// any voxel, when the bricks would hold more than maxVoxels voxels.
+BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,
+                       uint64_t maxVoxels = InputLimits{}.maxVoxels);
 
 struct IntegrationStats {
   uint64_t prisms = 0;        ///< prisms rasterized on this rank

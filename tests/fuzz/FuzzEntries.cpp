@@ -1,0 +1,72 @@
+#include "FuzzEntries.h"
+
+#include <sstream>
+
+#include "CliCommon.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/RangeGridPly.h"
+
+namespace po = boost::program_options;
+
+namespace rangefuse::fuzz {
+namespace {
+
+/// Small enough that libFuzzer's 2 GiB malloc limit is never the thing that stops a run.
+InputLimits fuzzLimits() {
+  InputLimits l;
+  l.maxElements = 1 << 22;
+  l.maxGridCells = 1 << 22;
+  l.maxVoxels = 1 << 22;
+  return l;
+}
+
+template <class Fn>
+void refusedCleanly(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError&) {
+  }
+}
+
+}  // namespace
+
+void rangeGridPly(const std::string& bytes) {
+  refusedCleanly([&] { io::parseRangeGridPly("fuzz.ply", bytes, fuzzLimits()); });
+}
+
+void meshPly(const std::string& bytes) {
+  refusedCleanly([&] { io::parseMeshPly("fuzz.ply", bytes, fuzzLimits()); });
+}
+
+void conf(const std::string& bytes) {
+  std::istringstream in(bytes);
+  refusedCleanly([&] { io::parseConf("dir/fuzz.conf", in); });
+}
+
+void fuseIni(const std::string& bytes) {
+  FuseOptions o;
+  po::options_description desc = cli::fuseOptions(o);
+  std::istringstream in(bytes);
+  try {
+    po::variables_map vm;
+    po::store(po::parse_config_file(in, desc), vm);
+    po::notify(vm);
+  } catch (const po::error&) {
+    return;  // the tool prints these as option errors
+  }
+  refusedCleanly([&] { validateFuseOptions(o); });
+}
+
+Entry entryNamed(const std::string& name) {
+  if (name == "range_grid_ply") return rangeGridPly;
+  if (name == "mesh_ply") return meshPly;
+  if (name == "conf") return conf;
+  if (name == "fuse_ini") return fuseIni;
+  if (name == "checkpoint") return checkpoint;
+  return nullptr;
+}
+
+}  // namespace rangefuse::fuzz

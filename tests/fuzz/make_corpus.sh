@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Seed corpus for the fuzz targets, from the real files in the repository and small synthetic
+# scans in every encoding. Usage: make_corpus.sh RANGEFUSE_BINARY OUT_DIR
+set -euo pipefail
+tool=$1
+out=$2
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+data=$repo/tests/data/bunny
+mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# A real Stanford header over a small body: keeps the seeds short, so the fuzzer stays fast.
+crop_range_grid() {  # SCAN COLS ROWS
+  awk -v c="$2" -v r="$3" '
+    /^obj_info num_cols/ { print "obj_info num_cols " c; next }
+    /^obj_info num_rows/ { print "obj_info num_rows " r; next }
+    /^element vertex/ { print "element vertex " c * r; next }
+    /^element range_grid/ { print "element range_grid " c * r; next }
+    body == 0 { print }
+    /^end_header/ { body = 1; n = 0; next }
+    body == 1 && n < c * r { print; n++; next }
+    body == 1 && n >= c * r { exit }' "$1"
+  for ((i = 0; i < $2 * $3; i++)); do
+    if ((i % 3 == 1)); then echo 0; else echo "1 $i"; fi
+  done
+}
+crop_range_grid "$data/bun000.ply" 4 3 >"$out/range_grid_ply/bun000_crop.ply"
+crop_range_grid "$data/top2.ply" 2 2 >"$out/range_grid_ply/top2_crop.ply"
+
+for enc in ascii big-endian little-endian; do
+  flag=--$enc
+  [[ $enc == little-endian ]] && flag=
+  "$tool" scan --shape sphere --views 2 --width 6 --height 5 --voxel 0.2 --patches 1 \
+    --rot-deg 2 $flag --out "$tmp/$enc" >/dev/null
+  cp "$tmp/$enc/scan_000.ply" "$out/range_grid_ply/sphere_$enc.ply"
+done
+cp "$tmp/ascii/perturbed.conf" "$out/conf/synthetic.conf"
+cp "$tmp/ascii/patch_0.ply" "$out/mesh_ply/patch_binary.ply"
+
+# The reference mesh's header over its first vertices and faces (indices kept in range).
+awk '/^element vertex/ { print "element vertex 6"; next }
+     /^element face/ { print "element face 2"; next }
+     body == 0 { print }
+     /^end_header/ { body = 1; next }
+     body == 1 && v < 6 { print; v++; next }
+     body == 1 { print "3 0 1 2"; print "4 2 3 4 5"; exit }' "$data/bun_zipper.ply" \
+  >"$out/mesh_ply/bun_zipper_crop.ply"
+
+cp "$data/bun.conf" "$out/conf/bun.conf"
+printf '# comment\r\ncamera 0 0 0 0 0 0 1\r\nmesh a.ply 0 0 0 0 0 0 1\r\nbmesh b.ply 1 2 3 0 0 0 1\r\n' \
+  >"$out/conf/crlf.conf"
+
+cp "$repo"/jobs/*.ini "$out/fuse_ini/"
+printf 'scans = a.conf\nvoxel = 0.5\nmethod = consensus\nquorum = 1.5\nregister = both\nmax-voxels = 1000\n' \
+  >"$out/fuse_ini/consensus.ini"
+
+# Checkpoint seeds are choice bytes (see FuzzCheckpoint.cpp): flags first, then values.
+printf '\x00\x00\x00\x40' >"$out/checkpoint/field"
+printf '\x00\x00\x00\x00' >"$out/checkpoint/meta_only"
+printf '\x00\x00\x00\x44\x01\x02\x03' >"$out/checkpoint/no_version"
+printf '\x00\x00\x20\x40\x05\x01\x07' >"$out/checkpoint/wrong_cols"
+echo "seed corpus in $out: $(find "$out" -type f | wc -l) files"
