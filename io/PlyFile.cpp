@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -268,6 +269,12 @@ size_t minItemBytes(const PlyElement& e, bool ascii) {
 
 constexpr double kMaxListLength = 255;
 
+std::string formatNumber(double v) {
+  char s[32];
+  std::snprintf(s, sizeof(s), "%g", v);
+  return s;
+}
+
 template <class Cursor, class ReadValue, class Fail>
 void readItem(PlyElementData& d, Cursor&, ReadValue&& readValue, Fail&& fail) {
   size_t listIdx = 0;
@@ -283,7 +290,7 @@ void readItem(PlyElementData& d, Cursor&, ReadValue&& readValue, Fail&& fail) {
       const double item = readValue(p.type, p.name);
       // List items are indices: past 2^53 a double no longer holds every integer.
       if (!(std::abs(item) < 9007199254740992.0))
-        fail("list item " + std::to_string(item) + " of '" + p.name + "' is out of range");
+        fail("list item " + formatNumber(item) + " of '" + p.name + "' is out of range");
       d.listValues[listIdx].push_back(static_cast<int64_t>(item));
     }
     d.listOffsets[listIdx].push_back(static_cast<uint32_t>(d.listValues[listIdx].size()));

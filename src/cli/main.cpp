@@ -2,6 +2,7 @@
 #include <hdf5.h>
 #include <mpi.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -24,6 +25,45 @@ const char* kUsage =
     "run 'rangefuse COMMAND --help' for the options of a command;\n"
     "run under mpirun to spread the volume over ranks.\n";
 
+int runCommand(int argc, char** argv, int rank) {
+  using namespace rangefuse::cli;
+  const std::string command = argc > 1 ? argv[1] : "";
+  const MPI_Comm world = MPI_COMM_WORLD;
+  if (command == "fuse") return fuseCommand(argc - 1, argv + 1, world);
+  if (command == "mesh") return meshCommand(argc - 1, argv + 1, world);
+  if (command == "info") return infoCommand(argc - 1, argv + 1, world);
+  if (command == "perturb") return perturbCommand(argc - 1, argv + 1, world);
+  if (command == "render") return renderCommand(argc - 1, argv + 1, world);
+  if (command == "scan") return scanCommand(argc - 1, argv + 1, world);
+  if (command == "eval") return evalCommand(argc - 1, argv + 1, world);
+  if (command == "--help" || command == "-h") {
+    if (rank == 0) std::cout << kUsage;
+    return 0;
+  }
+  if (rank == 0)
+    std::cerr << "rangefuse: error: "
+              << (command.empty() ? "no command given" : "unknown command '" + command + "'")
+              << "\n"
+              << kUsage;
+  return 2;
+}
+
+/// Runs the subcommand. Errors at stage boundaries are agreed on by every rank and come back
+/// as exit codes; an exception that escapes here was thrown by one rank mid-stage, while the
+/// others wait in a collective it will never join, so it ends the whole job at once.
+int dispatch(int argc, char** argv, int rank) {
+  try {
+    return runCommand(argc, argv, rank);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rangefuse: error on rank %d: %s\n", rank, e.what());
+  } catch (...) {
+    std::fprintf(stderr, "rangefuse: error on rank %d: unknown exception\n", rank);
+  }
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -33,33 +73,9 @@ int main(int argc, char** argv) {
   setenv("OMPI_MCA_sharedfp", "^sm", 0);
   MPI_Init(&argc, &argv);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our own messages
-  int rank = 0, code = 0;
+  int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const std::string command = argc > 1 ? argv[1] : "";
-  if (command == "fuse") {
-    code = rangefuse::cli::fuseCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "mesh") {
-    code = rangefuse::cli::meshCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "info") {
-    code = rangefuse::cli::infoCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "perturb") {
-    code = rangefuse::cli::perturbCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "render") {
-    code = rangefuse::cli::renderCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "scan") {
-    code = rangefuse::cli::scanCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "eval") {
-    code = rangefuse::cli::evalCommand(argc - 1, argv + 1, MPI_COMM_WORLD);
-  } else if (command == "--help" || command == "-h") {
-    if (rank == 0) std::cout << kUsage;
-  } else {
-    if (rank == 0)
-      std::cerr << "rangefuse: error: "
-                << (command.empty() ? "no command given" : "unknown command '" + command + "'")
-                << "\n"
-                << kUsage;
-    code = 2;
-  }
+  const int code = dispatch(argc, argv, rank);
   MPI_Finalize();
   return code;
 }

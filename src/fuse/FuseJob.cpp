@@ -16,6 +16,7 @@
 #include "rangefuse/io/Png.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/MarchingCubes.h"
+#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/Registration.h"
 #include "rangefuse/render/Render.h"
@@ -92,6 +93,7 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   // Past the largest distance a brick-sized cell is refined at, plus delta_d.
   const double margin = (std::sqrt(3.0) * (0.5 * o.brick + 1) + 1) * o.voxel + params.sameDistance;
   ConsensusSampler sampler(views, params, o.method == "naive", margin);
+  faultPoint("field");
   return evaluateNearSurface(*field.store, sampler);
 }
 
@@ -196,6 +198,7 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   if (o.method == "prism") {
     PrismIntegrator integrator(*field.store);
     for (const auto& s : field.scans) {
+      faultPoint("field");
       const IntegrationStats st = integrator.addScan(s);
       counters.prisms += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;

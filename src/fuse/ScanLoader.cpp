@@ -1,6 +1,7 @@
 #include "rangefuse/fuse/ScanLoader.h"
 
 #include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {
@@ -49,6 +50,7 @@ IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& optio
   for (size_t i = rank; i < conf.scans.size(); i += ranks) {
     const io::ConfScan& c = conf.scans[i];
     PrismScan s;
+    faultPoint("read", c.path);
     s.surface = buildScanSurface(io::readRangeGridPly(c.path, limits), Pose{}, options);
     s.limits = computePrismLimits(s.surface, eps);
     mine.emplace_back(i, std::move(s));

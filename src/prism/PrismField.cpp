@@ -72,7 +72,8 @@ BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& gri
     char voxel[32];
     std::snprintf(voxel, sizeof(voxel), "%g", grid.voxel);
     checkLimit(std::string("--voxel ") + voxel,
-               "voxels needed near the surface:", bricks * perBrick, maxVoxels, "max-voxels");
+               "voxels needed near the surface (estimate):", bricks * perBrick, maxVoxels,
+               "max-voxels");
   };
   std::unordered_map<uint64_t, uint64_t> work;
   for (const auto& s : scans)

@@ -70,6 +70,21 @@ expect no-conf "nothing.conf: cannot open" --scans "$tmp/nothing.conf" --voxel 0
 expect voxel "--voxel" --scans "$tmp/extra/scans.conf" --voxel -1
 expect option "unrecognised option" --scans "$tmp/extra/scans.conf" --voxel 1 --frobnicate 3
 
+# Memory bounds: refused before allocating, naming the limit and the option that raises it.
+make_case huge-grid "$(header ascii 3 | sed 's/num_cols 2/num_cols 1000000/; s/num_rows 2/num_rows 1000000/')\n$body"
+expect huge-grid "scan.ply: grid num_cols x num_rows = 1e+12 exceeds the limit 100000000 (raise it with --max-grid-cells)" \
+  --scans "$tmp/huge-grid/scans.conf" --voxel 0.1
+make_case huge-count "$(header ascii 3000000000)\n$body"
+expect huge-count "scan.ply: element 'vertex' count 3e+09 exceeds the limit 200000000 (raise it with --max-elements)" \
+  --scans "$tmp/huge-count/scans.conf" --voxel 0.1
+"$bin" scan --shape sphere --views 2 --width 16 --height 12 --voxel 0.1 --out "$tmp/sphere" >/dev/null
+expect huge-field "exceeds the limit 1000 (raise it with --max-voxels)" \
+  --scans "$tmp/sphere/truth.conf" --voxel 0.1 --max-voxels 1000
+run_case scan-grid "exceeds the limit 100000000 (raise it with --max-grid-cells)" scan --shape sphere \
+  --voxel 1 --width 1000000 --height 1000000 --out "$tmp/scan-grid.out.dir"
+run_case eval-samples "--samples 1e+12 exceeds the limit 200000000 (raise it with --max-elements)" \
+  eval --mesh a.ply --reference b.ply --voxel 1 --samples 1000000000000
+
 run_case scan-mesh "nothing.ply: cannot open" scan --mesh "$tmp/nothing.ply" --voxel 1 --out "$tmp/scan-mesh.out.dir"
 run_case scan-views "--views" scan --shape sphere --views 0 --voxel 1 --out "$tmp/scan-views.out.dir"
 run_case scan-noise "--noise" scan --shape sphere --noise -1 --voxel 1 --out "$tmp/scan-noise.out.dir"

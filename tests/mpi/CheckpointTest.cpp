@@ -4,7 +4,9 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
+#include "../fuzz/FuzzEntries.h"
 #include "SharedTemp.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Checkpoint.h"
@@ -129,4 +131,38 @@ TEST(Checkpoint, ForeignAndNewerFilesAreRefused) {
   expectRefused(foreignFile("other", "someone-else", 1), "not a rangefuse checkpoint");
   expectRefused(foreignFile("newer", "rangefuse-checkpoint", 99), "newer rangefuse");
   expectRefused(foreignFile("nometa", "rangefuse-checkpoint", 1), "no dataset meta");
+}
+
+TEST(Checkpoint, EveryFuzzFoundInputIsReadOrRefused) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const auto dir = std::filesystem::path(RANGEFUSE_FUZZ_DIR) / "regressions" / "checkpoint";
+  ASSERT_TRUE(std::filesystem::is_directory(dir));
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    std::ifstream in(f.path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NO_THROW(fuzz::checkpoint(bytes)) << f.path();  // each rank its own file
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+TEST(Checkpoint, FieldLargerThanTheVoxelLimitIsRefused) {
+  const std::string path = sharedTempPath("limit.h5");
+  BrickLayout layout = testLayout(mpi::size());
+  BrickStore store(layout, mpi::rank());
+  io::CheckpointMeta meta;
+  meta.hasField = true;
+  meta.grid = layout.grid;
+  io::writeCheckpoint(path, meta, &store, MPI_COMM_WORLD);
+  InputLimits limits;
+  limits.maxVoxels = 100;
+  try {
+    io::readCheckpointMeta(path, MPI_COMM_WORLD, limits);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field voxels"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--max-voxels"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(io::readCheckpointMeta(path, MPI_COMM_WORLD));
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi::rank() == 0) std::filesystem::remove(path);
 }

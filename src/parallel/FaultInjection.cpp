@@ -1,0 +1,52 @@
+#include "rangefuse/parallel/FaultInjection.h"
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+struct Fault {
+  std::string point, action;
+  int rank = -1;
+};
+
+/// RANGEFUSE_FAULT parsed once; an unset or malformed value injects nothing.
+const Fault& requested() {
+  static const Fault fault = [] {
+    Fault f;
+    const char* env = std::getenv("RANGEFUSE_FAULT");
+    if (!env) return f;
+    const std::string s = env;
+    const size_t colon = s.find(':'), at = s.find('@');
+    if (colon == std::string::npos || at == std::string::npos || at < colon) return f;
+    f.point = s.substr(0, colon);
+    f.action = s.substr(colon + 1, at - colon - 1);
+    f.rank = std::atoi(s.c_str() + at + 1);
+    return f;
+  }();
+  return fault;
+}
+
+}  // namespace
+
+void faultPoint(const char* point, const std::string& detail) {
+  const Fault& f = requested();
+  if (f.point != point || f.rank != mpi::rank()) return;
+  // The time stamp lets tests measure how long the other ranks take to stop.
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  std::fprintf(stderr, "rangefuse: injecting fault %s:%s on rank %d at %.3f\n", point,
+               f.action.c_str(), f.rank, std::chrono::duration<double>(now).count());
+  std::fflush(stderr);
+  if (f.action == "kill") std::raise(SIGKILL);
+  if (f.action == "throw")
+    throw InputError((detail.empty() ? std::string(point) : detail) + ": injected fault on rank " +
+                     std::to_string(f.rank));
+}
+
+}  // namespace rangefuse
