@@ -1,5 +1,7 @@
 #include "rangefuse/io/MeshPly.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "PlyFile.h"
@@ -39,6 +41,17 @@ void put(std::ostream& out, T v) {
   out.write(b, sizeof(T));  // the project targets little-endian hosts (x86-64, aarch64)
 }
 
+/// Float vertices keep files small, but far from the origin (a survey's coordinates with
+/// millimetre voxels) a float's step would be a sizeable part of an edge: then doubles.
+bool needsDoubleVertices(const TriangleMesh& m) {
+  double maxAbs = 0, edges = 0;
+  for (const auto& v : m.vertices) maxAbs = std::max(maxAbs, v.cwiseAbs().maxCoeff());
+  for (const auto& t : m.faces) edges += (m.vertices[t[0]] - m.vertices[t[1]]).norm();
+  const double floatStep = maxAbs * std::ldexp(1.0, -23);
+  if (m.faces.empty()) return floatStep > 1e-6;
+  return floatStep > 1e-3 * edges / static_cast<double>(m.faces.size());
+}
+
 TriangleMesh meshFrom(const internal::PlyFile& f) {
   const std::string& path = f.path;
   const internal::PlyElementData* v = f.find("vertex");
@@ -70,15 +83,22 @@ TriangleMesh readMeshPly(const std::string& path, const InputLimits& limits) {
 
 void writeMeshPly(const std::string& path, const TriangleMesh& mesh) {
   const bool normals = !mesh.normals.empty();
+  const bool wide = needsDoubleVertices(mesh);
   writeAtomically(path, [&](std::ostream& out) {
+    const char* type = wide ? "double" : "float";
     out << "ply\nformat binary_little_endian 1.0\ncomment written by rangefuse\n"
         << "element vertex " << mesh.vertices.size() << "\n"
-        << "property float x\nproperty float y\nproperty float z\n";
+        << "property " << type << " x\nproperty " << type << " y\nproperty " << type << " z\n";
     if (normals) out << "property float nx\nproperty float ny\nproperty float nz\n";
     out << "element face " << mesh.faces.size() << "\n"
         << "property list uchar int vertex_indices\nend_header\n";
     for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-      for (int k = 0; k < 3; ++k) put(out, static_cast<float>(mesh.vertices[i][k]));
+      for (int k = 0; k < 3; ++k) {
+        if (wide)
+          put(out, mesh.vertices[i][k]);
+        else
+          put(out, static_cast<float>(mesh.vertices[i][k]));
+      }
       if (normals)
         for (int k = 0; k < 3; ++k) put(out, static_cast<float>(mesh.normals[i][k]));
     }

@@ -7,6 +7,7 @@
 #include "SharedTemp.h"
 #include "rangefuse/eval/MeshDistance.h"
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -47,4 +48,41 @@ TEST(FuseBunny, MissingScanFailsOnEveryRankWithoutOutput) {
   EXPECT_FALSE(std::filesystem::exists(o.out + ".tmp"));
   MPI_Barrier(MPI_COMM_WORLD);
   if (mpi::rank() == 0) std::filesystem::remove(conf);
+}
+
+TEST(FuseBunny, FarFromTheOriginGivesTheSameMesh) {
+  // Survey-style coordinates: 1e5 m from the origin with 1 mm voxels.
+  const Eigen::Vector3d offset(1e5, -1e5, 1e5);
+  const io::ConfFile near = io::readConf(RANGEFUSE_TEST_DATA "/bunny/bun.conf");
+  std::vector<io::ConfScan> far = near.scans;
+  for (auto& s : far) {
+    s.name = s.path;
+    s.pose.t += offset;
+  }
+  const std::string conf = sharedTempPath("far.conf");
+  if (mpi::rank() == 0) io::writeConf(conf, far);
+  MPI_Barrier(MPI_COMM_WORLD);
+  FuseOptions o;
+  o.voxel = 0.001;
+  o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
+  o.out = sharedTempPath("near.ply");
+  ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+  o.scans = conf;
+  o.out = sharedTempPath("far.ply");
+  ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+  if (mpi::rank() != 0) return;
+  const TriangleMesh nearMesh = io::readMeshPly(sharedTempPath("near.ply"));
+  TriangleMesh farMesh = io::readMeshPly(o.out);
+  for (auto& v : farMesh.vertices) v -= offset;
+  const TriangleMesh ref = io::readMeshPly(RANGEFUSE_TEST_DATA "/bunny/bun_zipper.ply");
+  const DistanceStats accuracy = summarize(sampledDistances(farMesh, ref, 100000, 1));
+  const DistanceStats shift = summarize(sampledDistances(farMesh, nearMesh, 100000, 3));
+  std::printf(
+      "bunny 1 mm at 1e5 m: accuracy mean %.4f mm; from the near-origin mesh mean %.2e mm, "
+      "max %.2e mm\n",
+      accuracy.mean * 1e3, shift.mean * 1e3, shift.max * 1e3);
+  EXPECT_LE(accuracy.mean, 0.10e-3);
+  EXPECT_LE(shift.max, 0.01e-3);  // a hundredth of a voxel
+  for (const char* f : {"near.ply", "far.ply", "far.conf"})
+    std::filesystem::remove(sharedTempPath(f));
 }

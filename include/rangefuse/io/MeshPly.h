@@ -15,8 +15,9 @@ TriangleMesh readMeshPly(const std::string& path, const InputLimits& limits = {}
 TriangleMesh parseMeshPly(const std::string& name, const std::string& text,
                           const InputLimits& limits = {});
 
-/// Writes binary little-endian PLY with float vertices, optional float normals and
-/// int faces; written to a temporary name and renamed into place when complete.
+/// Writes binary little-endian PLY with float vertices (double when far from the origin, where
+/// a float's step exceeds 1/1000 of the mean edge), optional float normals and int faces;
+/// written to a temporary name and renamed into place when complete.
 void writeMeshPly(const std::string& path, const TriangleMesh& mesh);
 
 }  // namespace rangefuse::io
