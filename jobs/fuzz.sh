@@ -32,7 +32,7 @@ run_one() {
   local runs
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "build-fuzz/fuzz_$t.log" | grep -o '[0-9]*$' || echo 0)
   printf '%-15s %6ss %12s executions  %s crash files in %s\n' "$t" "$seconds" "$runs" \
-    "$(find "$found" -type f | wc -l)" "$found"
+    "$(find "$found" -type f ! -name '.*' | wc -l)" "$found"
 }
 export -f run_one
 export corpus seconds

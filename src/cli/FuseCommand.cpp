@@ -62,7 +62,7 @@ po::options_description fuseOptions(FuseOptions& o) {
   add("anchor", po::value(&o.anchor), "registration: scan name that stays fixed (default: first)");
   add("control-stride", po::value(&o.controlStride)->default_value(1),
       "registration: every k-th scan vertex is a control point");
-  add("max-iterations", po::value(&o.maxIterations)->default_value(30),
+  add("max-iterations", po::value(&o.maxIterations)->default_value(100),
       "registration: fits per scan (Algorithm 1) or per field rebuild (Algorithm 2)");
   add("max-rounds", po::value(&o.maxRounds)->default_value(8),
       "registration: field rebuilds in Algorithm 2");

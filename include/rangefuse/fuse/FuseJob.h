@@ -33,7 +33,7 @@ struct FuseOptions {
   std::string registration = "none";  ///< none, incremental, simultaneous or both
   std::string anchor;                 ///< scan name that fixes the frame (default: the first)
   int controlStride = 1;              ///< registration: every k-th vertex is a control point
-  int maxIterations = 30;             ///< registration: fits per scan (per round in Alg. 2)
+  int maxIterations = 100;            ///< registration: fits per scan (per round in Alg. 2)
   int maxRounds = 8;                  ///< registration: field rebuilds in Algorithm 2
   std::string posesOut;               ///< refined poses .conf (optional)
   std::string checkpoint;             ///< HDF5 checkpoint to write (optional)

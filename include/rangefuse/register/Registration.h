@@ -18,7 +18,7 @@ struct RegistrationOptions {
   std::string mode = "none";       ///< none, incremental, simultaneous or both
   size_t anchor = 0;               ///< the scan that fixes the frame
   int controlStride = 1;           ///< every k-th vertex is a control point
-  int maxIterations = 30;          ///< fits per scan (Algorithm 1) or per round (Algorithm 2)
+  int maxIterations = 100;         ///< fits per scan (Algorithm 1) or per round (Algorithm 2)
   int maxRounds = 8;               ///< Algorithm 2: field rebuilds
   double rotationTolDeg = 1e-3;    ///< converged when a fit turns less than this ...
   double translationTol = 0;       ///< ... and moves less than this (world units)
