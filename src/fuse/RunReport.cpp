@@ -55,11 +55,14 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
     ranks.push_back(json::parse(text.substr(pos, end - pos)));
   size_t triangles = 0;
   for (const auto& s : field.scans) triangles += s.surface.triangles.size();
+  json parameters = resultParameters(o);
+  // The option keeps -1 (so a checkpoint's parameters compare as given); show what was used.
+  if (o.quorum < 0) parameters["quorum_used"] = autoQuorum(field.scans.size());
   json report = {
       {"command", "fuse"},
       {"inputs",
        {{"scans", o.scans}, {"scan_count", field.scans.size()}, {"scan_triangles", triangles}}},
-      {"parameters", resultParameters(o)},
+      {"parameters", parameters},
       {"ranks", mpi::size(comm)},
       {"total_bricks", field.layout.codes.size()},
       {"wall_seconds", progress.elapsed()},
