@@ -59,20 +59,22 @@ TEST(FuseBunny, FarFromTheOriginGivesTheSameMesh) {
     s.name = s.path;
     s.pose.t += offset;
   }
-  const std::string conf = sharedTempPath("far.conf");
+  // Paths first: sharedTempPath is collective, and only rank 0 checks the meshes.
+  const std::string conf = sharedTempPath("far.conf"), nearOut = sharedTempPath("near.ply"),
+                    farOut = sharedTempPath("far.ply");
   if (mpi::rank() == 0) io::writeConf(conf, far);
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o;
   o.voxel = 0.001;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.out = sharedTempPath("near.ply");
+  o.out = nearOut;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   o.scans = conf;
-  o.out = sharedTempPath("far.ply");
+  o.out = farOut;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
-  const TriangleMesh nearMesh = io::readMeshPly(sharedTempPath("near.ply"));
-  TriangleMesh farMesh = io::readMeshPly(o.out);
+  const TriangleMesh nearMesh = io::readMeshPly(nearOut);
+  TriangleMesh farMesh = io::readMeshPly(farOut);
   for (auto& v : farMesh.vertices) v -= offset;
   const TriangleMesh ref = io::readMeshPly(RANGEFUSE_TEST_DATA "/bunny/bun_zipper.ply");
   const DistanceStats accuracy = summarize(sampledDistances(farMesh, ref, 100000, 1));
@@ -83,6 +85,5 @@ TEST(FuseBunny, FarFromTheOriginGivesTheSameMesh) {
       accuracy.mean * 1e3, shift.mean * 1e3, shift.max * 1e3);
   EXPECT_LE(accuracy.mean, 0.10e-3);
   EXPECT_LE(shift.max, 0.01e-3);  // a hundredth of a voxel
-  for (const char* f : {"near.ply", "far.ply", "far.conf"})
-    std::filesystem::remove(sharedTempPath(f));
+  for (const std::string& f : {nearOut, farOut, conf}) std::filesystem::remove(f);
 }

@@ -152,7 +152,37 @@ TEST(PlyReader, HugeCountRefusedBeforeAllocating) {
   test::TempDir dir;
   std::string h = kAsciiHeader;
   h.replace(h.find("vertex 3"), 8, "vertex 4000000000");
-  expectError(dir.write("h.ply", h + asciiBody()), "claims 4000000000");
+  const std::string path = dir.write("h.ply", h + asciiBody());
+  expectError(path,
+              "element 'vertex' count 4e+09 exceeds the limit 200000000 (raise it with "
+              "--max-elements)");
+  // Past the limit, the body itself still refuses a count it cannot hold.
+  InputLimits raised;
+  raised.maxElements = 10'000'000'000;
+  try {
+    io::readRangeGridPly(path, raised);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("claims 4000000000"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PlyReader, GridLargerThanTheLimitIsRefused) {
+  test::TempDir dir;
+  std::string h = kAsciiHeader;
+  const std::string path = dir.write("g.ply", h + asciiBody());
+  InputLimits small;
+  small.maxGridCells = 3;
+  try {
+    io::readRangeGridPly(path, small);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("num_cols x num_rows = 4 exceeds the limit 3 (raise it "
+                                         "with --max-grid-cells)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(io::readRangeGridPly(path));
 }
 
 TEST(PlyReader, MissingFile) {
