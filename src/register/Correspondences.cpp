@@ -37,7 +37,9 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
     Eigen::Vector3d q;
     if (!(weights[i] > 0) || !correspondence(store, points[i], normals[i], settings, q)) continue;
     const int64_t pos = store.layout().find(mortonEncode(brickOf(g.nearest(points[i]), g.brick)));
-    perBrick[static_cast<uint64_t>(pos)].add(points[i], q, weights[i]);
+    // About the lattice origin, which lies by the data: far from the world origin the moments
+    // would otherwise lose their digits to cancellation (1e5 m offset: poses off by 10 voxels).
+    perBrick[static_cast<uint64_t>(pos)].add(points[i] - g.origin, q - g.origin, weights[i]);
   }
   std::vector<char> buf;
   for (const auto& [pos, sums] : perBrick) {

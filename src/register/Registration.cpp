@@ -60,7 +60,9 @@ RegistrationStep fitOnce(const PrismScan& scan, Pose& pose, const BrickStore& fi
   const double radius =
       std::sqrt(std::max(1e-30, sums.wpq.trace() / sums.w - centre.squaredNorm()));
   const Twist twist = twistOf(fitRigid(sums), centre, radius);
-  const Pose delta = poseOf(twist, centre, o.accelerate ? acceleration(twist, history) : 1.0);
+  Pose delta = poseOf(twist, centre, o.accelerate ? acceleration(twist, history) : 1.0);
+  const Eigen::Vector3d& origin = field.grid().origin;  // the sums' frame, back to world
+  delta.t += origin - delta.R * origin;
   history = FitHistory{true, twist};
   pose.R = delta.R * pose.R;
   pose.t = delta.R * pose.t + delta.t;
