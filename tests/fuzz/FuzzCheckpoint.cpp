@@ -65,6 +65,7 @@ class Chooser {
   size_t pos_ = 0;
 };
 
+/// A scalar attribute of `type`.
 void attribute(hid_t obj, const char* name, hid_t type, const void* value) {
   hid_t space = H5Screate(H5S_SCALAR);
   hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
@@ -73,6 +74,7 @@ void attribute(hid_t obj, const char* name, hid_t type, const void* value) {
   H5Sclose(space);
 }
 
+/// A fixed-length string attribute (HDF5 refuses zero-length string types: one NUL then).
 void stringAttribute(hid_t obj, const char* name, const std::string& value) {
   hid_t type = H5Tcopy(H5T_C_S1);
   H5Tset_size(type, value.empty() ? 1 : value.size());
@@ -92,6 +94,7 @@ void dataset(hid_t file, const char* name, hid_t type, const std::vector<hsize_t
   H5Sclose(space);
 }
 
+/// Checkpoint metadata shaped like the real thing, with chosen values and defects.
 nlohmann::json chosenMeta(Chooser& c, bool hasField, int& brick) {
   using nlohmann::json;
   json j;
@@ -118,6 +121,7 @@ nlohmann::json chosenMeta(Chooser& c, bool hasField, int& brick) {
   return j;
 }
 
+/// The format and version attributes and the metadata dataset, each possibly wrong or absent.
 void writeMeta(hid_t file, Chooser& c, uint32_t flags, int& brick) {
   if (!(flags & 1))
     stringAttribute(file, "format", flags & 2 ? c.text(24) : "rangefuse-checkpoint");
@@ -140,6 +144,7 @@ void writeMeta(hid_t file, Chooser& c, uint32_t flags, int& brick) {
           written ? json.data() : nullptr);
 }
 
+/// field_codes, field_work and field_sums with chosen counts, shapes and types.
 void writeField(hid_t file, Chooser& c, uint32_t flags, int brick) {
   const hsize_t nb = c.byte() % 9;
   std::vector<uint64_t> codes(nb), work(nb, 1);
@@ -166,6 +171,7 @@ void writeField(hid_t file, Chooser& c, uint32_t flags, int brick) {
   }
 }
 
+/// One file per process and rank: the regression test replays on 2 ranks at once.
 std::string tempPath() {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -183,10 +189,8 @@ void checkpoint(const std::string& bytes) {
   writeMeta(file, c, flags, brick);
   writeField(file, c, flags, brick);
   H5Fclose(file);
-  InputLimits limits;
-  limits.maxElements = limits.maxVoxels = 1 << 22;
   try {
-    const io::CheckpointMeta meta = io::readCheckpointMeta(path, MPI_COMM_SELF, limits);
+    const io::CheckpointMeta meta = io::readCheckpointMeta(path, MPI_COMM_SELF, fuzzLimits());
     BrickLayout layout;
     if (meta.hasField) io::readCheckpointField(path, meta, layout, MPI_COMM_SELF);
   } catch (const InputError&) {

@@ -14,15 +14,6 @@ namespace po = boost::program_options;
 namespace rangefuse::fuzz {
 namespace {
 
-/// Small enough that libFuzzer's 2 GiB malloc limit is never the thing that stops a run.
-InputLimits fuzzLimits() {
-  InputLimits l;
-  l.maxElements = 1 << 22;
-  l.maxGridCells = 1 << 22;
-  l.maxVoxels = 1 << 22;
-  return l;
-}
-
 template <class Fn>
 void refusedCleanly(Fn&& fn) {
   try {
@@ -32,6 +23,14 @@ void refusedCleanly(Fn&& fn) {
 }
 
 }  // namespace
+
+InputLimits fuzzLimits() {
+  InputLimits l;
+  l.maxElements = 1 << 22;
+  l.maxGridCells = 1 << 22;
+  l.maxVoxels = 1 << 22;
+  return l;
+}
 
 void rangeGridPly(const std::string& bytes) {
   refusedCleanly([&] { io::parseRangeGridPly("fuzz.ply", bytes, fuzzLimits()); });

@@ -30,9 +30,10 @@ TEST_P(FuzzRegression, EveryFoundCrashIsNowReadOrRefused) {
   const std::filesystem::path dir =
       std::filesystem::path(RANGEFUSE_FUZZ_DIR) / "regressions" / entryName;
   ASSERT_TRUE(std::filesystem::is_directory(dir)) << dir;
-  for (const auto& f : std::filesystem::directory_iterator(dir))
-    if (f.path().filename().string()[0] != '.')  // .gitkeep keeps an empty folder in git
-      EXPECT_NO_THROW(entry(readBytes(f.path()))) << f.path();
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    if (f.path().filename().string()[0] == '.') continue;  // .gitkeep keeps the folder in git
+    EXPECT_NO_THROW(entry(readBytes(f.path()))) << f.path();
+  }
 }
 
 // The checkpoint entry needs MPI: it is replayed by the MPI tests.

@@ -25,11 +25,10 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
                     const CorrespondenceSettings& settings, Eigen::Vector3d& q);
 
 /// Collective: for control points p (world, normals n) with weights, the sums over all
-/// correspondences,
-/// made by the ranks owning each point's voxel, added per brick and then in brick order.
-/// Every rank gets the same sums, bit for bit, whatever the number of ranks. Points are taken
-/// relative to the lattice origin (store.grid().origin), so a fit from them is in that frame. Points are taken
-/// relative to the lattice origin (store.grid().origin), so a fit from them is in that frame.
+/// correspondences, made by the ranks owning each point's voxel, added per brick and then in
+/// brick order. Every rank gets the same sums, bit for bit, whatever the number of ranks.
+/// Points are taken relative to the lattice origin (store.grid().origin), so a fit from them
+/// is in that frame.
 RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
                              const std::vector<Eigen::Vector3d>& normals,
                              const std::vector<double>& weights,
