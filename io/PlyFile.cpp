@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -268,12 +267,6 @@ size_t minItemBytes(const PlyElement& e, bool ascii) {
 }
 
 constexpr double kMaxListLength = 255;
-
-std::string formatNumber(double v) {
-  char s[32];
-  std::snprintf(s, sizeof(s), "%g", v);
-  return s;
-}
 
 template <class Cursor, class ReadValue, class Fail>
 void readItem(PlyElementData& d, Cursor&, ReadValue&& readValue, Fail&& fail) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <unordered_map>
 
@@ -68,13 +67,6 @@ VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, 
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,
                        uint64_t maxVoxels) {
   const double perBrick = std::pow(grid.brick, 3);
-  auto refuse = [&](double bricks) {
-    char voxel[32];
-    std::snprintf(voxel, sizeof(voxel), "%g", grid.voxel);
-    checkLimit(std::string("--voxel ") + voxel,
-               "voxels needed near the surface (estimate):", bricks * perBrick, maxVoxels,
-               "max-voxels");
-  };
   std::unordered_map<uint64_t, uint64_t> work;
   for (const auto& s : scans)
     for (size_t t = 0; t < s.surface.triangles.size(); ++t) {
@@ -83,8 +75,12 @@ BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& gri
       brickRange(grid, prismBounds(scanPrism(s, t)), lo, hi, empty);
       if (empty) continue;
       // One huge prism or many small ones: either way refused before the map or store grows.
-      refuse(static_cast<double>(work.size()) +
-             (hi - lo + BrickCoord::Ones()).cast<double>().prod());
+      const double voxels = (static_cast<double>(work.size()) +
+                             (hi - lo + BrickCoord::Ones()).cast<double>().prod()) *
+                            perBrick;
+      if (voxels > static_cast<double>(maxVoxels))
+        checkLimit("--voxel " + formatNumber(grid.voxel),
+                   "voxels needed near the surface (estimate):", voxels, maxVoxels, "max-voxels");
       for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
         for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
           for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) ++work[mortonEncode(b)];

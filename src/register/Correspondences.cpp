@@ -8,7 +8,7 @@
 namespace rangefuse {
 
 bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    const CorrespondenceSettings& s, Eigen::Vector3d& q) {
+                    const CorrespondenceSettings& s, Eigen::Vector3d& q, size_t* brick) {
   const VoxelGrid& g = store.grid();
   const VoxelIndex v = g.nearest(p);  // Eq. 15
   if ((v.array() < 0).any()) return false;
@@ -24,6 +24,7 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
   // Eq. 14 with the gradient of the signed field: step back along it by the distance,
   // corrected to first order for p's offset from the voxel centre.
   q = p - f * (d + f.dot(p - g.centre(v)));
+  if (brick) *brick = static_cast<size_t>(b);
   return true;
 }
 
@@ -35,8 +36,10 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
   std::map<uint64_t, RigidSums> perBrick;  // global brick position -> this rank's sums
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector3d q;
-    if (!(weights[i] > 0) || !correspondence(store, points[i], normals[i], settings, q)) continue;
-    const int64_t pos = store.layout().find(mortonEncode(brickOf(g.nearest(points[i]), g.brick)));
+    size_t local;
+    if (!(weights[i] > 0) || !correspondence(store, points[i], normals[i], settings, q, &local))
+      continue;
+    const size_t pos = store.globalIndex(local);
     // About the lattice origin, which lies by the data: far from the world origin the moments
     // would otherwise lose their digits to cancellation (1e5 m offset: poses off by 10 voxels).
     perBrick[static_cast<uint64_t>(pos)].add(points[i] - g.origin, q - g.origin, weights[i]);

@@ -2,7 +2,8 @@
 
 namespace rangefuse {
 
-BrickStore::BrickStore(const BrickLayout& layout, int rank) : layout_(layout) {
+BrickStore::BrickStore(const BrickLayout& layout, int rank)
+    : layout_(layout), first_(layout.rankStart[rank]) {
   const int B = layout.grid.brick;
   perBrick_ = static_cast<size_t>(B) * B * B;
   for (size_t i = layout.rankStart[rank]; i < layout.rankStart[rank + 1]; ++i) {

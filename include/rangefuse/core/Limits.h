@@ -14,6 +14,9 @@ struct InputLimits {
   uint64_t maxVoxels = 1'000'000'000;   ///< allocated voxels of a field, all ranks (--max-voxels)
 };
 
+/// A number as a message shows it: up to 6 significant digits ("1e+12", "0.001").
+std::string formatNumber(double value);
+
 /// Throws InputError "WHERE: WHAT VALUE exceeds the limit LIMIT (raise it with --OPTION)"
 /// when value > limit. `value` is a double so that overflowing products are still compared.
 void checkLimit(const std::string& where, const std::string& what, double value, uint64_t limit,

@@ -21,8 +21,10 @@ struct CorrespondenceSettings {
 /// The corresponding point of p (normal n) from the voxel nearest to it: p - f [d + f.(p - p_v)],
 /// with f the unit gradient. False when that voxel is not local, unobserved, too light, seen by
 /// too few images, outside the envelope, or faces away from n (the other side of a thin part).
+/// `brick`, when given, receives the local brick of that voxel.
 bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    const CorrespondenceSettings& settings, Eigen::Vector3d& q);
+                    const CorrespondenceSettings& settings, Eigen::Vector3d& q,
+                    size_t* brick = nullptr);
 
 /// Collective: for control points p (world, normals n) with weights, the sums over all
 /// correspondences, made by the ranks owning each point's voxel, added per brick and then in

@@ -26,6 +26,8 @@ class BrickStore {
   const VoxelGrid& grid() const { return layout_.grid; }
   size_t brickCount() const { return codes_.size(); }
   uint64_t code(size_t local) const { return codes_[local]; }
+  /// Position in layout().codes of local brick `local` (a rank owns one contiguous run).
+  size_t globalIndex(size_t local) const { return first_ + local; }
   size_t voxelsPerBrick() const { return perBrick_; }
 
   /// Local brick index of a Morton code, or -1 when this rank does not own it.
@@ -43,6 +45,7 @@ class BrickStore {
   BrickLayout layout_;
   std::vector<uint64_t> codes_;
   std::unordered_map<uint64_t, int64_t> index_;
+  size_t first_;  ///< layout position of local brick 0
   size_t perBrick_;
   std::vector<VoxelSums> sums_;
 };
