@@ -66,6 +66,9 @@ po::options_description fuseOptions(FuseOptions& o) {
       "registration: fits per scan (Algorithm 1) or per field rebuild (Algorithm 2)");
   add("max-rounds", po::value(&o.maxRounds)->default_value(8),
       "registration: field rebuilds in Algorithm 2");
+  add("round-tolerance", po::value(&o.roundTolerance)->default_value(0.1),
+      "registration: Algorithm 2 ends after a round that moves no scan's vertices this far on "
+      "average, voxels");
   add("poses-out", po::value(&o.posesOut), "write the refined poses (.conf)");
   add("checkpoint", po::value(&o.checkpoint), "write an HDF5 checkpoint of the field (.h5)");
   add("checkpoint-every", po::value(&o.checkpointEvery)->default_value(0.0),

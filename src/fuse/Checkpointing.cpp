@@ -27,6 +27,7 @@ const std::map<std::string, std::string> kOptionOf = {{"method", "method"},
                                                       {"control_stride", "control-stride"},
                                                       {"max_iterations", "max-iterations"},
                                                       {"max_rounds", "max-rounds"},
+                                                      {"round_tolerance_voxels", "round-tolerance"},
                                                       {"scans", "scans"}};
 
 bool given(const FuseOptions& o, const std::string& option) {
@@ -68,6 +69,8 @@ void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
     o.maxIterations = v.get<int>();
   else if (key == "max_rounds")
     o.maxRounds = v.get<int>();
+  else if (key == "round_tolerance_voxels")
+    o.roundTolerance = v.get<double>();
   else if (key == "scans")
     o.scans = v.get<std::string>();
 }

@@ -73,6 +73,8 @@ void validateFuseOptions(const FuseOptions& o) {
   if (o.controlStride < 1) throw InputError("--control-stride must be at least 1");
   if (o.maxIterations < 1 || o.maxRounds < 1)
     throw InputError("--max-iterations and --max-rounds must be at least 1");
+  if (!(o.roundTolerance >= 0) || !(o.roundTolerance <= 1000))
+    throw InputError("--round-tolerance must be in [0, 1000] voxels");
 }
 
 namespace {
@@ -142,7 +144,8 @@ nlohmann::json resultParameters(const FuseOptions& o) {
           {"anchor", o.anchor},
           {"control_stride", o.controlStride},
           {"max_iterations", o.maxIterations},
-          {"max_rounds", o.maxRounds}};
+          {"max_rounds", o.maxRounds},
+          {"round_tolerance_voxels", o.roundTolerance}};
 }
 
 double autoQuorum(size_t views) {

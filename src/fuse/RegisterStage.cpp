@@ -4,6 +4,7 @@
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/fuse/RegistrationField.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -34,6 +35,7 @@ RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans&
   r.maxRounds = o.maxRounds;
   r.translationTol = 1e-3 * o.voxel;
   r.correspondences.maxDistance = o.envelope * o.voxel;
+  r.roundTolerance = o.roundTolerance * o.voxel;
   if (!o.anchor.empty()) {
     auto it = std::find(scans.names.begin(), scans.names.end(), o.anchor);
     if (it == scans.names.end())
@@ -95,27 +97,24 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   if (o.registration == "none") return true;
   RegistrationOptions r;
   if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
-  FusedField field;
-  RankCounters ignored;
-  bool ok = true;
-  FieldFactory build = [&](const std::vector<size_t>& which,
-                           const std::vector<Pose>& poses) -> const BrickStore& {
-    ok = buildFieldOf(o, placeAll(scans, which, poses), comm, field, ignored) && ok;
-    return *field.store;
-  };
+  const std::unique_ptr<RegistrationField> field = makeRegistrationField(o, scans, comm);
   RegistrationCheckpointer checkpointer(o, scans, comm);
-  registerScans(
-      scans.local, scans.poses, r, build, comm,
-      [&](const RegistrationStep& s) {
-        steps.push_back(s);
-        if (progress.isRoot()) printStep(s, scans, o.voxel);
-      },
-      state,
-      [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
-        checkpointer(p, poses);
-      });
+  try {
+    registerScans(
+        scans.local, scans.poses, r, *field, comm,
+        [&](const RegistrationStep& s) {
+          steps.push_back(s);
+          if (progress.isRoot()) printStep(s, scans, o.voxel);
+        },
+        state,
+        [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
+          checkpointer(p, poses);
+        });
+  } catch (const mpi::Reported&) {
+    return false;
+  }
   progress.stage("register", o.registration + ": " + std::to_string(steps.size()) + " fits");
-  return ok && checkpointer.ok();
+  return checkpointer.ok();
 }
 
 }  // namespace rangefuse

@@ -45,23 +45,74 @@ Prism scanPrism(const PrismScan& scan, size_t t) {
                scan.limits[t][1]};
 }
 
-VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps) {
+namespace {
+
+Eigen::AlignedBox3d pointBounds(const std::vector<PrismScan>& scans) {
   Eigen::AlignedBox3d box;
   for (const auto& s : scans)
     for (const auto& p : s.surface.points) box.extend(p);
+  return box;
+}
+
+/// Voxels along the longest axis from the grid origin to the far side of `box`.
+double extentVoxels(const VoxelGrid& g, const Eigen::AlignedBox3d& box, double eps) {
+  return ((box.max() - g.origin).array() + eps).maxCoeff() / g.voxel + 2 * g.brick;
+}
+
+}  // namespace
+
+VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps,
+                  int margin) {
+  const Eigen::AlignedBox3d box = pointBounds(scans);
   if (box.isEmpty()) throw InputError("no triangles in any scan: nothing to fuse");
   VoxelGrid g;
   g.voxel = voxel;
   g.brick = brick;
   const double step = voxel * brick;
-  for (int a = 0; a < 3; ++a) g.origin[a] = (std::floor((box.min()[a] - eps) / step) - 1) * step;
-  const double extent = ((box.max() - g.origin).array() + eps).maxCoeff() / voxel + 2 * brick;
+  for (int a = 0; a < 3; ++a)
+    g.origin[a] = (std::floor((box.min()[a] - eps) / step) - margin) * step;
+  const double extent = extentVoxels(g, box, eps) + (margin - 1) * brick;
   if (extent >= kMaxVoxelsPerAxis)
     throw InputError("--voxel " + std::to_string(voxel) + " needs " +
                      std::to_string(static_cast<long long>(extent)) +
                      " voxels along one axis (limit " + std::to_string(kMaxVoxelsPerAxis) +
                      "): use a larger voxel");
   return g;
+}
+
+bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, double eps) {
+  const Eigen::AlignedBox3d box = pointBounds(scans);
+  if (box.isEmpty()) return true;
+  const double step = grid.voxel * grid.brick;
+  const bool above = ((box.min() - grid.origin).array() - eps >= step).all();
+  return above && extentVoxels(grid, box, eps) < kMaxVoxelsPerAxis;
+}
+
+void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels) {
+  std::vector<uint64_t> codes;
+  codes.reserve(layout.codes.size() * 27);
+  for (uint64_t c : layout.codes) {
+    const BrickCoord b = mortonDecode(c);
+    BrickCoord d;
+    for (d.z() = -1; d.z() <= 1; ++d.z())
+      for (d.y() = -1; d.y() <= 1; ++d.y())
+        for (d.x() = -1; d.x() <= 1; ++d.x())
+          if (((b + d).array() >= 0).all()) codes.push_back(mortonEncode(b + d));
+  }
+  std::sort(codes.begin(), codes.end());
+  codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
+  checkLimit("--voxel " + formatNumber(layout.grid.voxel),
+             "voxels near the surface, registration room included:",
+             static_cast<double>(codes.size()) * std::pow(layout.grid.brick, 3), maxVoxels,
+             "max-voxels");
+  std::vector<uint64_t> work(codes.size(), 0);
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const int64_t at = layout.find(codes[i]);
+    if (at >= 0) work[i] = layout.work[at];
+  }
+  layout.codes = std::move(codes);
+  layout.work = std::move(work);
+  layout.rankStart = partitionWork(layout.work, ranks);
 }
 
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,

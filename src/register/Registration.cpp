@@ -83,19 +83,19 @@ std::vector<size_t> allOf(size_t n) {
 }
 
 void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                 const RegistrationOptions& o, const FieldFactory& build, MPI_Comm comm,
+                 const RegistrationOptions& o, RegistrationField& field, MPI_Comm comm,
                  const std::function<void(const RegistrationStep&)>& onStep,
                  RegistrationProgress& progress, const BoundaryCallback& onBoundary) {
   // The scans placed so far, in the order they joined: the anchor, then by index.
   std::vector<size_t> fused = {o.anchor};
   for (size_t j = 0; j < progress.nextScan; ++j)
     if (j != o.anchor) fused.push_back(j);
+  const BrickStore* store = &field.build(fused, poses);
   for (size_t i = progress.nextScan; i < scans.size(); ++i) {
     if (i == o.anchor) continue;
-    const BrickStore& field = build(fused, poses);
     FitHistory history;
     for (int it = 1; it <= o.maxIterations; ++it) {
-      RegistrationStep step = fitOnce(scans[i], poses[i], field, o, comm, history);
+      RegistrationStep step = fitOnce(scans[i], poses[i], *store, o, comm, history);
       step.algorithm = "incremental";
       step.iteration = it;
       step.scan = i;
@@ -103,9 +103,47 @@ void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
       if (converged(step, o)) break;
     }
     fused.push_back(i);
+    store = &field.add(i, poses);
+    progress.latticeOrigin = field.latticeOrigin();
     progress.nextScan = i + 1;
     onBoundary(progress, poses);
   }
+}
+
+bool samePose(const Pose& a, const Pose& b) {
+  return a.R == b.R && a.t == b.t;
+}
+
+/// Moves the scans this round moved by the motion that returns the anchor to where the round
+/// began: the anchor registers like the others, then the frame it fixes is restored for the
+/// group. Scans no fit moved (no overlap) stay as given.
+void returnAnchor(std::vector<Pose>& poses, const std::vector<Pose>& roundPoses, size_t anchor) {
+  const Pose a = poses[anchor], given = roundPoses[anchor];
+  if (samePose(a, given)) return;  // not even rounding when the anchor did not move
+  Pose g;
+  g.R = given.R * a.R.transpose();
+  g.t = given.t - g.R * a.t;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (samePose(poses[i], roundPoses[i])) continue;
+    poses[i].R = g.R * poses[i].R;
+    poses[i].t = g.R * poses[i].t + g.t;
+  }
+  poses[anchor] = given;
+}
+
+/// The largest mean displacement of a scan's vertices between two sets of poses (every 16th).
+double largestMotion(const std::vector<PrismScan>& scans, const std::vector<Pose>& from,
+                     const std::vector<Pose>& to) {
+  double largest = 0;
+  for (size_t i = 0; i < scans.size(); ++i) {
+    const auto& points = scans[i].surface.points;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t v = 0; v < points.size(); v += 16, ++n)
+      sum += (to[i].apply(points[v]) - from[i].apply(points[v])).norm();
+    if (n > 0) largest = std::max(largest, sum / n);
+  }
+  return largest;
 }
 
 void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
@@ -117,7 +155,7 @@ void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
 }
 
 void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                  RegistrationOptions o, const FieldFactory& build, MPI_Comm comm,
+                  RegistrationOptions o, RegistrationField& field, MPI_Comm comm,
                   const std::function<void(const RegistrationStep&)>& onStep,
                   RegistrationProgress& p, const BoundaryCallback& onBoundary) {
   // The field holds each scan itself: only voxels another image also saw are overlap.
@@ -125,12 +163,13 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
   const std::vector<size_t> all = allOf(scans.size());
   while (p.phase == "simultaneous") {
     if (p.iteration < o.maxIterations && p.lastMoved) {
-      const BrickStore& field = build(all, p.roundPoses);
+      const BrickStore& store = field.build(all, p.roundPoses);
+      p.latticeOrigin = field.latticeOrigin();
       while (p.iteration < o.maxIterations && p.lastMoved) {
         bool moved = false;
         for (size_t i = 0; i < scans.size(); ++i) {
-          if (i == o.anchor) continue;
-          RegistrationStep step = fitOnce(scans[i], poses[i], field, o, comm, p.history[i]);
+          if (i == o.anchor && !o.gaugeAnchor) continue;
+          RegistrationStep step = fitOnce(scans[i], poses[i], store, o, comm, p.history[i]);
           step.algorithm = "simultaneous";
           step.round = p.round;
           step.iteration = p.iteration + 1;
@@ -143,8 +182,11 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
         onBoundary(p, poses);
       }
     }
-    // The poses stopped changing when a rebuilt field moved nothing.
-    if (!p.roundMoved || p.round >= o.maxRounds) {
+    if (o.gaugeAnchor) returnAnchor(poses, p.roundPoses, o.anchor);
+    const double motion = largestMotion(scans, p.roundPoses, poses);
+    // Done when a rebuilt field moved nothing or a round moved no scan past the tolerance:
+    // later rounds only wander within the noise (docs/registration.md).
+    if (!p.roundMoved || motion < o.roundTolerance || p.round >= o.maxRounds) {
       p.phase = "done";
     } else {
       ++p.round;
@@ -161,20 +203,21 @@ double rotationDegrees(const Eigen::Matrix3d& R) {
 }
 
 void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                   const RegistrationOptions& o, const FieldFactory& build, MPI_Comm comm,
+                   const RegistrationOptions& o, RegistrationField& field, MPI_Comm comm,
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& p, const BoundaryCallback& onBoundary) {
+  p.latticeOrigin = field.fixLattice(p.latticeOrigin, poses);
   const bool first = o.mode == "incremental" || o.mode == "both";
   const bool second = o.mode == "simultaneous" || o.mode == "both";
   if (p.phase == "start") p.phase = first ? "incremental" : "simultaneous";
   if (p.phase == "simultaneous" && p.roundPoses.empty()) startRound(p, poses);
   if (p.phase == "incremental") {
-    incremental(scans, poses, o, build, comm, onStep, p, onBoundary);
+    incremental(scans, poses, o, field, comm, onStep, p, onBoundary);
     p.phase = second ? "simultaneous" : "done";
     if (second) startRound(p, poses);
     onBoundary(p, poses);
   }
-  if (p.phase == "simultaneous") simultaneous(scans, poses, o, build, comm, onStep, p, onBoundary);
+  if (p.phase == "simultaneous") simultaneous(scans, poses, o, field, comm, onStep, p, onBoundary);
 }
 
 nlohmann::json RegistrationProgress::toJson() const {
@@ -190,14 +233,9 @@ nlohmann::json RegistrationProgress::toJson() const {
                     {"rotation", vec(h.last.rotation)},
                     {"shift", vec(h.last.shift)},
                     {"radius", h.last.radius}});
-  return {{"phase", phase},
-          {"next_scan", nextScan},
-          {"round", round},
-          {"iteration", iteration},
-          {"round_moved", roundMoved},
-          {"last_moved", lastMoved},
-          {"round_poses", poses},
-          {"history", hist}};
+  return {{"phase", phase},         {"next_scan", nextScan},           {"round", round},
+          {"iteration", iteration}, {"round_moved", roundMoved},       {"last_moved", lastMoved},
+          {"round_poses", poses},   {"lattice_origin", latticeOrigin}, {"history", hist}};
 }
 
 RegistrationProgress RegistrationProgress::fromJson(const nlohmann::json& j) {
@@ -221,6 +259,9 @@ RegistrationProgress RegistrationProgress::fromJson(const nlohmann::json& j) {
     q.t = Eigen::Vector3d(d[9], d[10], d[11]);
     p.roundPoses.push_back(q);
   }
+  p.latticeOrigin = j.value("lattice_origin", std::vector<double>{});
+  if (!p.latticeOrigin.empty() && p.latticeOrigin.size() != 3)
+    throw std::runtime_error("a lattice origin needs 3 numbers");
   for (const auto& h : j.at("history"))
     p.history.push_back(
         FitHistory{h.at("have").get<bool>(),

@@ -35,6 +35,7 @@ struct FuseOptions {
   int controlStride = 1;              ///< registration: every k-th vertex is a control point
   int maxIterations = 100;            ///< registration: fits per scan (per round in Alg. 2)
   int maxRounds = 8;                  ///< registration: field rebuilds in Algorithm 2
+  double roundTolerance = 0.1;        ///< registration: Algorithm 2 ends below this, voxels
   std::string posesOut;               ///< refined poses .conf (optional)
   std::string checkpoint;             ///< HDF5 checkpoint to write (optional)
   std::string resume;                 ///< HDF5 checkpoint to continue from (optional)

@@ -16,6 +16,12 @@ int size(MPI_Comm comm = MPI_COMM_WORLD);
 /// its message to stderr (once for the whole job) and every rank gets false.
 bool agree(bool ok, const std::string& message, MPI_Comm comm = MPI_COMM_WORLD);
 
+/// Thrown on every rank after a failure all ranks agreed on and one rank already printed:
+/// unwinds a collective stage without another message.
+struct Reported : std::exception {
+  const char* what() const noexcept override { return "failure reported above"; }
+};
+
 /// Collective: runs fn on every rank; if it throws anywhere, every rank returns false and the
 /// lowest failing rank's message is printed once.
 template <class Fn>

@@ -24,6 +24,8 @@ struct RegistrationOptions {
   double translationTol = 0;       ///< ... and moves less than this (world units)
   size_t minCorrespondences = 50;  ///< fewer: the scan is reported and left where it is
   bool accelerate = true;          ///< extrapolate steadily converging fits
+  double roundTolerance = 0;       ///< Algorithm 2 stops when a round moves no scan this far
+  bool gaugeAnchor = true;         ///< Algorithm 2 registers the anchor too, then restores it
   CorrespondenceSettings correspondences;
 };
 
@@ -55,22 +57,37 @@ struct FitHistory {
 
 /// Where registration stands, enough to continue it exactly (checkpoints).
 struct RegistrationProgress {
-  std::string phase = "start";      ///< start, incremental, simultaneous or done
-  size_t nextScan = 0;              ///< incremental: the next scan to register
-  int round = 1;                    ///< simultaneous: the round in progress
-  int iteration = 0;                ///< simultaneous: iterations done in this round
-  bool roundMoved = false;          ///< simultaneous: this round's first iteration moved a scan
-  bool lastMoved = true;            ///< simultaneous: the last iteration moved a scan
-  std::vector<Pose> roundPoses;     ///< simultaneous: the poses this round's field is built from
-  std::vector<FitHistory> history;  ///< simultaneous: per scan
+  std::string phase = "start";        ///< start, incremental, simultaneous or done
+  size_t nextScan = 0;                ///< incremental: the next scan to register
+  int round = 1;                      ///< simultaneous: the round in progress
+  int iteration = 0;                  ///< simultaneous: iterations done in this round
+  bool roundMoved = false;            ///< simultaneous: this round's first iteration moved a scan
+  bool lastMoved = true;              ///< simultaneous: the last iteration moved a scan
+  std::vector<Pose> roundPoses;       ///< simultaneous: the poses this round's field is built from
+  std::vector<FitHistory> history;    ///< simultaneous: per scan
+  std::vector<double> latticeOrigin;  ///< the fields' lattice (empty: not chosen yet)
 
   nlohmann::json toJson() const;
   static RegistrationProgress fromJson(const nlohmann::json& j);
 };
 
-/// Builds the field of the listed scans at the given poses (collective) and returns it.
-using FieldFactory =
-    std::function<const BrickStore&(const std::vector<size_t>& scans, const std::vector<Pose>&)>;
+/// The field registration fits against. Every call is collective and returns the field.
+class RegistrationField {
+ public:
+  virtual ~RegistrationField() = default;
+  /// Fixes the lattice of every field to come: `origin` when given (a resumed run), else one
+  /// chosen around the scans at `poses`. Returns the origin, for checkpoints.
+  virtual std::vector<double> fixLattice(const std::vector<double>& origin,
+                                         const std::vector<Pose>& poses) = 0;
+  /// The field of the listed scans at their poses.
+  virtual const BrickStore& build(const std::vector<size_t>& scans,
+                                  const std::vector<Pose>& poses) = 0;
+  /// The last field with scan `i` added at poses[i]: voxel by voxel what build() of the longer
+  /// list gives. May move the lattice when the scan leaves it (see latticeOrigin()).
+  virtual const BrickStore& add(size_t i, const std::vector<Pose>& poses) = 0;
+  /// The lattice origin now in use.
+  virtual std::vector<double> latticeOrigin() const = 0;
+};
 
 /// Called at every boundary (after each scan of Algorithm 1, each iteration of Algorithm 2).
 using BoundaryCallback = std::function<void(const RegistrationProgress&, const std::vector<Pose>&)>;
@@ -79,8 +96,8 @@ using BoundaryCallback = std::function<void(const RegistrationProgress&, const s
 /// are in their own frames. `onStep` sees every fit (rank 0 prints it); `onBoundary` every
 /// point a checkpoint may be taken. Every rank ends with the same poses.
 void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                   const RegistrationOptions& options, const FieldFactory& buildField,
-                   MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep,
+                   const RegistrationOptions& options, RegistrationField& field, MPI_Comm comm,
+                   const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& progress, const BoundaryCallback& onBoundary);
 
 /// The change a fit makes: rotation angle (degrees) and translation length.

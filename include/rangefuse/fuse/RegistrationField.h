@@ -1,0 +1,19 @@
+// The field registration fits against in a fuse run: prism fields that grow scan by scan on
+// one lattice, or (other methods) fields rebuilt from the listed scans.
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/register/Registration.h"
+
+namespace rangefuse {
+
+/// The field for --register over `scans` (kept by reference). Its calls throw mpi::Reported
+/// on every rank when any rank failed (the message printed once).
+std::unique_ptr<RegistrationField> makeRegistrationField(const FuseOptions& options,
+                                                         const LoadedScans& scans, MPI_Comm comm);
+
+}  // namespace rangefuse
