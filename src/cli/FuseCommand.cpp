@@ -69,6 +69,9 @@ po::options_description fuseOptions(FuseOptions& o) {
   add("round-tolerance", po::value(&o.roundTolerance)->default_value(0.1),
       "registration: Algorithm 2 ends after a round that moves no scan's vertices this far on "
       "average, voxels");
+  add("register-field", po::value(&o.registerField)->default_value("grow"),
+      "registration: grow (Algorithm 1 adds each scan to one field; prism only) or rebuild (a "
+      "new field for every scan: the simple method, for comparison)");
   add("poses-out", po::value(&o.posesOut), "write the refined poses (.conf)");
   add("checkpoint", po::value(&o.checkpoint), "write an HDF5 checkpoint of the field (.h5)");
   add("checkpoint-every", po::value(&o.checkpointEvery)->default_value(0.0),

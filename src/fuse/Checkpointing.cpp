@@ -28,6 +28,7 @@ const std::map<std::string, std::string> kOptionOf = {{"method", "method"},
                                                       {"max_iterations", "max-iterations"},
                                                       {"max_rounds", "max-rounds"},
                                                       {"round_tolerance_voxels", "round-tolerance"},
+                                                      {"register_field", "register-field"},
                                                       {"scans", "scans"}};
 
 bool given(const FuseOptions& o, const std::string& option) {
@@ -71,6 +72,8 @@ void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
     o.maxRounds = v.get<int>();
   else if (key == "round_tolerance_voxels")
     o.roundTolerance = v.get<double>();
+  else if (key == "register_field")
+    o.registerField = v.get<std::string>();
   else if (key == "scans")
     o.scans = v.get<std::string>();
 }

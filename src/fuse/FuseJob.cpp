@@ -75,6 +75,8 @@ void validateFuseOptions(const FuseOptions& o) {
     throw InputError("--max-iterations and --max-rounds must be at least 1");
   if (!(o.roundTolerance >= 0) || !(o.roundTolerance <= 1000))
     throw InputError("--round-tolerance must be in [0, 1000] voxels");
+  if (o.registerField != "grow" && o.registerField != "rebuild")
+    throw InputError("--register-field must be grow or rebuild, not '" + o.registerField + "'");
 }
 
 namespace {
@@ -145,7 +147,8 @@ nlohmann::json resultParameters(const FuseOptions& o) {
           {"control_stride", o.controlStride},
           {"max_iterations", o.maxIterations},
           {"max_rounds", o.maxRounds},
-          {"round_tolerance_voxels", o.roundTolerance}};
+          {"round_tolerance_voxels", o.roundTolerance},
+          {"register_field", o.registerField}};
 }
 
 double autoQuorum(size_t views) {

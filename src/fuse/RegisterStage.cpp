@@ -55,6 +55,40 @@ void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel
   std::fflush(stdout);
 }
 
+/// Adds the time from its construction to its destruction to `total`.
+struct Stopwatch {
+  double& total;
+  double start = MPI_Wtime();
+  ~Stopwatch() { total += MPI_Wtime() - start; }
+};
+
+/// Forwards to a field and adds up the time its calls take: building, not fitting.
+class TimedField : public RegistrationField {
+ public:
+  explicit TimedField(RegistrationField& field) : field_(field) {}
+  double seconds() const { return seconds_; }
+
+  std::vector<double> fixLattice(const std::vector<double>& origin,
+                                 const std::vector<Pose>& poses) override {
+    Stopwatch w{seconds_};
+    return field_.fixLattice(origin, poses);
+  }
+  const BrickStore& build(const std::vector<size_t>& which,
+                          const std::vector<Pose>& poses) override {
+    Stopwatch w{seconds_};
+    return field_.build(which, poses);
+  }
+  const BrickStore& add(size_t i, const std::vector<Pose>& poses) override {
+    Stopwatch w{seconds_};
+    return field_.add(i, poses);
+  }
+  std::vector<double> latticeOrigin() const override { return field_.latticeOrigin(); }
+
+ private:
+  RegistrationField& field_;
+  double seconds_ = 0;
+};
+
 /// Writes registration checkpoints at boundaries, at most one per `every` seconds.
 class RegistrationCheckpointer {
  public:
@@ -97,11 +131,13 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   if (o.registration == "none") return true;
   RegistrationOptions r;
   if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
-  const std::unique_ptr<RegistrationField> field = makeRegistrationField(o, scans, comm);
+  const std::unique_ptr<RegistrationField> grown = makeRegistrationField(o, scans, comm);
+  TimedField field(*grown);
+  const double start = MPI_Wtime();
   RegistrationCheckpointer checkpointer(o, scans, comm);
   try {
     registerScans(
-        scans.local, scans.poses, r, *field, comm,
+        scans.local, scans.poses, r, field, comm,
         [&](const RegistrationStep& s) {
           steps.push_back(s);
           if (progress.isRoot()) printStep(s, scans, o.voxel);
@@ -113,7 +149,12 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   } catch (const mpi::Reported&) {
     return false;
   }
-  progress.stage("register", o.registration + ": " + std::to_string(steps.size()) + " fits");
+  const double fields = field.seconds(), fits = MPI_Wtime() - start - fields;
+  char times[96];
+  std::snprintf(times, sizeof times, "; fields %.2f s, fits %.2f s (%.2f ms a fit)", fields, fits,
+                steps.empty() ? 0.0 : 1e3 * fits / static_cast<double>(steps.size()));
+  progress.stage("register",
+                 o.registration + ": " + std::to_string(steps.size()) + " fits" + times);
   return checkpointer.ok();
 }
 

@@ -136,7 +136,8 @@ class RebuiltField : public RegistrationField {
 
 std::unique_ptr<RegistrationField> makeRegistrationField(const FuseOptions& o,
                                                          const LoadedScans& scans, MPI_Comm comm) {
-  if (o.method == "prism") return std::make_unique<GrowingPrismField>(o, scans, comm);
+  if (o.method == "prism" && o.registerField == "grow")
+    return std::make_unique<GrowingPrismField>(o, scans, comm);
   return std::make_unique<RebuiltField>(o, scans, comm);
 }
 

@@ -30,17 +30,18 @@ struct FuseOptions {
   double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge
   double sameDistance = 2.0;  ///< consensus: delta_d, voxels
   double sameAngle = 45.0;    ///< consensus: theta_n, degrees
-  std::string registration = "none";  ///< none, incremental, simultaneous or both
-  std::string anchor;                 ///< scan name that fixes the frame (default: the first)
-  int controlStride = 1;              ///< registration: every k-th vertex is a control point
-  int maxIterations = 100;            ///< registration: fits per scan (per round in Alg. 2)
-  int maxRounds = 8;                  ///< registration: field rebuilds in Algorithm 2
-  double roundTolerance = 0.1;        ///< registration: Algorithm 2 ends below this, voxels
-  std::string posesOut;               ///< refined poses .conf (optional)
-  std::string checkpoint;             ///< HDF5 checkpoint to write (optional)
-  std::string resume;                 ///< HDF5 checkpoint to continue from (optional)
-  double checkpointEvery = 0;         ///< seconds between registration checkpoints (0: each)
-  InputLimits limits;                 ///< refuse input that would need more memory than this
+  std::string registration = "none";   ///< none, incremental, simultaneous or both
+  std::string anchor;                  ///< scan name that fixes the frame (default: the first)
+  int controlStride = 1;               ///< registration: every k-th vertex is a control point
+  int maxIterations = 100;             ///< registration: fits per scan (per round in Alg. 2)
+  int maxRounds = 8;                   ///< registration: field rebuilds in Algorithm 2
+  double roundTolerance = 0.1;         ///< registration: Algorithm 2 ends below this, voxels
+  std::string registerField = "grow";  ///< registration: grow the field, or rebuild it each time
+  std::string posesOut;                ///< refined poses .conf (optional)
+  std::string checkpoint;              ///< HDF5 checkpoint to write (optional)
+  std::string resume;                  ///< HDF5 checkpoint to continue from (optional)
+  double checkpointEvery = 0;          ///< seconds between registration checkpoints (0: each)
+  InputLimits limits;                  ///< refuse input that would need more memory than this
   std::vector<std::string>
       givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };
