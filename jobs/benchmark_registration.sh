@@ -58,6 +58,12 @@ awk -v s="$(stage_seconds real)" -v f="$(fits real)" '$1 ~ /ply$/ {
     if ($2 > r) r = $2; if ($3 > t) t = $3 }
   END { printf "\nReal bunny (10 scans, 1 mm): register %s s, %s fits; worst scan against bun.conf: rotation %.3f deg, translation %.3f voxel (mm)\n", s, f, r, t }' "$tmp/eval"
 echo "Mesh accuracy mean against bun_zipper.ply: registered $(accuracy "$tmp/real.ply") mm, from bun.conf $(accuracy "$tmp/ref.ply") mm"
+consistency() {
+  $bin eval --poses "$1" --consistency --voxel 0.001 | awk '/^point-to-plane/ { print $7 }' | tr -d '('
+}
+echo "Scans' agreement with one another (eval --consistency, point-to-plane RMS, voxels):" \
+  "registered $(consistency "$tmp/real.conf"), bun.conf $(consistency "$bunny/bun.conf")," \
+  "perturbed $(consistency "$tmp/real/perturbed.conf")"
 echo
 
 echo "## Cost against the number of scans (noise 0.5 voxel)"

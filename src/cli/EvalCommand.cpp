@@ -7,6 +7,7 @@
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/eval/Comparison.h"
+#include "rangefuse/eval/PoseConsistency.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
@@ -22,7 +23,7 @@ struct EvalOptions {
   std::string mesh, reference, poses, referencePoses, jsonOut;
   double voxel = 0, tau = 1, spurious = 3;
   size_t samples = 200000;
-  bool json = false;
+  bool json = false, consistency = false;
   InputLimits limits;
 };
 
@@ -127,17 +128,46 @@ json poseReport(const EvalOptions& o) {
           {"point_displacement_mean", summary(disp)}};
 }
 
+/// The scans of --poses, in the world, agreeing with one another (no reference needed).
+json consistencyReport(const EvalOptions& o) {
+  const io::ConfFile conf = io::readConf(o.poses);
+  std::vector<ScanSurface> world;
+  for (const auto& s : conf.scans)
+    world.push_back(buildScanSurface(io::readRangeGridPly(s.path, o.limits), s.pose, {}));
+  const ConsistencySettings settings{2 * o.voxel, o.voxel};
+  const std::vector<ScanConsistency> c = poseConsistency(world, settings);
+  json scans = json::array();
+  double sum = 0;
+  size_t pairs = 0;
+  if (!o.json) std::printf("%-24s %12s %18s\n", "scan", "pairs", "rms to others (vox)");
+  for (size_t i = 0; i < c.size(); ++i) {
+    scans.push_back({{"name", conf.scans[i].name}, {"pairs", c[i].pairs}, {"rms", c[i].rms}});
+    sum += c[i].rms * c[i].rms * static_cast<double>(c[i].pairs);
+    pairs += c[i].pairs;
+    if (!o.json)
+      std::printf("%-24s %12zu %18.4f\n", conf.scans[i].name.c_str(), c[i].pairs,
+                  c[i].rms / o.voxel);
+  }
+  const double rms = pairs > 0 ? std::sqrt(sum / static_cast<double>(pairs)) : 0.0;
+  if (!o.json)
+    std::printf("point-to-plane rms between scans %.5g (%.4f voxels) over %zu pairs\n", rms,
+                rms / o.voxel, pairs);
+  return {{"poses", o.poses}, {"voxel", o.voxel}, {"scans", scans}, {"rms", rms}, {"pairs", pairs}};
+}
+
 int run(const EvalOptions& o) {
   if (!(o.voxel > 0)) throw InputError("eval: --voxel must be positive");
   const bool meshes = !o.mesh.empty() || !o.reference.empty();
   const bool poses = !o.poses.empty() || !o.referencePoses.empty();
-  if (meshes == poses)
+  if (o.consistency && (o.poses.empty() || meshes || !o.referencePoses.empty()))
+    throw InputError("eval: --consistency goes with --poses alone");
+  if (!o.consistency && meshes == poses)
     throw InputError("eval: give either --mesh and --reference, or --poses and --reference-poses");
   if (meshes && (o.mesh.empty() || o.reference.empty()))
     throw InputError("eval: --mesh and --reference go together");
-  if (poses && (o.poses.empty() || o.referencePoses.empty()))
+  if (!o.consistency && poses && (o.poses.empty() || o.referencePoses.empty()))
     throw InputError("eval: --poses and --reference-poses go together");
-  const json report = meshes ? meshReport(o) : poseReport(o);
+  const json report = o.consistency ? consistencyReport(o) : meshes ? meshReport(o) : poseReport(o);
   if (o.json) std::cout << report.dump(2) << std::endl;
   if (!o.jsonOut.empty()) io::writeJson(o.jsonOut, report);
   return 0;
@@ -158,6 +188,9 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
       "tau", po::value(&o.tau)->default_value(1.0), "F-score threshold, voxels")(
       "spurious", po::value(&o.spurious)->default_value(3.0), "spurious-area distance, voxels")(
       "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh")(
+      "consistency", po::bool_switch(&o.consistency),
+      "with --poses alone: how well the scans agree with one another (point-to-plane RMS to "
+      "the nearest vertex of each other scan, no field involved)")(
       "json", po::bool_switch(&o.json), "print one JSON object instead of the table")(
       "json-out", po::value(&o.jsonOut), "also write the JSON object to this file");
   addLimitOptions(d, o.limits);

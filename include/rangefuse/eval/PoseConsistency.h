@@ -1,0 +1,29 @@
+// How well scans agree with one another under a set of poses, judged without any fused field:
+// point-to-plane distances from each scan's vertices to the nearest vertex of every other scan.
+#pragma once
+
+#include <vector>
+
+#include "rangefuse/surface/ScanSurface.h"
+
+namespace rangefuse {
+
+struct ConsistencySettings {
+  double maxDistance = 1;    ///< pairs farther apart along the normal are not overlap
+  double maxTangential = 1;  ///< nor those farther apart across it (past the other's edge)
+  double minCosine = 0.866;  ///< nor those whose normals differ by more than 30 degrees
+  size_t stride = 4;         ///< every k-th vertex of a scan is measured
+};
+
+/// One scan's agreement with all the others.
+struct ScanConsistency {
+  double rms = 0;    ///< RMS point-to-plane distance over its overlap pairs
+  size_t pairs = 0;  ///< vertices with an overlapping vertex in another scan, over all others
+};
+
+/// Per scan (already in the world), the RMS of n_j . (p - q) over its vertices p and, in each
+/// other scan j, the vertex q nearest to p (normal n_j) when the pair passes the settings.
+std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& world,
+                                             const ConsistencySettings& settings);
+
+}  // namespace rangefuse

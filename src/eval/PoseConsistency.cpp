@@ -1,0 +1,51 @@
+#include "rangefuse/eval/PoseConsistency.h"
+
+#include <cmath>
+#include <memory>
+
+#include "rangefuse/core/KdTree.h"
+
+namespace rangefuse {
+namespace {
+
+/// Adds the squared residuals of scan a's vertices against scan b to `sum` and `pairs`.
+void residualsAgainst(const ScanSurface& a, const ScanSurface& b, const KdTree& tree,
+                      const ConsistencySettings& s, double& sum, size_t& pairs) {
+  for (size_t v = 0; v < a.points.size(); v += s.stride) {
+    const Eigen::Vector3d& p = a.points[v];
+    uint32_t nearest;
+    double squared;
+    tree.knnSearch(p.data(), 1, &nearest, &squared);
+    const Eigen::Vector3d& n = b.normals[nearest];
+    if (n.dot(a.normals[v]) < s.minCosine) continue;
+    const Eigen::Vector3d d = p - b.points[nearest];
+    const double along = n.dot(d);
+    if (std::abs(along) > s.maxDistance || (d - along * n).norm() > s.maxTangential) continue;
+    sum += along * along;
+    ++pairs;
+  }
+}
+
+}  // namespace
+
+std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& world,
+                                             const ConsistencySettings& s) {
+  std::vector<PointCloud> clouds(world.size());
+  std::vector<std::unique_ptr<KdTree>> trees;
+  for (size_t j = 0; j < world.size(); ++j) {
+    clouds[j].pts = world[j].points;
+    trees.push_back(buildKdTree(clouds[j]));
+  }
+  std::vector<ScanConsistency> out(world.size());
+  for (size_t i = 0; i < world.size(); ++i) {
+    double sum = 0;
+    size_t pairs = 0;
+    for (size_t j = 0; j < world.size(); ++j)
+      if (j != i && !world[j].points.empty())
+        residualsAgainst(world[i], world[j], *trees[j], s, sum, pairs);
+    out[i] = {pairs > 0 ? std::sqrt(sum / static_cast<double>(pairs)) : 0.0, pairs};
+  }
+  return out;
+}
+
+}  // namespace rangefuse
