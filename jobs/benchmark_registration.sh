@@ -59,7 +59,7 @@ awk -v s="$(stage_seconds real)" -v f="$(fits real)" '$1 ~ /ply$/ {
   END { printf "\nReal bunny (10 scans, 1 mm): register %s s, %s fits; worst scan against bun.conf: rotation %.3f deg, translation %.3f voxel (mm)\n", s, f, r, t }' "$tmp/eval"
 echo "Mesh accuracy mean against bun_zipper.ply: registered $(accuracy "$tmp/real.ply") mm, from bun.conf $(accuracy "$tmp/ref.ply") mm"
 consistency() {
-  $bin eval --poses "$1" --consistency --voxel 0.001 | awk '/^point-to-plane/ { print $7 }' | tr -d '('
+  $bin eval --poses "$1" --consistency --voxel 0.001 | awk '/^point-to-plane/ { print substr($6, 2) }'
 }
 echo "Scans' agreement with one another (eval --consistency, point-to-plane RMS, voxels):" \
   "registered $(consistency "$tmp/real.conf"), bun.conf $(consistency "$bunny/bun.conf")," \
