@@ -42,27 +42,27 @@ for noise in 0.5 1; do
     END { printf "| %s | %s | %s | %s | %s | %s | %.3f |\n", d, s, f, r, t, m, w }' "$tmp/eval"
 done
 
-# The real bunny: perturbed poses written beside links to the scans they name.
+# The real bunny: perturbed and refined poses written beside links to the scans they name.
 mkdir -p "$tmp/real"
 ln -s "$bunny"/*.ply "$tmp/real/"
 $bin perturb --scans "$bunny/bun.conf" --voxel 0.001 --rot-deg 5 --trans-vox 5 \
   --out "$tmp/real/perturbed.conf" >/dev/null
 mpirun -np 2 "$bin" fuse --scans "$bunny/bun.conf" --voxel 0.001 --out "$tmp/ref.ply" >/dev/null
-register "$tmp/real/perturbed.conf" real --register both
-$bin eval --poses "$tmp/real.conf" --reference-poses "$bunny/bun.conf" --voxel 0.001 >"$tmp/eval"
+register "$tmp/real/perturbed.conf" real/out --register both
+$bin eval --poses "$tmp/real/out.conf" --reference-poses "$bunny/bun.conf" --voxel 0.001 >"$tmp/eval"
 accuracy() {
   $bin eval --mesh "$1" --reference "$bunny/bun_zipper.ply" --voxel 0.001 |
     awk '/^accuracy/ { printf "%.4f", $3 * 1000 }'
 }
-awk -v s="$(stage_seconds real)" -v f="$(fits real)" '$1 ~ /ply$/ {
+awk -v s="$(stage_seconds real/out)" -v f="$(fits real/out)" '$1 ~ /ply$/ {
     if ($2 > r) r = $2; if ($3 > t) t = $3 }
   END { printf "\nReal bunny (10 scans, 1 mm): register %s s, %s fits; worst scan against bun.conf: rotation %.3f deg, translation %.3f voxel (mm)\n", s, f, r, t }' "$tmp/eval"
-echo "Mesh accuracy mean against bun_zipper.ply: registered $(accuracy "$tmp/real.ply") mm, from bun.conf $(accuracy "$tmp/ref.ply") mm"
+echo "Mesh accuracy mean against bun_zipper.ply: registered $(accuracy "$tmp/real/out.ply") mm, from bun.conf $(accuracy "$tmp/ref.ply") mm"
 consistency() {
   $bin eval --poses "$1" --consistency --voxel 0.001 | awk '/^point-to-plane/ { print substr($6, 2) }'
 }
 echo "Scans' agreement with one another (eval --consistency, point-to-plane RMS, voxels):" \
-  "registered $(consistency "$tmp/real.conf"), bun.conf $(consistency "$bunny/bun.conf")," \
+  "registered $(consistency "$tmp/real/out.conf"), bun.conf $(consistency "$bunny/bun.conf")," \
   "perturbed $(consistency "$tmp/real/perturbed.conf")"
 echo
 

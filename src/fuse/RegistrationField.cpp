@@ -42,13 +42,17 @@ class GrowingPrismField : public RegistrationField {
 
   const BrickStore& build(const std::vector<size_t>& which,
                           const std::vector<Pose>& poses) override {
+    if (store_ && holdsExactly(which, poses)) return *store_;  // e.g. Algorithm 1's last field
     poses_ = poses;
+    placed_.clear();
+    for (size_t i : which) placed_.emplace_back(i, poses[i]);
     world_ = placeAll(scans_, which, poses);
     return rebuild();
   }
 
   const BrickStore& add(size_t i, const std::vector<Pose>& poses) override {
     poses_ = poses;
+    placed_.emplace_back(i, poses[i]);
     world_.push_back(placeScan(scans_.local[i], poses[i]));
     const std::vector<PrismScan> one(world_.end() - 1, world_.end());
     bool holds = false;
@@ -63,6 +67,16 @@ class GrowingPrismField : public RegistrationField {
   }
 
  private:
+  /// True when the field holds just these scans, in this order, at these poses.
+  bool holdsExactly(const std::vector<size_t>& which, const std::vector<Pose>& poses) const {
+    if (which.size() != placed_.size()) return false;
+    for (size_t k = 0; k < which.size(); ++k) {
+      const auto& [i, pose] = placed_[k];
+      if (which[k] != i || !(poses[i].R == pose.R && poses[i].t == pose.t)) return false;
+    }
+    return true;
+  }
+
   /// True when every brick the scan's prisms touch is planned.
   bool layoutHolds(const std::vector<PrismScan>& one) const {
     const BrickLayout needed = planBricks(one, grid_, 1, o_.limits.maxVoxels);
@@ -92,7 +106,8 @@ class GrowingPrismField : public RegistrationField {
   double eps_;
   VoxelGrid grid_;
   std::vector<Pose> poses_;
-  std::vector<PrismScan> world_;  ///< the fused scans in the world, in the order they joined
+  std::vector<std::pair<size_t, Pose>> placed_;  ///< the fused scans and their poses, in order
+  std::vector<PrismScan> world_;                 ///< the same scans in the world
   std::unique_ptr<BrickStore> store_;
   std::unique_ptr<PrismIntegrator> integrator_;
 };

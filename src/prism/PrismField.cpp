@@ -172,10 +172,10 @@ IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
       lastLocal = store_.localBrick(mortonEncode(b));
     }
     if (lastLocal < 0) return;
-    Sample& s = scratch_[store_.offset(lastLocal, v)];
+    Sample& s = scratch_[store_.offset(lastLocal, lastBrick, v)];
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
     if (!(std::abs(hit.d) < std::abs(s.d))) return;
-    if (s.d == kEmpty) touched_.push_back(store_.offset(lastLocal, v));
+    if (s.d == kEmpty) touched_.push_back(store_.offset(lastLocal, lastBrick, v));
     s = Sample{static_cast<float>(hit.d),
                static_cast<float>(hit.weight),
                {static_cast<float>(hit.gradient.x()), static_cast<float>(hit.gradient.y()),

@@ -8,13 +8,17 @@
 namespace rangefuse {
 
 bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    const CorrespondenceSettings& s, Eigen::Vector3d& q, size_t* brick) {
+                    const CorrespondenceSettings& s, Eigen::Vector3d& q, size_t* brick,
+                    BrickCache* cache) {
   const VoxelGrid& g = store.grid();
   const VoxelIndex v = g.nearest(p);  // Eq. 15
   if ((v.array() < 0).any()) return false;
-  const int64_t b = store.localBrick(mortonEncode(brickOf(v, g.brick)));
+  const BrickCoord bc = brickOf(v, g.brick);
+  const uint64_t code = mortonEncode(bc);
+  const int64_t b = cache && cache->code == code ? cache->local : store.localBrick(code);
+  if (cache) *cache = BrickCache{code, b};
   if (b < 0) return false;
-  const VoxelSums& sums = store.sums()[store.offset(b, v)];
+  const VoxelSums& sums = store.sums()[store.offset(b, bc, v)];
   if (!(sums.w > s.minWeight) || sums.images < s.minImages) return false;
   const double d = sums.wd / sums.w;
   Eigen::Vector3d f(sums.wf[0], sums.wf[1], sums.wf[2]);
@@ -34,10 +38,12 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
                              const CorrespondenceSettings& settings, MPI_Comm comm) {
   const VoxelGrid& g = store.grid();
   std::map<uint64_t, RigidSums> perBrick;  // global brick position -> this rank's sums
+  BrickCache cache;
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector3d q;
     size_t local;
-    if (!(weights[i] > 0) || !correspondence(store, points[i], normals[i], settings, q, &local))
+    if (!(weights[i] > 0) ||
+        !correspondence(store, points[i], normals[i], settings, q, &local, &cache))
       continue;
     const size_t pos = store.globalIndex(local);
     // About the lattice origin, which lies by the data: far from the world origin the moments

@@ -14,10 +14,7 @@ BrickStore::BrickStore(const BrickLayout& layout, int rank)
 }
 
 size_t BrickStore::offset(size_t b, const VoxelIndex& v) const {
-  const int B = layout_.grid.brick;
-  const BrickCoord base = mortonDecode(codes_[b]) * B;
-  const VoxelIndex l = v - base;
-  return b * perBrick_ + (static_cast<size_t>(l.z()) * B + l.y()) * B + l.x();
+  return offset(b, mortonDecode(codes_[b]), v);
 }
 
 }  // namespace rangefuse

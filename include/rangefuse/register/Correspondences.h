@@ -18,13 +18,21 @@ struct CorrespondenceSettings {
   float minImages = 1;      ///< ignore voxels fewer images contributed to
 };
 
+/// The last brick looked up: neighbouring control points mostly share one, and the hash lookup
+/// of a brick is the larger part of a correspondence.
+struct BrickCache {
+  uint64_t code = ~uint64_t{0};
+  int64_t local = -1;
+};
+
 /// The corresponding point of p (normal n) from the voxel nearest to it: p - f [d + f.(p - p_v)],
 /// with f the unit gradient. False when that voxel is not local, unobserved, too light, seen by
 /// too few images, outside the envelope, or faces away from n (the other side of a thin part).
-/// `brick`, when given, receives the local brick of that voxel.
+/// `brick`, when given, receives the local brick of that voxel; `cache`, when given, saves
+/// looking up the same brick twice in a row.
 bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
                     const CorrespondenceSettings& settings, Eigen::Vector3d& q,
-                    size_t* brick = nullptr);
+                    size_t* brick = nullptr, BrickCache* cache = nullptr);
 
 /// Collective: for control points p (world, normals n) with weights, the sums over all
 /// correspondences, made by the ranks owning each point's voxel, added per brick and then in

@@ -37,6 +37,12 @@ class BrickStore {
   }
   /// Flat offset of voxel v (which must lie in local brick b) into sums().
   size_t offset(size_t b, const VoxelIndex& v) const;
+  /// The same, when the caller knows v's brick coordinate already (saves decoding the code).
+  size_t offset(size_t b, const BrickCoord& brick, const VoxelIndex& v) const {
+    const int B = layout_.grid.brick;
+    const VoxelIndex l = v - brick * B;
+    return b * perBrick_ + (static_cast<size_t>(l.z()) * B + l.y()) * B + l.x();
+  }
 
   std::vector<VoxelSums>& sums() { return sums_; }
   const std::vector<VoxelSums>& sums() const { return sums_; }
