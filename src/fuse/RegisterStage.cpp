@@ -36,6 +36,7 @@ RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans&
   r.translationTol = 1e-3 * o.voxel;
   r.correspondences.maxDistance = o.envelope * o.voxel;
   r.roundTolerance = o.roundTolerance * o.voxel;
+  r.maxExtrapolation = o.voxel;  // well inside the envelope the correspondences come from
   if (!o.anchor.empty()) {
     auto it = std::find(scans.names.begin(), scans.names.end(), o.anchor);
     if (it == scans.names.end())

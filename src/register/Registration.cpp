@@ -39,6 +39,15 @@ double acceleration(const Twist& now, const FitHistory& h) {
   return r < 0.95 ? std::min(8.0, 1 / (1 - r)) : 1;
 }
 
+/// How far to extrapolate a fit: the acceleration, but no farther than maxExtrapolation (noisy
+/// fits can look steady enough to be stretched eightfold, and then leave the field's reach).
+double extrapolation(const Twist& now, const FitHistory& h, const RegistrationOptions& o) {
+  const double scale = o.accelerate ? acceleration(now, h) : 1.0;
+  const double length = asVector(now).norm();
+  if (scale <= 1 || !(length > 0)) return 1;
+  return std::max(1.0, std::min(scale, o.maxExtrapolation / length));
+}
+
 /// One fit of scan i against the field: correspondences, sums across ranks, rigid update.
 RegistrationStep fitOnce(const PrismScan& scan, Pose& pose, const BrickStore& field,
                          const RegistrationOptions& o, MPI_Comm comm, FitHistory& history) {
@@ -60,7 +69,7 @@ RegistrationStep fitOnce(const PrismScan& scan, Pose& pose, const BrickStore& fi
   const double radius =
       std::sqrt(std::max(1e-30, sums.wpq.trace() / sums.w - centre.squaredNorm()));
   const Twist twist = twistOf(fitRigid(sums), centre, radius);
-  Pose delta = poseOf(twist, centre, o.accelerate ? acceleration(twist, history) : 1.0);
+  Pose delta = poseOf(twist, centre, extrapolation(twist, history, o));
   const Eigen::Vector3d& origin = field.grid().origin;  // the sums' frame, back to world
   delta.t += origin - delta.R * origin;
   history = FitHistory{true, twist};
