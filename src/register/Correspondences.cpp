@@ -37,7 +37,9 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
                              const std::vector<double>& weights,
                              const CorrespondenceSettings& settings, MPI_Comm comm) {
   const VoxelGrid& g = store.grid();
-  std::map<uint64_t, RigidSums> perBrick;  // global brick position -> this rank's sums
+  // This rank's sums per local brick; local order is global order (a rank owns one run).
+  std::vector<RigidSums> perBrick(store.brickCount());
+  std::vector<char> used(store.brickCount(), 0);
   BrickCache cache;
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector3d q;
@@ -45,15 +47,17 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
     if (!(weights[i] > 0) ||
         !correspondence(store, points[i], normals[i], settings, q, &local, &cache))
       continue;
-    const size_t pos = store.globalIndex(local);
     // About the lattice origin, which lies by the data: far from the world origin the moments
     // would otherwise lose their digits to cancellation (1e5 m offset: poses off by 10 voxels).
-    perBrick[static_cast<uint64_t>(pos)].add(points[i] - g.origin, q - g.origin, weights[i]);
+    perBrick[local].add(points[i] - g.origin, q - g.origin, weights[i]);
+    used[local] = 1;
   }
   std::vector<char> buf;
-  for (const auto& [pos, sums] : perBrick) {
+  for (size_t local = 0; local < perBrick.size(); ++local) {
+    if (!used[local]) continue;
+    const uint64_t pos = store.globalIndex(local);
     mpi::pack(buf, &pos, 1);
-    mpi::pack(buf, &sums, 1);
+    mpi::pack(buf, &perBrick[local], 1);
   }
   std::map<uint64_t, RigidSums> all;
   for (const auto& part : mpi::allgatherBytes(buf, comm))
