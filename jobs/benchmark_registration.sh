@@ -24,7 +24,7 @@ register() {
 stage_seconds() { grep "] register " "$tmp/$1.log" | sed 's/.*(\([0-9.]*\)s)$/\1/'; }
 field_seconds() { grep "] register " "$tmp/$1.log" | sed 's/.*fields \([0-9.]*\) s.*/\1/'; }
 fit_ms() { grep "] register " "$tmp/$1.log" | sed 's/.*(\([0-9.]*\) ms a fit).*/\1/'; }
-fits() { grep -c '^\[register\]' "$tmp/$1.log"; }
+fits() { grep -c ' corr ' "$tmp/$1.log"; }
 
 echo "## Accuracy (--register both, 2 ranks)"
 echo
@@ -91,6 +91,6 @@ echo "| control stride | correspondences per fit (mean) | register (s) | fields 
 echo "|---|---|---|---|---|---|"
 for stride in 1 2 4 8; do
   register "$tmp/v12/perturbed.conf" st --register both --control-stride $stride
-  points=$(grep '^\[register\]' "$tmp/st.log" | awk '{ s += $8; n++ } END { printf "%.0f", s / n }')
+  points=$(grep ' corr ' "$tmp/st.log" | awk '{ s += $8; n++ } END { printf "%.0f", s / n }')
   echo "| $stride | $points | $(stage_seconds st) | $(field_seconds st) | $(fits st) | $(fit_ms st) |"
 done

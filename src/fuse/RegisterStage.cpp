@@ -56,6 +56,15 @@ void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel
   std::fflush(stdout);
 }
 
+void printRoundEnd(const RegistrationProgress& p, const FuseOptions& o) {
+  std::printf(
+      "[register] simultaneous round %d done: scans moved up to %.4f vox (mean over "
+      "vertices); %s\n",
+      p.ended->round, p.ended->motion / o.voxel,
+      p.phase == "done" ? "registration done" : "rebuilding the field");
+  std::fflush(stdout);
+}
+
 /// Adds the time from its construction to its destruction to `total`.
 struct Stopwatch {
   double& total;
@@ -145,6 +154,7 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
         },
         state,
         [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
+          if (p.ended && progress.isRoot()) printRoundEnd(p, o);
           checkpointer(p, poses);
         });
   } catch (const mpi::Reported&) {

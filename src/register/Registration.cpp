@@ -195,13 +195,16 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
     const double motion = largestMotion(scans, p.roundPoses, poses);
     // Done when a rebuilt field moved nothing or a round moved no scan past the tolerance:
     // later rounds only wander within the noise (docs/registration.md).
+    const int round = p.round;
     if (!p.roundMoved || motion < o.roundTolerance || p.round >= o.maxRounds) {
       p.phase = "done";
     } else {
       ++p.round;
       startRound(p, poses);
     }
+    p.ended = RoundEnd{round, motion};
     onBoundary(p, poses);
+    p.ended.reset();
   }
 }
 

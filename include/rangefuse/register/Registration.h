@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,12 @@ struct FitHistory {
   Twist last;
 };
 
+/// The end of a round of Algorithm 2, for the progress lines.
+struct RoundEnd {
+  int round = 0;
+  double motion = 0;  ///< the largest mean vertex motion of a scan in the round, world units
+};
+
 /// Where registration stands, enough to continue it exactly (checkpoints).
 struct RegistrationProgress {
   std::string phase = "start";        ///< start, incremental, simultaneous or done
@@ -67,6 +74,7 @@ struct RegistrationProgress {
   std::vector<Pose> roundPoses;       ///< simultaneous: the poses this round's field is built from
   std::vector<FitHistory> history;    ///< simultaneous: per scan
   std::vector<double> latticeOrigin;  ///< the fields' lattice (empty: not chosen yet)
+  std::optional<RoundEnd> ended;      ///< set for the boundary that ends a round (not saved)
 
   nlohmann::json toJson() const;
   static RegistrationProgress fromJson(const nlohmann::json& j);
