@@ -8,8 +8,7 @@
 namespace rangefuse {
 
 bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    const CorrespondenceSettings& s, Eigen::Vector3d& q, size_t* brick,
-                    BrickCache* cache) {
+                    const CorrespondenceSettings& s, Correspondence& out, BrickCache* cache) {
   const VoxelGrid& g = store.grid();
   const VoxelIndex v = g.nearest(p);  // Eq. 15
   if ((v.array() < 0).any()) return false;
@@ -27,8 +26,9 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
   if (f.dot(n) < s.minCosine) return false;
   // Eq. 14 with the gradient of the signed field: step back along it by the distance,
   // corrected to first order for p's offset from the voxel centre.
-  q = p - f * (d + f.dot(p - g.centre(v)));
-  if (brick) *brick = static_cast<size_t>(b);
+  out.q = p - f * (d + f.dot(p - g.centre(v)));
+  out.brick = static_cast<size_t>(b);
+  out.weight = s.weightByImages ? sums.images / (sums.images + 1.0) : 1.0;
   return true;
 }
 
@@ -42,15 +42,13 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
   std::vector<char> used(store.brickCount(), 0);
   BrickCache cache;
   for (size_t i = 0; i < points.size(); ++i) {
-    Eigen::Vector3d q;
-    size_t local;
-    if (!(weights[i] > 0) ||
-        !correspondence(store, points[i], normals[i], settings, q, &local, &cache))
+    Correspondence c;
+    if (!(weights[i] > 0) || !correspondence(store, points[i], normals[i], settings, c, &cache))
       continue;
     // About the lattice origin, which lies by the data: far from the world origin the moments
     // would otherwise lose their digits to cancellation (1e5 m offset: poses off by 10 voxels).
-    perBrick[local].add(points[i] - g.origin, q - g.origin, weights[i]);
-    used[local] = 1;
+    perBrick[c.brick].add(points[i] - g.origin, c.q - g.origin, weights[i] * c.weight);
+    used[c.brick] = 1;
   }
   std::vector<char> buf;
   for (size_t local = 0; local < perBrick.size(); ++local) {

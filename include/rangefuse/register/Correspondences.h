@@ -16,6 +16,7 @@ struct CorrespondenceSettings {
   double maxDistance = 0;   ///< ignore voxels with |d| above this (world units; the envelope)
   double minCosine = 0.5;   ///< ignore voxels whose gradient makes a larger angle with the normal
   float minImages = 1;      ///< ignore voxels fewer images contributed to
+  bool weightByImages = false;  ///< weight by k / (k + 1), k images saw the voxel
 };
 
 /// The last brick looked up: neighbouring control points mostly share one, and the hash lookup
@@ -25,14 +26,22 @@ struct BrickCache {
   int64_t local = -1;
 };
 
+/// A control point's corresponding point and what it was read from.
+struct Correspondence {
+  Eigen::Vector3d q;  ///< the corresponding point
+  size_t brick = 0;   ///< the local brick of the voxel
+  /// k / (k + 1) for a voxel k images saw: the residual's variance is the control point's
+  /// noise plus the field's, which averages k images, so this is its inverse-variance weight.
+  double weight = 1;
+};
+
 /// The corresponding point of p (normal n) from the voxel nearest to it: p - f [d + f.(p - p_v)],
 /// with f the unit gradient. False when that voxel is not local, unobserved, too light, seen by
 /// too few images, outside the envelope, or faces away from n (the other side of a thin part).
-/// `brick`, when given, receives the local brick of that voxel; `cache`, when given, saves
-/// looking up the same brick twice in a row.
+/// `cache`, when given, saves looking up the same brick twice in a row.
 bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    const CorrespondenceSettings& settings, Eigen::Vector3d& q,
-                    size_t* brick = nullptr, BrickCache* cache = nullptr);
+                    const CorrespondenceSettings& settings, Correspondence& out,
+                    BrickCache* cache = nullptr);
 
 /// Collective: for control points p (world, normals n) with weights, the sums over all
 /// correspondences, made by the ranks owning each point's voxel, added per brick and then in
