@@ -22,6 +22,18 @@ void brickRange(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoor
   hi = brickOf(vhi, grid.brick);
 }
 
+Eigen::AlignedBox3d pointBounds(const std::vector<PrismScan>& scans) {
+  Eigen::AlignedBox3d box;
+  for (const auto& s : scans)
+    for (const auto& p : s.surface.points) box.extend(p);
+  return box;
+}
+
+/// Voxels along the longest axis from the grid origin to the far side of `box`.
+double extentVoxels(const VoxelGrid& g, const Eigen::AlignedBox3d& box, double eps) {
+  return ((box.max() - g.origin).array() + eps).maxCoeff() / g.voxel + 2 * g.brick;
+}
+
 }  // namespace
 
 PrismLimits computePrismLimits(const ScanSurface& s, double eps) {
@@ -44,22 +56,6 @@ Prism scanPrism(const PrismScan& scan, size_t t) {
                scan.limits[t][0],
                scan.limits[t][1]};
 }
-
-namespace {
-
-Eigen::AlignedBox3d pointBounds(const std::vector<PrismScan>& scans) {
-  Eigen::AlignedBox3d box;
-  for (const auto& s : scans)
-    for (const auto& p : s.surface.points) box.extend(p);
-  return box;
-}
-
-/// Voxels along the longest axis from the grid origin to the far side of `box`.
-double extentVoxels(const VoxelGrid& g, const Eigen::AlignedBox3d& box, double eps) {
-  return ((box.max() - g.origin).array() + eps).maxCoeff() / g.voxel + 2 * g.brick;
-}
-
-}  // namespace
 
 VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps,
                   int margin) {

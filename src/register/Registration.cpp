@@ -180,7 +180,6 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
       while (p.iteration < o.maxIterations && p.lastMoved) {
         bool moved = false;
         for (size_t i = 0; i < scans.size(); ++i) {
-          if (i == o.anchor && !o.gaugeAnchor) continue;
           RegistrationStep step = fitOnce(scans[i], poses[i], store, o, comm, p.history[i]);
           step.algorithm = "simultaneous";
           step.round = p.round;
@@ -194,7 +193,7 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
         onBoundary(p, poses);
       }
     }
-    if (o.gaugeAnchor) returnAnchor(poses, p.roundPoses, o.anchor);
+    returnAnchor(poses, p.roundPoses, o.anchor);
     const double motion = largestMotion(scans, p.roundPoses, poses);
     // Done when a rebuilt field moved nothing or a round moved no scan past the tolerance:
     // later rounds only wander within the noise (docs/registration.md).

@@ -27,7 +27,6 @@ struct RegistrationOptions {
   bool accelerate = true;           ///< extrapolate steadily converging fits
   double maxExtrapolation = 1e300;  ///< ... to at most this motion (world units at the radius)
   double roundTolerance = 0;        ///< Algorithm 2 stops when a round moves no scan this far
-  bool gaugeAnchor = true;          ///< Algorithm 2 registers the anchor too, then restores it
   CorrespondenceSettings correspondences;
 };
 
