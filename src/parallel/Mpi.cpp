@@ -1,9 +1,45 @@
 #include "rangefuse/parallel/Mpi.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <iostream>
-#include <numeric>
+#include <limits>
 
 namespace rangefuse::mpi {
+namespace {
+
+constexpr int kChunkTag = 7101;
+
+/// Sends `sendCount` bytes to `to` while receiving `recvCount` bytes from `from`, in messages
+/// of at most chunkBytes() each, so that no MPI count ever passes INT_MAX. The two directions
+/// are posted separately: both ends of each directed pair agree on its number of messages, and
+/// a bounded window of them is in flight at once.
+void sendrecvChunked(const char* send, uint64_t sendCount, int to, char* recv, uint64_t recvCount,
+                     int from, MPI_Comm comm) {
+  constexpr uint64_t kWindow = 64;
+  const uint64_t chunk = chunkBytes();
+  const uint64_t sends = (sendCount + chunk - 1) / chunk, recvs = (recvCount + chunk - 1) / chunk;
+  std::vector<MPI_Request> requests;
+  for (uint64_t first = 0; first < std::max(sends, recvs); first += kWindow) {
+    requests.clear();
+    for (uint64_t i = first; i < std::min(recvs, first + kWindow); ++i)
+      MPI_Irecv(recv + i * chunk, static_cast<int>(std::min(chunk, recvCount - i * chunk)),
+                MPI_CHAR, from, kChunkTag, comm, &requests.emplace_back());
+    for (uint64_t i = first; i < std::min(sends, first + kWindow); ++i)
+      MPI_Isend(send + i * chunk, static_cast<int>(std::min(chunk, sendCount - i * chunk)),
+                MPI_CHAR, to, kChunkTag, comm, &requests.emplace_back());
+    MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  }
+}
+
+/// Every rank's count for this rank (sizes[r] = what rank r will send here).
+std::vector<uint64_t> exchangeSizes(const std::vector<uint64_t>& out, MPI_Comm comm) {
+  std::vector<uint64_t> in(out.size());
+  MPI_Alltoall(out.data(), 1, MPI_UINT64_T, in.data(), 1, MPI_UINT64_T, comm);
+  return in;
+}
+
+}  // namespace
 
 int rank(MPI_Comm comm) {
   int r = 0;
@@ -17,6 +53,17 @@ int size(MPI_Comm comm) {
   return s;
 }
 
+uint64_t chunkBytes() {
+  // Read on every call so that a test can change it between collectives (cheap next to one).
+  const uint64_t fallback = uint64_t{1} << 30;
+  const char* env = std::getenv("RANGEFUSE_MPI_CHUNK_BYTES");
+  if (!env) return fallback;
+  const unsigned long long v = std::strtoull(env, nullptr, 10);
+  return v >= 1 && v <= static_cast<unsigned long long>(std::numeric_limits<int>::max())
+             ? static_cast<uint64_t>(v)
+             : fallback;
+}
+
 bool agree(bool ok, const std::string& message, MPI_Comm comm) {
   int mine = ok ? size(comm) : rank(comm), first = 0;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
@@ -25,63 +72,72 @@ bool agree(bool ok, const std::string& message, MPI_Comm comm) {
   return false;
 }
 
-std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm) {
-  const int n = size(comm);
-  int count = static_cast<int>(mine.size());
-  std::vector<int> counts(n), displs(n);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm);
-  std::vector<char> all;
-  if (rank(comm) == root) {
-    std::exclusive_scan(counts.begin(), counts.end(), displs.begin(), 0);
-    all.resize(displs.back() + counts.back());
-  }
-  MPI_Gatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), displs.data(), MPI_CHAR,
-              root, comm);
-  return all;
-}
-
-std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm) {
-  const int n = size(comm);
-  int count = static_cast<int>(mine.size());
-  std::vector<int> counts(n), displs(n);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  std::exclusive_scan(counts.begin(), counts.end(), displs.begin(), 0);
-  std::vector<char> all(displs.back() + counts.back());
-  MPI_Allgatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), displs.data(), MPI_CHAR,
-                 comm);
-  std::vector<std::vector<char>> out(n);
-  for (int r = 0; r < n; ++r)
-    out[r].assign(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
-  return out;
-}
-
 std::vector<std::vector<char>> exchangeBytes(const std::vector<std::vector<char>>& out,
                                              MPI_Comm comm) {
-  const int n = size(comm);
-  std::vector<int> sendCounts(n), recvCounts(n), sdispl(n), rdispl(n);
-  std::vector<char> send;
-  for (int r = 0; r < n; ++r) {
-    sendCounts[r] = static_cast<int>(out[r].size());
-    sdispl[r] = static_cast<int>(send.size());
-    send.insert(send.end(), out[r].begin(), out[r].end());
-  }
-  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, recvCounts.data(), 1, MPI_INT, comm);
-  std::exclusive_scan(recvCounts.begin(), recvCounts.end(), rdispl.begin(), 0);
-  std::vector<char> recv(rdispl.back() + recvCounts.back());
-  MPI_Alltoallv(send.data(), sendCounts.data(), sdispl.data(), MPI_CHAR, recv.data(),
-                recvCounts.data(), rdispl.data(), MPI_CHAR, comm);
+  const int n = size(comm), me = rank(comm);
+  std::vector<uint64_t> sizes(n);
+  for (int r = 0; r < n; ++r) sizes[r] = out[r].size();
+  const std::vector<uint64_t> incoming = exchangeSizes(sizes, comm);
   std::vector<std::vector<char>> in(n);
-  for (int r = 0; r < n; ++r)
-    in[r].assign(recv.begin() + rdispl[r], recv.begin() + rdispl[r] + recvCounts[r]);
+  in[me] = out[me];
+  // Round k pairs every rank with the ranks k ahead and k behind: no rank waits on another.
+  for (int k = 1; k < n; ++k) {
+    const int to = (me + k) % n, from = (me - k + n) % n;
+    in[from].resize(incoming[from]);
+    sendrecvChunked(out[to].data(), out[to].size(), to, in[from].data(), incoming[from], from,
+                    comm);
+  }
   return in;
 }
 
+std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm) {
+  const int n = size(comm), me = rank(comm);
+  uint64_t count = mine.size();
+  std::vector<uint64_t> counts(n);
+  MPI_Allgather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
+  std::vector<std::vector<char>> in(n);
+  in[me] = mine;
+  for (int k = 1; k < n; ++k) {
+    const int to = (me + k) % n, from = (me - k + n) % n;
+    in[from].resize(counts[from]);
+    sendrecvChunked(mine.data(), mine.size(), to, in[from].data(), counts[from], from, comm);
+  }
+  return in;
+}
+
+std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm) {
+  const int n = size(comm), me = rank(comm);
+  uint64_t count = mine.size();
+  std::vector<uint64_t> counts(n);
+  MPI_Gather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, root, comm);
+  if (me != root) {
+    sendrecvChunked(mine.data(), count, root, nullptr, 0, MPI_PROC_NULL, comm);
+    return {};
+  }
+  std::vector<char> all;
+  uint64_t total = 0;
+  for (uint64_t c : counts) total += c;
+  all.reserve(total);
+  for (int r = 0; r < n; ++r) {
+    if (r == me) {
+      all.insert(all.end(), mine.begin(), mine.end());
+      continue;
+    }
+    const size_t at = all.size();
+    all.resize(at + counts[r]);
+    sendrecvChunked(nullptr, 0, MPI_PROC_NULL, all.data() + at, counts[r], r, comm);
+  }
+  return all;
+}
+
 std::string broadcastString(const std::string& s, int root, MPI_Comm comm) {
-  int n = static_cast<int>(s.size());
-  MPI_Bcast(&n, 1, MPI_INT, root, comm);
+  uint64_t n = s.size();
+  MPI_Bcast(&n, 1, MPI_UINT64_T, root, comm);
   std::string out = s;
   out.resize(n);
-  MPI_Bcast(out.data(), n, MPI_CHAR, root, comm);
+  for (uint64_t done = 0; done < n; done += chunkBytes())
+    MPI_Bcast(out.data() + done, static_cast<int>(std::min(chunkBytes(), n - done)), MPI_CHAR, root,
+              comm);
   return out;
 }
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 
 #include "rangefuse/core/Error.h"
 
@@ -11,27 +10,11 @@ namespace rangefuse {
 namespace {
 
 constexpr float kEmpty = INFINITY;
-constexpr int kMaxVoxelsPerAxis = 1 << 20;  // vertex keys pack 20 bits per axis
-
-void brickRange(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
-                BrickCoord& hi, bool& empty) {
-  VoxelIndex vlo, vhi;
-  grid.voxelRange(box, vlo, vhi);
-  empty = (vlo.array() > vhi.array()).any();
-  lo = brickOf(vlo, grid.brick);
-  hi = brickOf(vhi, grid.brick);
-}
 
 Eigen::AlignedBox3d pointBounds(const std::vector<PrismScan>& scans) {
   Eigen::AlignedBox3d box;
-  for (const auto& s : scans)
-    for (const auto& p : s.surface.points) box.extend(p);
+  for (const auto& s : scans) box.extend(pointBounds(s));
   return box;
-}
-
-/// Voxels along the longest axis from the grid origin to the far side of `box`.
-double extentVoxels(const VoxelGrid& g, const Eigen::AlignedBox3d& box, double eps) {
-  return ((box.max() - g.origin).array() + eps).maxCoeff() / g.voxel + 2 * g.brick;
 }
 
 }  // namespace
@@ -57,88 +40,32 @@ Prism scanPrism(const PrismScan& scan, size_t t) {
                scan.limits[t][1]};
 }
 
+Eigen::AlignedBox3d pointBounds(const PrismScan& scan) {
+  Eigen::AlignedBox3d box;
+  for (const auto& p : scan.surface.points) box.extend(p);
+  return box;
+}
+
 VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps,
                   int margin) {
-  const Eigen::AlignedBox3d box = pointBounds(scans);
-  if (box.isEmpty()) throw InputError("no triangles in any scan: nothing to fuse");
-  VoxelGrid g;
-  g.voxel = voxel;
-  g.brick = brick;
-  const double step = voxel * brick;
-  for (int a = 0; a < 3; ++a)
-    g.origin[a] = (std::floor((box.min()[a] - eps) / step) - margin) * step;
-  const double extent = extentVoxels(g, box, eps) + (margin - 1) * brick;
-  if (extent >= kMaxVoxelsPerAxis)
-    throw InputError("--voxel " + std::to_string(voxel) + " needs " +
-                     std::to_string(static_cast<long long>(extent)) +
-                     " voxels along one axis (limit " + std::to_string(kMaxVoxelsPerAxis) +
-                     "): use a larger voxel");
-  return g;
+  return gridAround(pointBounds(scans), voxel, brick, eps, margin);
 }
 
 bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, double eps) {
-  const Eigen::AlignedBox3d box = pointBounds(scans);
-  if (box.isEmpty()) return true;
-  const double step = grid.voxel * grid.brick;
-  const bool above = ((box.min() - grid.origin).array() - eps >= step).all();
-  return above && extentVoxels(grid, box, eps) < kMaxVoxelsPerAxis;
+  return gridHoldsBox(grid, pointBounds(scans), eps);
 }
 
-void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels) {
-  std::vector<uint64_t> codes;
-  codes.reserve(layout.codes.size() * 27);
-  for (uint64_t c : layout.codes) {
-    const BrickCoord b = mortonDecode(c);
-    BrickCoord d;
-    for (d.z() = -1; d.z() <= 1; ++d.z())
-      for (d.y() = -1; d.y() <= 1; ++d.y())
-        for (d.x() = -1; d.x() <= 1; ++d.x())
-          if (((b + d).array() >= 0).all()) codes.push_back(mortonEncode(b + d));
-  }
-  std::sort(codes.begin(), codes.end());
-  codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
-  checkLimit("--voxel " + formatNumber(layout.grid.voxel),
-             "voxels near the surface, registration room included:",
-             static_cast<double>(codes.size()) * std::pow(layout.grid.brick, 3), maxVoxels,
-             "max-voxels");
-  std::vector<uint64_t> work(codes.size(), 0);
-  for (size_t i = 0; i < codes.size(); ++i) {
-    const int64_t at = layout.find(codes[i]);
-    if (at >= 0) work[i] = layout.work[at];
-  }
-  layout.codes = std::move(codes);
-  layout.work = std::move(work);
-  layout.rankStart = partitionWork(layout.work, ranks);
+void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels,
+                  BrickWork& work) {
+  for (size_t t = 0; t < scan.surface.triangles.size(); ++t)
+    addBoxWork(grid, prismBounds(scanPrism(scan, t)), maxVoxels, work);
 }
 
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,
                        uint64_t maxVoxels) {
-  const double perBrick = std::pow(grid.brick, 3);
-  std::unordered_map<uint64_t, uint64_t> work;
-  for (const auto& s : scans)
-    for (size_t t = 0; t < s.surface.triangles.size(); ++t) {
-      BrickCoord lo, hi, b;
-      bool empty;
-      brickRange(grid, prismBounds(scanPrism(s, t)), lo, hi, empty);
-      if (empty) continue;
-      // One huge prism or many small ones: either way refused before the map or store grows.
-      const double voxels = (static_cast<double>(work.size()) +
-                             (hi - lo + BrickCoord::Ones()).cast<double>().prod()) *
-                            perBrick;
-      if (voxels > static_cast<double>(maxVoxels))
-        checkLimit("--voxel " + formatNumber(grid.voxel),
-                   "voxels needed near the surface (estimate):", voxels, maxVoxels, "max-voxels");
-      for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
-        for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
-          for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) ++work[mortonEncode(b)];
-    }
-  BrickLayout layout;
-  layout.grid = grid;
-  for (const auto& kv : work) layout.codes.push_back(kv.first);
-  std::sort(layout.codes.begin(), layout.codes.end());
-  for (uint64_t c : layout.codes) layout.work.push_back(work[c]);
-  layout.rankStart = partitionWork(layout.work, ranks);
-  return layout;
+  BrickWork work;
+  for (const auto& s : scans) addPrismWork(s, grid, maxVoxels, work);
+  return layoutFromWork(work, grid, ranks);
 }
 
 PrismIntegrator::PrismIntegrator(BrickStore& store)
@@ -146,9 +73,7 @@ PrismIntegrator::PrismIntegrator(BrickStore& store)
 
 bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
   BrickCoord lo, hi, b;
-  bool empty;
-  brickRange(store_.grid(), box, lo, hi, empty);
-  if (empty) return false;
+  if (!bricksOfBox(store_.grid(), box, lo, hi)) return false;
   for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
     for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
       for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x())

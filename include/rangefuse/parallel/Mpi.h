@@ -3,6 +3,7 @@
 
 #include <mpi.h>
 
+#include <cstdint>
 #include <exception>
 #include <string>
 #include <vector>
@@ -34,6 +35,11 @@ bool collectively(MPI_Comm comm, Fn&& fn) {
   }
   return agree(error.empty(), error, comm);
 }
+
+/// Largest message the byte helpers below send at once (1 GiB), so that no MPI count passes
+/// INT_MAX however much they carry. Tests lower it with RANGEFUSE_MPI_CHUNK_BYTES to run the
+/// chunked paths on small data.
+uint64_t chunkBytes();
 
 /// Gathers every rank's bytes to `root`, concatenated in rank order (empty elsewhere).
 std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm);

@@ -7,6 +7,7 @@
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/prism/Prism.h"
 #include "rangefuse/surface/ScanSurface.h"
+#include "rangefuse/volume/BrickPlanning.h"
 #include "rangefuse/volume/BrickStore.h"
 
 namespace rangefuse {
@@ -25,6 +26,9 @@ struct PrismScan {
 /// The prism of triangle `t` of a scan.
 Prism scanPrism(const PrismScan& scan, size_t t);
 
+/// Bounds of a scan's points.
+Eigen::AlignedBox3d pointBounds(const PrismScan& scan);
+
 /// A lattice whose origin is a multiple of the brick size `margin` bricks below every prism, so
 /// that all voxel and brick indices are non-negative. Throws InputError if the grid is too large.
 VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, double eps,
@@ -34,15 +38,15 @@ VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, 
 /// guarantee), so that the scans can be added to a field on this grid.
 bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, double eps);
 
+/// Adds one to the work of every brick a prism of the scan touches (see addBoxWork).
+void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels,
+                  BrickWork& work);
+
 /// Every brick some prism's bounding box touches, with the number of such prisms as its
 /// work, split over `ranks`. The same on every rank. Throws InputError, before allocating
 /// any voxel, when the bricks would hold more than maxVoxels voxels.
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,
                        uint64_t maxVoxels = InputLimits{}.maxVoxels);
-
-/// Adds the 26 neighbours of every brick (with no work) and splits the bricks anew: room for
-/// scans that move by up to a brick. Throws InputError past maxVoxels, like planBricks.
-void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels = InputLimits{}.maxVoxels);
 
 struct IntegrationStats {
   uint64_t prisms = 0;        ///< prisms rasterized on this rank

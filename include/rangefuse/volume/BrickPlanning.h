@@ -1,0 +1,49 @@
+// Which bricks a field needs and who owns them: planned from boxes (one per prism), summed
+// across ranks, split in Morton order into runs of equal work.
+#pragma once
+
+#include <mpi.h>
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <unordered_map>
+
+#include "rangefuse/volume/BrickLayout.h"
+
+namespace rangefuse {
+
+/// Per brick (Morton code), the number of boxes touching it.
+using BrickWork = std::unordered_map<uint64_t, uint64_t>;
+
+/// The lattice around `box`: voxel `voxel`, bricks of `brick` voxels, origin a whole number of
+/// bricks, `margin` bricks below the box grown by eps. Throws InputError when one axis would
+/// need more voxels than vertex keys can name.
+VoxelGrid gridAround(const Eigen::AlignedBox3d& box, double voxel, int brick, double eps,
+                     int margin = 1);
+
+/// True when `box` grown by eps lies a brick inside the lattice (gridAround's guarantee).
+bool gridHoldsBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, double eps);
+
+/// Bricks [lo, hi] holding the voxel centres inside box; false when it holds none.
+bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
+                 BrickCoord& hi);
+
+/// Adds one to the work of every brick `box` touches. Throws InputError, before the map
+/// grows, when the bricks would hold more than maxVoxels voxels.
+void addBoxWork(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, uint64_t maxVoxels,
+                BrickWork& work);
+
+/// The bricks of `work`, Morton-sorted and split over `ranks` runs of near-equal work.
+BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ranks);
+
+/// Collective: the layout of every rank's work summed (a brick's work is an integer sum, so the
+/// layout does not depend on how the boxes were spread over ranks). No rank sees another's
+/// boxes: only (brick, work) pairs travel. Throws InputError past maxVoxels on every rank.
+BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64_t maxVoxels,
+                            MPI_Comm comm);
+
+/// Adds the 26 neighbours of every brick (with no work) and splits the bricks anew: room for
+/// scans that move by up to a brick. Throws InputError past maxVoxels.
+void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels);
+
+}  // namespace rangefuse
