@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/Digest.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::io {
@@ -15,6 +16,7 @@ namespace {
 
 static_assert(sizeof(VoxelSums) == 6 * sizeof(float), "checkpoint stores 6 floats a voxel");
 constexpr const char* kFormat = "rangefuse-checkpoint";
+constexpr const char* kDigest = "fnv1a64";  // checksum attribute of each dataset
 
 /// Owns an HDF5 handle; closes it with the matching function.
 class Handle {
@@ -128,6 +130,41 @@ void writeAttributeInt(hid_t obj, const char* name, int value) {
   H5Awrite(attr, H5T_NATIVE_INT, &value);
 }
 
+void writeAttributeU64(hid_t obj, const char* name, uint64_t value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle attr(H5Acreate2(obj, name, H5T_NATIVE_UINT64, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  H5Awrite(attr, H5T_NATIVE_UINT64, &value);
+}
+
+/// The checksum attribute of a dataset, or a refusal naming what lacks one.
+uint64_t readDigest(hid_t obj, const char* dataset, const std::string& path) {
+  uint64_t v = 0;
+  bool ok = H5Aexists(obj, kDigest) > 0;
+  if (ok) {
+    Handle attr(H5Aopen(obj, kDigest, H5P_DEFAULT), H5Aclose);
+    ok = attr.ok() && H5Aread(attr, H5T_NATIVE_UINT64, &v) >= 0;
+  }
+  check(ok, path, std::string("damaged: the checksum of ") + dataset + " is missing");
+  return v;
+}
+
+/// Refuses data whose checksum differs from the one written beside it.
+void verify(uint64_t stored, const void* data, size_t bytes, const std::string& path,
+            const std::string& what) {
+  check(fnv1a64(data, bytes) == stored, path,
+        "damaged: " + what +
+            " does not match its checksum (the file changed after it was "
+            "written; resume from an earlier checkpoint or run again from the scans)");
+}
+
+/// Per brick, the checksum of its voxel sums.
+std::vector<uint64_t> brickDigests(const float* sums, size_t bricks, size_t perBrick) {
+  std::vector<uint64_t> d(bricks);
+  for (size_t b = 0; b < bricks; ++b)
+    d[b] = fnv1a64(sums + b * perBrick * 6, perBrick * 6 * sizeof(float));
+  return d;
+}
+
 void writeAttributeString(hid_t obj, const char* name, const std::string& value) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type, value.size());
@@ -168,6 +205,13 @@ std::vector<hsize_t> datasetDims(hid_t file, const char* name, int rank, const s
   return dims;
 }
 
+/// The checksum attribute of a named dataset.
+uint64_t datasetDigest(hid_t file, const char* name, const std::string& path) {
+  Handle set(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+  check(set.ok(), path, std::string("cannot open ") + name);
+  return readDigest(set, name, path);
+}
+
 template <class T>
 std::vector<T> readRows(hid_t file, const char* name, hid_t type, hsize_t first, hsize_t count,
                         hsize_t cols, const std::string& path) {
@@ -184,6 +228,36 @@ std::vector<T> readRows(hid_t file, const char* name, hid_t type, hsize_t first,
   return out;
 }
 
+/// The field's datasets, each with a checksum: codes and work whole, the voxel sums per brick
+/// (field_digests, rank-count independent so that any partition can check its own bricks).
+void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI_Comm comm) {
+  const bool root = mpi::rank(comm) == 0;
+  const BrickLayout& l = store.layout();
+  const hsize_t nb = l.codes.size(), per = store.voxelsPerBrick();
+  Handle codes = createDataset(file, "field_codes", H5T_NATIVE_UINT64, nb, 0, tmp);
+  Handle work = createDataset(file, "field_work", H5T_NATIVE_UINT64, nb, 0, tmp);
+  Handle sums = createDataset(file, "field_sums", H5T_NATIVE_FLOAT, nb, per * 6, tmp);
+  Handle digests = createDataset(file, "field_digests", H5T_NATIVE_UINT64, nb, 0, tmp);
+  const float* mine = reinterpret_cast<const float*>(store.sums().data());
+  const std::vector<uint64_t> own = brickDigests(mine, store.brickCount(), per);
+  std::vector<char> bytes;
+  mpi::pack(bytes, own.data(), own.size());
+  std::vector<uint64_t> all;
+  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
+    const uint64_t* p = reinterpret_cast<const uint64_t*>(part.data());
+    all.insert(all.end(), p, p + part.size() / sizeof(uint64_t));
+  }
+  writeAttributeU64(codes, kDigest, fnv1a64(l.codes.data(), nb * sizeof(uint64_t)));
+  writeAttributeU64(work, kDigest, fnv1a64(l.work.data(), nb * sizeof(uint64_t)));
+  writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));
+  writeRows(codes, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.codes.data(), tmp, "field_codes");
+  writeRows(work, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.work.data(), tmp, "field_work");
+  const int r = mpi::rank(comm);
+  const hsize_t first = l.rankStart[r], count = l.rankStart[r + 1] - first;
+  writeRows(sums, H5T_NATIVE_FLOAT, first, count, per * 6, mine, tmp, "field_sums");
+  writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_digests");
+}
+
 void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickStore* store,
                MPI_Comm comm) {
   Handle fapl = accessList(comm);
@@ -194,18 +268,9 @@ void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickSt
   const std::string json = metaJson(meta).dump();
   const bool root = mpi::rank(comm) == 0;
   Handle metaSet = createDataset(file, "meta", H5T_NATIVE_CHAR, json.size(), 0, tmp);
+  writeAttributeU64(metaSet, kDigest, fnv1a64(json.data(), json.size()));
   writeRows(metaSet, H5T_NATIVE_CHAR, 0, root ? json.size() : 0, 0, json.data(), tmp, "meta");
-  if (!store) return;
-  const BrickLayout& l = store->layout();
-  const hsize_t nb = l.codes.size(), per = store->voxelsPerBrick();
-  Handle codes = createDataset(file, "field_codes", H5T_NATIVE_UINT64, nb, 0, tmp);
-  Handle work = createDataset(file, "field_work", H5T_NATIVE_UINT64, nb, 0, tmp);
-  Handle sums = createDataset(file, "field_sums", H5T_NATIVE_FLOAT, nb, per * 6, tmp);
-  writeRows(codes, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.codes.data(), tmp, "field_codes");
-  writeRows(work, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.work.data(), tmp, "field_work");
-  const int r = mpi::rank(comm);
-  writeRows(sums, H5T_NATIVE_FLOAT, l.rankStart[r], l.rankStart[r + 1] - l.rankStart[r], per * 6,
-            store->sums().data(), tmp, "field_sums");
+  if (store) writeField(file, *store, tmp, comm);
 }
 
 }  // namespace
@@ -244,11 +309,18 @@ CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm,
   check(version <= kCheckpointVersion, path,
         "written by a newer rangefuse (format version " + std::to_string(version) +
             ", this one reads up to " + std::to_string(kCheckpointVersion) + ")");
+  check(version == kCheckpointVersion, path,
+        "format version " + std::to_string(version) +
+            " has no checksums, so it cannot be trusted; run again from the scans");
   const std::vector<hsize_t> dims = datasetDims(file, "meta", 1, path);
   checkLimit(path, "metadata bytes", static_cast<double>(dims[0]), limits.maxElements,
              "max-elements");
   const std::vector<char> bytes =
       readRows<char>(file, "meta", H5T_NATIVE_CHAR, 0, dims[0], 0, path);
+  {
+    Handle set(H5Dopen2(file, "meta", H5P_DEFAULT), H5Dclose);
+    verify(readDigest(set, "meta", path), bytes.data(), bytes.size(), path, "the metadata");
+  }
   CheckpointMeta m;
   try {
     m = metaFrom(nlohmann::json::parse(std::string(bytes.begin(), bytes.end())), version);
@@ -282,6 +354,16 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
   layout.grid = meta.grid;
   layout.codes = readRows<uint64_t>(file, "field_codes", H5T_NATIVE_UINT64, 0, nb, 0, path);
   layout.work = readRows<uint64_t>(file, "field_work", H5T_NATIVE_UINT64, 0, nb, 0, path);
+  check(datasetDims(file, "field_digests", 1, path)[0] == nb, path,
+        "field_digests does not match field_codes");
+  const std::vector<uint64_t> digests =
+      readRows<uint64_t>(file, "field_digests", H5T_NATIVE_UINT64, 0, nb, 0, path);
+  const size_t words = nb * sizeof(uint64_t);
+  verify(datasetDigest(file, "field_codes", path), layout.codes.data(), words, path,
+         "field_codes (the brick list)");
+  verify(datasetDigest(file, "field_work", path), layout.work.data(), words, path, "field_work");
+  verify(datasetDigest(file, "field_digests", path), digests.data(), words, path,
+         "field_digests (the checksums of the bricks)");
   for (size_t i = 1; i < layout.codes.size(); ++i)
     check(layout.codes[i - 1] < layout.codes[i], path, "field_codes are not in Morton order");
   for (uint64_t code : layout.codes)  // the mesher packs 20 bits of voxel index per axis
@@ -294,6 +376,12 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
   const std::vector<float> sums =
       readRows<float>(file, "field_sums", H5T_NATIVE_FLOAT, layout.rankStart[r],
                       layout.rankStart[r + 1] - layout.rankStart[r], per * 6, path);
+  const std::vector<uint64_t> got = brickDigests(sums.data(), store->brickCount(), per);
+  for (size_t b = 0; b < got.size(); ++b)
+    check(got[b] == digests[layout.rankStart[r] + b], path,
+          "damaged: the voxel sums of brick " + std::to_string(layout.rankStart[r] + b) +
+              " (field_sums) do not match their checksum; resume from an earlier checkpoint or "
+              "run again from the scans");
   std::memcpy(static_cast<void*>(store->sums().data()), sums.data(), sums.size() * sizeof(float));
   return store;
 }
@@ -301,14 +389,10 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
 std::string fileHash(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
-  uint64_t h = 1469598103934665603ULL;
+  uint64_t h = kFnvOffset;
   char buf[1 << 16];
-  while (in.read(buf, sizeof(buf)) || in.gcount() > 0) {
-    for (std::streamsize i = 0; i < in.gcount(); ++i) {
-      h ^= static_cast<unsigned char>(buf[i]);
-      h *= 1099511628211ULL;
-    }
-  }
+  while (in.read(buf, sizeof(buf)) || in.gcount() > 0)
+    h = fnv1a64(buf, static_cast<size_t>(in.gcount()), h);
   char hex[17];
   std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
   return hex;

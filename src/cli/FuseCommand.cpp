@@ -36,6 +36,9 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
       "drop scan triangles with an edge longer than this x grid spacing");
   add("min-cosine", po::value(&o.surface.minCosine)->default_value(0.15),
       "drop scan triangles whose normal makes a cosine below this with the view ray");
+  add("scan-memory", po::value(&o.scanMemory)->default_value(1024),
+      "MiB of prepared scans a rank keeps between reading and fusing; scans past it are read "
+      "again (prism fields without registration stream their scans)");
   addLimitOptions(d, o.limits);
 }
 

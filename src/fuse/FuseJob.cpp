@@ -11,6 +11,7 @@
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/fuse/StreamedField.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/Png.h"
@@ -57,6 +58,8 @@ void validateFuseOptions(const FuseOptions& o) {
     throw InputError("--max-edge must be positive and finite");
   if (!(o.surface.minCosine >= -1 && o.surface.minCosine <= 1))
     throw InputError("--min-cosine must be in [-1, 1]");
+  if (!(o.scanMemory >= 0) || !std::isfinite(o.scanMemory))
+    throw InputError("--scan-memory must be a finite number of MiB >= 0");
   if (!(o.checkpointEvery >= 0) || !std::isfinite(o.checkpointEvery))
     throw InputError("--checkpoint-every must be a finite number of seconds >= 0");
   if (!std::isfinite(o.quorum) || (!(o.quorum >= 0) && o.quorum != -1))
@@ -193,6 +196,8 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
                   FusedField& field, RankCounters& counters) {
   const double eps = o.envelope * o.voxel;
   field.scans = std::move(world);
+  field.scanCount = field.scans.size();
+  field.scanTriangles = countTriangles(field.scans);
   if (!collectively(comm, [&] {
         field.layout = planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps),
                                   mpi::size(comm), o.limits.maxVoxels);
@@ -217,15 +222,70 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   return true;
 }
 
+bool streams(const FuseOptions& o) {
+  return o.method == "prism" && o.registration == "none";
+}
+
+namespace {
+
+std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
+                      const RankCounters& counters) {
+  std::string line = o.method + ": " + std::to_string(field.layout.codes.size()) +
+                     " bricks, per rank " + perRank(comm, counters.bricks) +
+                     "; voxels updated per rank " + perRank(comm, counters.voxelUpdates);
+  if (field.scans.empty() && field.scanTriangles > 0) {
+    char routed[160];
+    std::snprintf(routed, sizeof routed,
+                  "; routed %.3f copies and %.1f bytes to other ranks per input triangle",
+                  static_cast<double>(field.routedCopies) / field.scanTriangles,
+                  static_cast<double>(field.routedBytes) / field.scanTriangles);
+    line += routed;
+  }
+  return line;
+}
+
+StreamOptions streamOptions(const FuseOptions& o) {
+  StreamOptions s;
+  s.voxel = o.voxel;
+  s.eps = o.envelope * o.voxel;
+  s.brick = o.brick;
+  s.surface = o.surface;
+  s.limits = o.limits;
+  s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
+  return s;
+}
+
+/// Streamed field at the .conf poses; scans gets the names, paths and poses only.
+bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+                   FusedField& field, RankCounters& counters) {
+  io::ConfFile conf;
+  if (!collectively(comm, [&] {
+        validateFuseOptions(o);
+        conf = io::readConf(o.scans);
+      }))
+    return false;
+  if (progress.isRoot())
+    for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+  for (const auto& c : conf.scans) {
+    scans.names.push_back(c.name);
+    scans.paths.push_back(c.path);
+    scans.poses.push_back(c.pose);
+  }
+  if (!buildStreamedField(streamOptions(o), conf, comm, progress, field, counters)) return false;
+  progress.stage("field", fieldLine(o, comm, field, counters));
+  return true;
+}
+
+}  // namespace
+
 bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters) {
   LoadedScans scans;
+  if (streams(o)) return buildStreamed(o, comm, progress, scans, field, counters);
   if (!loadScans(o, comm, progress, scans)) return false;
   if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
     return false;
-  progress.stage("field", o.method + ": " + std::to_string(field.layout.codes.size()) +
-                              " bricks, per rank " + perRank(comm, counters.bricks) +
-                              "; voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+  progress.stage("field", fieldLine(o, comm, field, counters));
   return true;
 }
 
@@ -320,6 +380,15 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
         }))
       return 1;
   }
+  if (o.resume.empty() && streams(o)) {
+    LoadedScans scans;
+    FusedField field;
+    RankCounters counters;
+    if (!buildStreamed(o, comm, progress, scans, field, counters) ||
+        !writeFieldCheckpoint(o, comm, progress, scans, field))
+      return 1;
+    return finish(o, comm, progress, scans, field, counters, {});
+  }
   LoadedScans scans;
   if (!loadScans(o, comm, progress, scans)) return 1;
   RegistrationProgress state;
@@ -340,9 +409,7 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
   RankCounters counters;
   if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
     return 1;
-  progress.stage("field", o.method + ": " + std::to_string(field.layout.codes.size()) +
-                              " bricks, per rank " + perRank(comm, counters.bricks) +
-                              "; voxels updated per rank " + perRank(comm, counters.voxelUpdates));
+  progress.stage("field", fieldLine(o, comm, field, counters));
   if (!writeFieldCheckpoint(o, comm, progress, scans, field)) return 1;
   return finish(o, comm, progress, scans, field, counters, steps);
 }

@@ -20,6 +20,7 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
               {"evaluated_points", c.evaluatedPoints},
               {"halo_bricks_received", c.haloBricks},
               {"triangles", c.triangles},
+              {"routed_bytes_sent", c.routedBytes},
               {"peak_memory_mib", peakMemoryMiB()}}
       .dump();
 }
@@ -53,15 +54,15 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
   std::string text(all.begin(), all.end());
   for (size_t pos = 0, end; (end = text.find('\n', pos)) != std::string::npos; pos = end + 1)
     ranks.push_back(json::parse(text.substr(pos, end - pos)));
-  size_t triangles = 0;
-  for (const auto& s : field.scans) triangles += s.surface.triangles.size();
   json parameters = resultParameters(o);
   // The option keeps -1 (so a checkpoint's parameters compare as given); show what was used.
-  if (o.quorum < 0) parameters["quorum_used"] = autoQuorum(field.scans.size());
+  if (o.quorum < 0) parameters["quorum_used"] = autoQuorum(field.scanCount);
   json report = {
       {"command", "fuse"},
       {"inputs",
-       {{"scans", o.scans}, {"scan_count", field.scans.size()}, {"scan_triangles", triangles}}},
+       {{"scans", o.scans},
+        {"scan_count", field.scanCount},
+        {"scan_triangles", field.scanTriangles}}},
       {"parameters", parameters},
       {"ranks", mpi::size(comm)},
       {"total_bricks", field.layout.codes.size()},

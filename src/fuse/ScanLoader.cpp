@@ -1,5 +1,7 @@
 #include "rangefuse/fuse/ScanLoader.h"
 
+#include <algorithm>
+
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -42,20 +44,99 @@ uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   return index;
 }
 
+/// The part of `scan` made of the listed triangles (in order) and the vertices they use.
+PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
+                  std::vector<int32_t>& remap) {
+  PrismScan part;
+  const ScanSurface& s = scan.surface;
+  std::vector<uint32_t> used;
+  for (uint32_t t : triangles) {
+    Triangle tri = s.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      int32_t& to = remap[tri[k]];
+      if (to < 0) {
+        to = static_cast<int32_t>(used.size());
+        used.push_back(tri[k]);
+        part.surface.points.push_back(s.points[tri[k]]);
+        part.surface.normals.push_back(s.normals[tri[k]]);
+        part.surface.confidence.push_back(s.confidence[tri[k]]);
+      }
+      tri[k] = to;
+    }
+    part.surface.triangles.push_back(tri);
+    part.limits.push_back(scan.limits[t]);
+  }
+  for (uint32_t v : used) remap[v] = -1;
+  return part;
+}
+
 }  // namespace
+
+PrismScan loadScan(const io::ConfScan& c, const SurfaceOptions& options, const InputLimits& limits,
+                   double eps) {
+  PrismScan s;
+  faultPoint("read", c.path);
+  s.surface = buildScanSurface(io::readRangeGridPly(c.path, limits), Pose{}, options);
+  s.limits = computePrismLimits(s.surface, eps);
+  return s;
+}
 
 IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options,
                            const InputLimits& limits, double eps, int rank, int ranks) {
   IndexedScans mine;
-  for (size_t i = rank; i < conf.scans.size(); i += ranks) {
-    const io::ConfScan& c = conf.scans[i];
-    PrismScan s;
-    faultPoint("read", c.path);
-    s.surface = buildScanSurface(io::readRangeGridPly(c.path, limits), Pose{}, options);
-    s.limits = computePrismLimits(s.surface, eps);
-    mine.emplace_back(i, std::move(s));
-  }
+  for (size_t i = rank; i < conf.scans.size(); i += ranks)
+    mine.emplace_back(i, loadScan(conf.scans[i], options, limits, eps));
   return mine;
+}
+
+uint64_t scanBytes(const PrismScan& s) {
+  const uint64_t perPoint = 2 * sizeof(Eigen::Vector3d) + sizeof(double);
+  const uint64_t perTriangle = sizeof(Triangle) + sizeof(std::array<double, 2>);
+  return perPoint * s.surface.points.size() + perTriangle * s.surface.triangles.size();
+}
+
+void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout,
+               std::vector<std::vector<char>>& out, RoutingStats& stats) {
+  const int ranks = layout.ranks();
+  std::vector<std::vector<uint32_t>> triangles(ranks);
+  std::vector<int> owners;
+  for (size_t t = 0; t < world.surface.triangles.size(); ++t) {
+    BrickCoord lo, hi, b;
+    if (!bricksOfBox(layout.grid, prismBounds(scanPrism(world, t)), lo, hi)) continue;
+    owners.clear();
+    for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
+      for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
+        for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
+          const int64_t at = layout.find(mortonEncode(b));
+          if (at >= 0) owners.push_back(layout.ownerOf(at));
+        }
+    std::sort(owners.begin(), owners.end());
+    owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
+    for (int r : owners) triangles[r].push_back(static_cast<uint32_t>(t));
+  }
+  std::vector<int32_t> remap(world.surface.points.size(), -1);
+  stats.triangles += world.surface.triangles.size();
+  for (int r = 0; r < ranks; ++r) {
+    if (triangles[r].empty()) continue;
+    const size_t before = out[r].size();
+    packScan(out[r], index, subScan(world, triangles[r], remap));
+    stats.copies += triangles[r].size();
+    stats.bytes[r] += out[r].size() - before;
+  }
+}
+
+IndexedScans unpackRouted(const std::vector<std::vector<char>>& in) {
+  IndexedScans scans;
+  for (const auto& part : in)
+    for (size_t pos = 0; pos < part.size();) {
+      PrismScan s;
+      const uint64_t i = unpackScan(part, pos, s);
+      scans.emplace_back(i, std::move(s));
+    }
+  // One reader per scan, so a scan arrives once: scan order is all the field needs.
+  std::sort(scans.begin(), scans.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  return scans;
 }
 
 std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Comm comm) {

@@ -49,7 +49,7 @@ printf 'not hdf5 at all\n' >"$tmp/garbage.h5"
 bad garbage "not an HDF5 file" info "$tmp/garbage.h5"
 cp "$tmp/run.h5" "$tmp/corrupt.h5"
 printf '\xde\xad\xbe\xef%.0s' $(seq 1 4000) | dd of="$tmp/corrupt.h5" bs=1 seek=2000 conv=notrunc status=none
-bad corrupt "damaged metadata" mesh "$tmp/corrupt.h5" --out "$tmp/x.ply"
+bad corrupt "damaged: the metadata" mesh "$tmp/corrupt.h5" --out "$tmp/x.ply"
 bad missing "cannot open checkpoint" fuse --resume "$tmp/none.h5" --out "$tmp/x.ply"
 bad params "--voxel" fuse --resume "$tmp/run.h5" --voxel 0.003 --out "$tmp/x.ply"
 mkdir -p "$tmp/changed" && cp "$data"/bunny/*.ply "$data/bunny/bun.conf" "$tmp/changed/" && rm "$tmp/changed/bun_zipper.ply"

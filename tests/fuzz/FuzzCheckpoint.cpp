@@ -15,6 +15,7 @@
 #include "FuzzEntries.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/io/Digest.h"
 
 namespace rangefuse::fuzz {
 namespace {
@@ -126,7 +127,7 @@ void writeMeta(hid_t file, Chooser& c, uint32_t flags, int& brick) {
   if (!(flags & 1))
     stringAttribute(file, "format", flags & 2 ? c.text(24) : "rangefuse-checkpoint");
   if (!(flags & 4)) {
-    const int version = flags & 16 ? static_cast<int>(c.u32()) : 1;
+    const int version = flags & 16 ? static_cast<int>(c.u32()) : io::kCheckpointVersion;
     if (flags & 8)
       stringAttribute(file, "version", c.text(4));
     else
@@ -142,6 +143,13 @@ void writeMeta(hid_t file, Chooser& c, uint32_t flags, int& brick) {
   dataset(file, "meta", flags & 256 ? H5T_NATIVE_INT : H5T_NATIVE_CHAR,
           {flags & 0x10000 ? declared : std::max<hsize_t>(declared, 1)}, H5T_NATIVE_CHAR,
           written ? json.data() : nullptr);
+  const hid_t set = H5Dopen2(file, "meta", H5P_DEFAULT);
+  // The checksum of what was meant, right or (flag) wrong, so the checks behind it are reached.
+  if (set >= 0 && !(flags & 0x2000000)) {
+    const uint64_t digest = io::fnv1a64(json.data(), json.size()) + (flags & 0x1000000 ? 1 : 0);
+    attribute(set, "fnv1a64", H5T_NATIVE_UINT64, &digest);
+  }
+  if (set >= 0) H5Dclose(set);
 }
 
 /// field_codes, field_work and field_sums with chosen counts, shapes and types.

@@ -130,7 +130,9 @@ TEST(Checkpoint, ForeignAndNewerFilesAreRefused) {
   expectRefused(foreignFile("foreign", nullptr, 1), "not a rangefuse checkpoint");
   expectRefused(foreignFile("other", "someone-else", 1), "not a rangefuse checkpoint");
   expectRefused(foreignFile("newer", "rangefuse-checkpoint", 99), "newer rangefuse");
-  expectRefused(foreignFile("nometa", "rangefuse-checkpoint", 1), "no dataset meta");
+  expectRefused(foreignFile("older", "rangefuse-checkpoint", 1), "has no checksums");
+  expectRefused(foreignFile("nometa", "rangefuse-checkpoint", io::kCheckpointVersion),
+                "no dataset meta");
 }
 
 TEST(Checkpoint, EveryFuzzFoundInputIsReadOrRefused) {

@@ -42,6 +42,7 @@ struct FuseOptions {
   std::string resume;                  ///< HDF5 checkpoint to continue from (optional)
   double checkpointEvery = 0;          ///< seconds between registration checkpoints (0: each)
   InputLimits limits;                  ///< refuse input that would need more memory than this
+  double scanMemory = 1024;            ///< MiB of prepared scans a rank keeps between passes
   std::vector<std::string>
       givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };
@@ -54,9 +55,13 @@ struct LoadedScans {
   std::vector<Pose> poses;
 };
 
-/// The fused field of one job: every rank holds all scans and its own bricks.
+/// The fused field of one job: every rank holds its own bricks, and all scans only when the
+/// field was built from replicated scans (registration, closest-surface methods).
 struct FusedField {
-  std::vector<PrismScan> scans;
+  std::vector<PrismScan> scans;  ///< empty when the scans were streamed
+  size_t scanCount = 0;
+  uint64_t scanTriangles = 0;
+  uint64_t routedBytes = 0, routedCopies = 0;  ///< streamed: all ranks, to other ranks
   BrickLayout layout;
   std::unique_ptr<BrickStore> store;
 };
@@ -65,6 +70,7 @@ struct FusedField {
 struct RankCounters {
   uint64_t bricks = 0, prisms = 0, voxelUpdates = 0, haloBricks = 0, triangles = 0;
   uint64_t evaluatedPoints = 0;  ///< consensus and naive: distance evaluations
+  uint64_t routedBytes = 0;      ///< streamed: scan bytes this rank sent to other ranks
 };
 
 /// Collective: reads the scans (each rank a share, then shared). False when any rank failed
@@ -74,6 +80,10 @@ bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, Lo
 /// Collective: the field of world-placed scans on new bricks. False on failure (printed once).
 bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_Comm comm,
                   FusedField& field, RankCounters& counters);
+
+/// True when the field can be built from streamed scans (no rank holds them all): prism
+/// fields at the .conf poses.
+bool streams(const FuseOptions& options);
 
 /// Collective: reads the scans and builds the field at the .conf poses, with progress lines.
 bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,

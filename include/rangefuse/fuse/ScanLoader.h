@@ -1,5 +1,6 @@
-// Scan-parallel loading: each rank reads and prepares a share of the scans, then all
-// ranks receive every prepared scan.
+// Scan-parallel loading: each rank reads and prepares a share of the scans; then either all
+// ranks receive every prepared scan (registration, closest-surface methods) or each triangle
+// is routed to the ranks owning the bricks its prism touches (streamed prism fields).
 #pragma once
 
 #include <mpi.h>
@@ -15,6 +16,11 @@ namespace rangefuse {
 
 using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
 
+/// Reads one scan, triangulates it, filters its normals and computes its prism limits, in the
+/// scan's own frame. Throws InputError naming the file on bad input.
+PrismScan loadScan(const io::ConfScan& scan, const SurfaceOptions& options,
+                   const InputLimits& limits, double eps);
+
 /// Reads, triangulates and computes prism limits for the scans i with i % ranks == rank, in
 /// each scan's own frame (poses are applied later, as registration moves them). Throws
 /// InputError naming the file on bad input.
@@ -23,6 +29,24 @@ IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& optio
 
 /// Collective: every rank's share on every rank, in .conf order.
 std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Comm comm);
+
+/// Bytes a prepared scan holds (points, normals, confidences, triangles, limits).
+uint64_t scanBytes(const PrismScan& scan);
+
+/// What routing sent: input triangles, triangle copies made, bytes per destination rank.
+struct RoutingStats {
+  uint64_t triangles = 0, copies = 0;
+  std::vector<uint64_t> bytes;
+};
+
+/// Appends to out[r], for every rank r owning a brick some prism of the placed scan touches,
+/// the part of the scan made of those triangles (in order) and their vertices. A triangle whose
+/// prism touches no existing brick goes nowhere.
+void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout,
+               std::vector<std::vector<char>>& out, RoutingStats& stats);
+
+/// The scan parts received from every rank, in scan order.
+IndexedScans unpackRouted(const std::vector<std::vector<char>>& in);
 
 /// A scan-frame scan moved to the world by pose (prism limits are rigid-invariant).
 PrismScan placeScan(const PrismScan& local, const Pose& pose);

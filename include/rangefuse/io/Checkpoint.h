@@ -14,7 +14,7 @@
 
 namespace rangefuse::io {
 
-constexpr int kCheckpointVersion = 1;
+constexpr int kCheckpointVersion = 2;  ///< 2: every dataset carries a checksum
 
 /// Everything but the voxels: the same on every rank.
 struct CheckpointMeta {

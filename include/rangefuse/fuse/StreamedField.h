@@ -1,0 +1,32 @@
+// The prism field of many scans without any rank holding them all: each rank reads a share,
+// plans bricks with the others from (brick, work) pairs only, then streams its scans, triangle
+// by triangle, to the ranks owning the bricks their prisms touch.
+#pragma once
+
+#include <mpi.h>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Conf.h"
+
+namespace rangefuse {
+
+/// What one streamed build needs besides the scans.
+struct StreamOptions {
+  double voxel = 0, eps = 0;  ///< voxel size and prism envelope, in the scans' units
+  int brick = 8;
+  SurfaceOptions surface;
+  InputLimits limits;
+  uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes; the rest are re-read
+};
+
+/// The reader rank of each scan: scans are taken in windows of `ranks` consecutive scans and
+/// each window is shared by file size (largest to the least loaded rank).
+std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks);
+
+/// Collective: the prism field of the .conf's scans at the .conf's poses. Contributions reach
+/// every voxel in scan order, then triangle order, so the field is the same on any rank count.
+/// False when any rank failed (printed once).
+bool buildStreamedField(const StreamOptions& options, const io::ConfFile& conf, MPI_Comm comm,
+                        Progress& progress, FusedField& field, RankCounters& counters);
+
+}  // namespace rangefuse

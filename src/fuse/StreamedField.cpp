@@ -1,0 +1,207 @@
+#include "rangefuse/fuse/StreamedField.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/parallel/FaultInjection.h"
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+using mpi::collectively;
+
+/// A rank's share of the scans: which it reads, and those it keeps prepared between passes.
+class ScanShare {
+ public:
+  ScanShare(const StreamOptions& o, const io::ConfFile& conf, std::vector<int> readers, int me)
+      : o_(o), conf_(conf), readers_(std::move(readers)), me_(me) {}
+
+  bool reads(size_t i) const { return readers_[i] == me_; }
+
+  /// Scan i placed at its pose: kept, or read again.
+  PrismScan placed(size_t i) {
+    auto it = kept_.find(i);
+    if (it != kept_.end()) return it->second;
+    return placeScan(loadScan(conf_.scans[i], o_.surface, o_.limits, o_.eps), conf_.scans[i].pose);
+  }
+
+  /// Like placed(), but a kept scan is handed over and forgotten (its last use).
+  PrismScan take(size_t i) {
+    auto it = kept_.find(i);
+    if (it == kept_.end()) return placed(i);
+    PrismScan s = std::move(it->second);
+    kept_.erase(it);
+    return s;
+  }
+
+  /// Keeps scan i if it fits what is left of the budget.
+  void offer(size_t i, PrismScan&& s) {
+    const uint64_t bytes = scanBytes(s);
+    if (keptBytes_ + bytes > o_.keepBytes) return;
+    keptBytes_ += bytes;
+    kept_.emplace(i, std::move(s));
+  }
+
+  size_t keptCount() const { return kept_.size(); }
+
+ private:
+  const StreamOptions& o_;
+  const io::ConfFile& conf_;
+  std::vector<int> readers_;
+  int me_;
+  std::map<size_t, PrismScan> kept_;
+  uint64_t keptBytes_ = 0;
+};
+
+std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
+  std::vector<uint64_t> bytes;
+  for (const auto& c : conf.scans) {
+    std::error_code ec;
+    const auto n = std::filesystem::file_size(c.path, ec);
+    bytes.push_back(ec ? 0 : static_cast<uint64_t>(n));  // unreadable: the read says why
+  }
+  return bytes;
+}
+
+Eigen::AlignedBox3d allreduceBox(Eigen::AlignedBox3d box, MPI_Comm comm) {
+  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
+  return box;
+}
+
+/// Warnings of this rank's scans, printed by rank 0 in scan order.
+void printWarnings(const std::map<size_t, std::string>& mine, MPI_Comm comm) {
+  std::string text;
+  for (const auto& [i, w] : mine) text += std::to_string(i) + " " + w + "\n";
+  const std::vector<char> all = mpi::gatherBytes({text.begin(), text.end()}, 0, comm);
+  std::map<size_t, std::string> sorted;
+  const std::string joined(all.begin(), all.end());
+  for (size_t pos = 0, end; (end = joined.find('\n', pos)) != std::string::npos; pos = end + 1) {
+    const size_t space = joined.find(' ', pos);
+    sorted[std::stoul(joined.substr(pos, space - pos))] = joined.substr(space + 1, end - space - 1);
+  }
+  for (const auto& [i, w] : sorted) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+}
+
+/// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
+bool readShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, Eigen::AlignedBox3d& box,
+               uint64_t& triangles) {
+  std::map<size_t, std::string> warnings;
+  triangles = 0;
+  if (!collectively(comm, [&] {
+        for (size_t i = 0; i < conf.scans.size(); ++i) {
+          if (!share.reads(i)) continue;
+          PrismScan s = share.placed(i);
+          if (s.surface.triangles.empty())
+            warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
+          box.extend(pointBounds(s));
+          triangles += s.surface.triangles.size();
+          share.offer(i, std::move(s));
+        }
+      }))
+    return false;
+  printWarnings(warnings, comm);
+  box = allreduceBox(box, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &triangles, 1, MPI_UINT64_T, MPI_SUM, comm);
+  return true;
+}
+
+/// Pass 2: the bricks every prism touches, planned from this rank's scans and reduced.
+bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& share,
+               const VoxelGrid& grid, MPI_Comm comm, BrickLayout& layout) {
+  BrickWork work;
+  if (!collectively(comm, [&] {
+        for (size_t i = 0; i < conf.scans.size(); ++i)
+          if (share.reads(i)) addPrismWork(share.placed(i), grid, o.limits.maxVoxels, work);
+      }))
+    return false;
+  return collectively(comm,
+                      [&] { layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm); });
+}
+
+/// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
+/// they receive in scan order.
+bool integrateShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, Progress& progress,
+                    BrickStore& store, RankCounters& counters, RoutingStats& routing) {
+  const int ranks = mpi::size(comm);
+  PrismIntegrator integrator(store);
+  routing.bytes.assign(ranks, 0);
+  double lastLine = progress.elapsed();
+  for (size_t first = 0; first < conf.scans.size(); first += ranks) {
+    const size_t end = std::min(conf.scans.size(), first + ranks);
+    std::vector<std::vector<char>> out(ranks);
+    if (!collectively(comm, [&] {
+          for (size_t i = first; i < end; ++i)
+            if (share.reads(i)) routeScan(i, share.take(i), store.layout(), out, routing);
+        }))
+      return false;
+    for (auto& [i, part] : unpackRouted(mpi::exchangeBytes(out, comm))) {
+      faultPoint("field");
+      const IntegrationStats st = integrator.addScan(part);
+      counters.prisms += st.prisms;
+      counters.voxelUpdates += st.voxelUpdates;
+    }
+    if (progress.isRoot() && progress.elapsed() - lastLine > 10 && end < conf.scans.size()) {
+      lastLine = progress.elapsed();
+      std::printf("[%7.2fs] field      %zu of %zu scans added\n", lastLine, end, conf.scans.size());
+      std::fflush(stdout);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks) {
+  std::vector<int> reader(fileBytes.size(), 0);
+  std::vector<uint64_t> load(ranks, 0);
+  for (size_t first = 0; first < fileBytes.size(); first += ranks) {
+    const size_t end = std::min(fileBytes.size(), first + ranks);
+    std::vector<size_t> order;
+    for (size_t i = first; i < end; ++i) order.push_back(i);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return fileBytes[a] > fileBytes[b]; });
+    for (size_t i : order) {
+      const int r = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
+      reader[i] = r;
+      load[r] += fileBytes[i];
+    }
+  }
+  return reader;
+}
+
+bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Comm comm,
+                        Progress& progress, FusedField& field, RankCounters& counters) {
+  const int me = mpi::rank(comm), ranks = mpi::size(comm);
+  ScanShare share(o, conf, assignReaders(fileSizes(conf), ranks), me);
+  Eigen::AlignedBox3d box;
+  uint64_t triangles = 0;
+  if (!readShare(conf, share, comm, box, triangles)) return false;
+  progress.stage("read", std::to_string(conf.scans.size()) + " scans, " +
+                             std::to_string(triangles) + " triangles; scans kept per rank " +
+                             std::to_string(share.keptCount()) + " (rank 0)");
+  field.scanCount = conf.scans.size();
+  field.scanTriangles = triangles;
+  VoxelGrid grid;
+  if (!collectively(comm, [&] { grid = gridAround(box, o.voxel, o.brick, o.eps); }) ||
+      !planShare(o, conf, share, grid, comm, field.layout))
+    return false;
+  field.store = std::make_unique<BrickStore>(field.layout, me);
+  counters = RankCounters{};
+  counters.bricks = field.store->brickCount();
+  RoutingStats routing;
+  if (!integrateShare(conf, share, comm, progress, *field.store, counters, routing)) return false;
+  uint64_t sent = 0;
+  for (int r = 0; r < ranks; ++r) sent += r == me ? 0 : routing.bytes[r];
+  uint64_t totals[2] = {sent, routing.copies};
+  MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_UINT64_T, MPI_SUM, comm);
+  counters.routedBytes = sent;
+  field.routedBytes = totals[0];
+  field.routedCopies = totals[1];
+  return true;
+}
+
+}  // namespace rangefuse

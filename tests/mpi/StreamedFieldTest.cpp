@@ -1,0 +1,99 @@
+// The streamed prism field (each rank reads a share, triangles routed to brick owners) equals
+// the field built from scans replicated on every rank, voxel by voxel and bit for bit, whatever
+// the rank count, the scan memory budget or the collective chunk size.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RegisterStage.h"
+#include "rangefuse/parallel/Mpi.h"
+
+using namespace rangefuse;
+
+namespace {
+
+FuseOptions bunnyOptions() {
+  FuseOptions o;
+  o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
+  o.voxel = 0.002;
+  return o;
+}
+
+/// The simple method: every rank loads every scan and adds all of them.
+void replicatedField(const FuseOptions& o, FusedField& field) {
+  Progress progress(MPI_COMM_WORLD);
+  LoadedScans scans;
+  RankCounters counters;
+  ASSERT_TRUE(loadScans(o, MPI_COMM_WORLD, progress, scans));
+  ASSERT_TRUE(buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), MPI_COMM_WORLD, field,
+                           counters));
+}
+
+void streamedField(const FuseOptions& o, FusedField& field, RankCounters& counters) {
+  ASSERT_TRUE(streams(o));
+  Progress progress(MPI_COMM_WORLD);
+  ASSERT_TRUE(buildField(o, MPI_COMM_WORLD, progress, field, counters));
+  EXPECT_TRUE(field.scans.empty()) << "a streamed field keeps no scans";
+}
+
+/// Same bricks, same owners, same bits in every voxel of this rank.
+void expectSameField(const FusedField& a, const FusedField& b) {
+  ASSERT_EQ(a.layout.codes, b.layout.codes);
+  ASSERT_EQ(a.layout.rankStart, b.layout.rankStart);
+  EXPECT_EQ(a.layout.grid.origin, b.layout.grid.origin);
+  const auto &sa = a.store->sums(), &sb = b.store->sums();
+  ASSERT_EQ(sa.size(), sb.size());
+  size_t differing = 0;
+  for (size_t i = 0; i < sa.size(); ++i)
+    differing += std::memcmp(&sa[i], &sb[i], sizeof(VoxelSums)) != 0;
+  EXPECT_EQ(differing, 0u) << "of " << sa.size() << " voxels on rank " << mpi::rank();
+}
+
+TEST(StreamedField, EqualsTheReplicatedFieldVoxelByVoxel) {
+  FusedField simple, streamed;
+  RankCounters counters;
+  replicatedField(bunnyOptions(), simple);
+  streamedField(bunnyOptions(), streamed, counters);
+  expectSameField(simple, streamed);
+  EXPECT_EQ(streamed.scanCount, 10u);
+  EXPECT_EQ(streamed.scanTriangles, 686167u);
+}
+
+TEST(StreamedField, ReReadingScansPastTheBudgetChangesNothing) {
+  FuseOptions kept = bunnyOptions(), reread = bunnyOptions();
+  reread.scanMemory = 0;  // every scan is read three times (bounds, plan, field)
+  FusedField a, b;
+  RankCounters ca, cb;
+  streamedField(kept, a, ca);
+  streamedField(reread, b, cb);
+  expectSameField(a, b);
+}
+
+TEST(StreamedField, TinyCollectiveChunksChangeNothing) {
+  FusedField a, b;
+  RankCounters ca, cb;
+  streamedField(bunnyOptions(), a, ca);
+  setenv("RANGEFUSE_MPI_CHUNK_BYTES", "65536", 1);
+  streamedField(bunnyOptions(), b, cb);
+  unsetenv("RANGEFUSE_MPI_CHUNK_BYTES");
+  expectSameField(a, b);
+}
+
+TEST(StreamedField, RanksAddOnlyPrismsThatTouchTheirBricks) {
+  FusedField field;
+  RankCounters counters;
+  streamedField(bunnyOptions(), field, counters);
+  // Every routed triangle was rasterised (touches an owned brick), and together the ranks
+  // received every triangle at least once.
+  uint64_t prisms = counters.prisms;
+  MPI_Allreduce(MPI_IN_PLACE, &prisms, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(prisms, field.routedCopies);
+  EXPECT_LE(prisms, field.scanTriangles * 2);
+  if (mpi::size() == 1) {
+    EXPECT_EQ(field.routedBytes, 0u);
+  }
+}
+
+}  // namespace

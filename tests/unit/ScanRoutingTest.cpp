@@ -1,0 +1,125 @@
+// Routing a scan's triangles to the ranks owning the bricks their prisms touch, against brute
+// force over every triangle and every brick; reader assignment by file size.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/fuse/StreamedField.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+using namespace rangefuse;
+
+namespace {
+
+/// A wavy patch of triangles, as a scan would give.
+PrismScan wavyScan() {
+  RangeGrid g;
+  g.cols = 40;
+  g.rows = 30;
+  for (int y = 0; y < g.rows; ++y)
+    for (int x = 0; x < g.cols; ++x) {
+      g.cell.push_back(static_cast<int32_t>(g.points.size()));
+      g.points.emplace_back(x * 0.5, y * 0.5, std::sin(x * 0.3) + 20);
+    }
+  PrismScan s;
+  s.surface = buildScanSurface(g, Pose{}, SurfaceOptions{});
+  s.limits = computePrismLimits(s.surface, 1.5);
+  return s;
+}
+
+/// Brute force: the ranks owning some brick a prism's bounds touch.
+std::set<int> ownersOf(const Prism& p, const BrickLayout& layout) {
+  std::set<int> owners;
+  VoxelIndex lo, hi;
+  layout.grid.voxelRange(prismBounds(p), lo, hi);
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const int64_t at = layout.find(mortonEncode(brickOf({x, y, z}, layout.grid.brick)));
+        if (at >= 0) owners.insert(layout.ownerOf(at));
+      }
+  return owners;
+}
+
+TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
+  const PrismScan scan = wavyScan();
+  const std::vector<PrismScan> one{scan};
+  const VoxelGrid grid = fitGrid(one, 0.5, 4, 1.5);
+  const int ranks = 3;
+  BrickLayout layout = planBricks(one, grid, ranks);
+  // Drop every 5th brick: triangles touching only missing bricks must go nowhere.
+  BrickWork work;
+  for (size_t i = 0; i < layout.codes.size(); ++i)
+    if (i % 5) work[layout.codes[i]] = layout.work[i];
+  layout = layoutFromWork(work, grid, ranks);
+
+  std::vector<std::vector<char>> out(ranks);
+  RoutingStats stats;
+  stats.bytes.assign(ranks, 0);
+  routeScan(7, scan, layout, out, stats);
+  std::vector<IndexedScans> got(ranks);
+  for (int r = 0; r < ranks; ++r) got[r] = unpackRouted({out[r]});
+
+  std::vector<size_t> expected(ranks, 0);
+  std::vector<size_t> next(ranks, 0);  // position in rank r's part, in triangle order
+  for (size_t t = 0; t < scan.surface.triangles.size(); ++t)
+    for (int r : ownersOf(scanPrism(scan, t), layout)) {
+      ++expected[r];
+      ASSERT_EQ(got[r].size(), 1u);
+      const PrismScan& part = got[r][0].second;
+      ASSERT_LT(next[r], part.surface.triangles.size());
+      const Prism a = scanPrism(scan, t), b = scanPrism(part, next[r]++);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(a.p[k], b.p[k]);
+        EXPECT_EQ(a.n[k], b.n[k]);
+        EXPECT_EQ(a.w[k], b.w[k]);
+      }
+      EXPECT_EQ(a.dMin, b.dMin);
+      EXPECT_EQ(a.dMax, b.dMax);
+    }
+  size_t copies = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const size_t n = got[r].empty() ? 0 : got[r][0].second.surface.triangles.size();
+    EXPECT_EQ(n, expected[r]) << "rank " << r;
+    if (!got[r].empty()) {
+      EXPECT_EQ(got[r][0].first, 7u);
+    }
+    copies += n;
+  }
+  EXPECT_EQ(stats.copies, copies);
+  EXPECT_EQ(stats.triangles, scan.surface.triangles.size());
+  EXPECT_LT(copies, 2 * scan.surface.triangles.size());
+  EXPECT_GT(expected[0] * expected[1] * expected[2], 0u) << "every rank should get some";
+}
+
+TEST(ScanRouting, PartsCarryOnlyTheVerticesTheirTrianglesUse) {
+  const PrismScan scan = wavyScan();
+  const std::vector<PrismScan> one{scan};
+  const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 4);
+  std::vector<std::vector<char>> out(4);
+  RoutingStats stats;
+  stats.bytes.assign(4, 0);
+  routeScan(0, scan, layout, out, stats);
+  for (int r = 0; r < 4; ++r) {
+    const IndexedScans got = unpackRouted({out[r]});
+    if (got.empty()) continue;
+    const ScanSurface& s = got[0].second.surface;
+    std::vector<int> used(s.points.size(), 0);
+    for (const auto& t : s.triangles)
+      for (int k = 0; k < 3; ++k) used.at(t[k]) = 1;
+    EXPECT_EQ(std::count(used.begin(), used.end(), 1), static_cast<long>(s.points.size()));
+    EXPECT_EQ(stats.bytes[r], out[r].size());
+  }
+}
+
+TEST(AssignReaders, BalancesEachWindowBySize) {
+  // Windows of 2: {100, 1}, {1, 100}, {50}: each rank reads one of each pair.
+  const std::vector<int> readers = assignReaders({100, 1, 1, 100, 50}, 2);
+  EXPECT_NE(readers[0], readers[1]);
+  EXPECT_NE(readers[2], readers[3]);
+  EXPECT_NE(readers[0], readers[3]) << "the two big files go to different ranks";
+  EXPECT_EQ(assignReaders({5, 5, 5}, 1), (std::vector<int>{0, 0, 0}));
+}
+
+}  // namespace
