@@ -31,6 +31,6 @@ for n in "${ranks[@]}"; do
   mem=$(grep "] done " "$log" | sed 's/.*(MiB) \(.*\) (.*/\1/')
   total=$(echo "$mem" | tr '/' '\n' | awk '{s += $1} END {print s}')
   wall=$(grep "] done " "$log" | sed 's/^\[ *\([0-9.]*\)s\].*/\1/')
-  routed=$(grep "] field " "$log" | sed 's/.*routed \(.*\) per input triangle.*/\1/')
+  routed=$(grep "routed" "$log" | sed 's/.*routed \(.*\) per input triangle.*/\1/')
   echo "| $n | $mem | $total | $wall | $routed |"
 done
