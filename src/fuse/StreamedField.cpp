@@ -21,17 +21,25 @@ class ScanShare {
 
   bool reads(size_t i) const { return readers_[i] == me_; }
 
-  /// Scan i placed at its pose: kept, or read again.
-  PrismScan placed(size_t i) {
-    auto it = kept_.find(i);
-    if (it != kept_.end()) return it->second;
+  /// Scan i read from its file and placed at its pose.
+  PrismScan read(size_t i) const {
     return placeScan(loadScan(conf_.scans[i], o_.surface, o_.limits, o_.eps), conf_.scans[i].pose);
   }
 
-  /// Like placed(), but a kept scan is handed over and forgotten (its last use).
+  /// Calls fn with scan i placed: the kept copy (not copied again), or one read anew.
+  template <class Fn>
+  void use(size_t i, Fn&& fn) const {
+    auto it = kept_.find(i);
+    if (it != kept_.end())
+      fn(it->second);
+    else
+      fn(read(i));
+  }
+
+  /// Scan i placed, for its last use: a kept scan is handed over and forgotten.
   PrismScan take(size_t i) {
     auto it = kept_.find(i);
-    if (it == kept_.end()) return placed(i);
+    if (it == kept_.end()) return read(i);
     PrismScan s = std::move(it->second);
     kept_.erase(it);
     return s;
@@ -94,7 +102,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, Eigen:
   if (!collectively(comm, [&] {
         for (size_t i = 0; i < conf.scans.size(); ++i) {
           if (!share.reads(i)) continue;
-          PrismScan s = share.placed(i);
+          PrismScan s = share.read(i);
           if (s.surface.triangles.empty())
             warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
           box.extend(pointBounds(s));
@@ -115,7 +123,9 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
   BrickWork work;
   if (!collectively(comm, [&] {
         for (size_t i = 0; i < conf.scans.size(); ++i)
-          if (share.reads(i)) addPrismWork(share.placed(i), grid, o.limits.maxVoxels, work);
+          if (share.reads(i))
+            share.use(i,
+                      [&](const PrismScan& s) { addPrismWork(s, grid, o.limits.maxVoxels, work); });
       }))
     return false;
   return collectively(comm,
@@ -138,7 +148,7 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, P
             if (share.reads(i)) routeScan(i, share.take(i), store.layout(), out, routing);
         }))
       return false;
-    for (auto& [i, part] : unpackRouted(mpi::exchangeBytes(out, comm))) {
+    for (auto& [i, part] : unpackRouted(mpi::exchangeBytes(std::move(out), comm))) {
       faultPoint("field");
       const IntegrationStats st = integrator.addScan(part);
       counters.prisms += st.prisms;

@@ -39,7 +39,7 @@ BrickValues exchangeHalo(const BrickStore& store, const BrickValues& local, MPI_
     }
   BrickValues halo;
   const size_t per = store.voxelsPerBrick();
-  for (const auto& buf : mpi::exchangeBytes(out, comm))
+  for (const auto& buf : mpi::exchangeBytes(std::move(out), comm))
     for (size_t pos = 0; pos < buf.size();) {
       uint64_t code;
       mpi::unpack(buf, pos, &code, 1);

@@ -72,14 +72,13 @@ bool agree(bool ok, const std::string& message, MPI_Comm comm) {
   return false;
 }
 
-std::vector<std::vector<char>> exchangeBytes(const std::vector<std::vector<char>>& out,
-                                             MPI_Comm comm) {
+std::vector<std::vector<char>> exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm) {
   const int n = size(comm), me = rank(comm);
   std::vector<uint64_t> sizes(n);
   for (int r = 0; r < n; ++r) sizes[r] = out[r].size();
   const std::vector<uint64_t> incoming = exchangeSizes(sizes, comm);
   std::vector<std::vector<char>> in(n);
-  in[me] = out[me];
+  in[me] = std::move(out[me]);  // this rank's own part stays, uncopied
   // Round k pairs every rank with the ranks k ahead and k behind: no rank waits on another.
   for (int k = 1; k < n; ++k) {
     const int to = (me + k) % n, from = (me - k + n) % n;

@@ -47,9 +47,9 @@ std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm 
 /// Every rank's bytes, on every rank, indexed by rank.
 std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm);
 
-/// Sends bytes out[r] to each rank r; returns what each rank sent to this one.
-std::vector<std::vector<char>> exchangeBytes(const std::vector<std::vector<char>>& out,
-                                             MPI_Comm comm);
+/// Sends bytes out[r] to each rank r; returns what each rank sent to this one. Taken by value:
+/// move it in, and this rank's own part is handed back without a copy.
+std::vector<std::vector<char>> exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm);
 
 /// Broadcasts a string from root.
 std::string broadcastString(const std::string& s, int root, MPI_Comm comm);
