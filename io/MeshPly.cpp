@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "PlyFile.h"
+#include "PlyMeshFormat.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
 
@@ -32,24 +33,6 @@ void readFaces(const internal::PlyFile& f, TriangleMesh& m) {
       m.faces.push_back({static_cast<int32_t>(val[off[i]]), static_cast<int32_t>(val[k - 1]),
                          static_cast<int32_t>(val[k])});
   }
-}
-
-template <class T>
-void put(std::ostream& out, T v) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));
-  out.write(b, sizeof(T));  // the project targets little-endian hosts (x86-64, aarch64)
-}
-
-/// Float vertices keep files small, but far from the origin (a survey's coordinates with
-/// millimetre voxels) a float's step would be a sizeable part of an edge: then doubles.
-bool needsDoubleVertices(const TriangleMesh& m) {
-  double maxAbs = 0, edges = 0;
-  for (const auto& v : m.vertices) maxAbs = std::max(maxAbs, v.cwiseAbs().maxCoeff());
-  for (const auto& t : m.faces) edges += (m.vertices[t[0]] - m.vertices[t[1]]).norm();
-  const double floatStep = maxAbs * std::ldexp(1.0, -23);
-  if (m.faces.empty()) return floatStep > 1e-6;
-  return floatStep > 1e-3 * edges / static_cast<double>(m.faces.size());
 }
 
 TriangleMesh meshFrom(const internal::PlyFile& f) {
@@ -82,30 +65,31 @@ TriangleMesh readMeshPly(const std::string& path, const InputLimits& limits) {
 }
 
 void writeMeshPly(const std::string& path, const TriangleMesh& mesh) {
-  const bool normals = !mesh.normals.empty();
-  const bool wide = needsDoubleVertices(mesh);
+  double maxAbs = 0;
+  for (const auto& v : mesh.vertices) maxAbs = std::max(maxAbs, v.cwiseAbs().maxCoeff());
+  int64_t edges = 0;
+  const double step = internal::floatStep(maxAbs);
+  for (const auto& t : mesh.faces)
+    edges += internal::edgeUnits(mesh.vertices[t[0]], mesh.vertices[t[1]], step);
+  internal::PlyMeshFormat f;
+  f.vertices = mesh.vertices.size();
+  f.faces = mesh.faces.size();
+  f.wide = internal::needsDoubleVertices(maxAbs, edges, f.faces);
+  f.normals = !mesh.normals.empty();
   writeAtomically(path, [&](std::ostream& out) {
-    const char* type = wide ? "double" : "float";
-    out << "ply\nformat binary_little_endian 1.0\ncomment written by rangefuse\n"
-        << "element vertex " << mesh.vertices.size() << "\n"
-        << "property " << type << " x\nproperty " << type << " y\nproperty " << type << " z\n";
-    if (normals) out << "property float nx\nproperty float ny\nproperty float nz\n";
-    out << "element face " << mesh.faces.size() << "\n"
-        << "property list uchar int vertex_indices\nend_header\n";
-    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        if (wide)
-          put(out, mesh.vertices[i][k]);
-        else
-          put(out, static_cast<float>(mesh.vertices[i][k]));
-      }
-      if (normals)
-        for (int k = 0; k < 3; ++k) put(out, static_cast<float>(mesh.normals[i][k]));
-    }
+    std::string buf = f.header();
+    const auto flushFull = [&] {
+      if (buf.size() < (1 << 20)) return;
+      out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+      buf.clear();
+    };
+    for (size_t i = 0; i < mesh.vertices.size(); ++i, flushFull())
+      internal::encodeVertex(buf, f, mesh.vertices[i], f.normals ? &mesh.normals[i] : nullptr);
     for (const auto& t : mesh.faces) {
-      put<uint8_t>(out, 3);
-      for (int k = 0; k < 3; ++k) put<int32_t>(out, t[k]);
+      internal::encodeFace(buf, t[0], t[1], t[2]);
+      flushFull();
     }
+    out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
   });
 }
 

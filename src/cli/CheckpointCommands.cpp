@@ -5,9 +5,9 @@
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Checkpoint.h"
-#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/MeshPartPly.h"
 #include "rangefuse/mesh/DistributedMesh.h"
-#include "rangefuse/mesh/MarchingCubes.h"
+#include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace po = boost::program_options;
@@ -27,15 +27,12 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
       }))
     return 1;
   const float minWeight = meta.parameters.value("min_weight", 0.0f);
-  TriangleMesh mesh = extractDistributedMesh(*store, minWeight, comm);
-  if (!mpi::collectively(comm, [&] {
-        if (mpi::rank(comm) != 0) return;
-        if (normals) mesh.normals = vertexNormals(mesh);
-        io::writeMeshPly(out, mesh);
-        std::printf("mesh: %zu triangles from %zu bricks -> %s\n", mesh.faces.size(),
-                    layout.codes.size(), out.c_str());
-      }))
-    return 1;
+  MeshPart part = extractDistributedMesh(*store, minWeight, comm);
+  if (normals) addPartNormals(part, comm);
+  if (!io::writeMeshPartPly(out, part, comm)) return 1;
+  if (mpi::rank(comm) == 0)
+    std::printf("mesh: %llu triangles from %zu bricks -> %s\n",
+                static_cast<unsigned long long>(part.totalFaces), layout.codes.size(), out.c_str());
   return 0;
 }
 

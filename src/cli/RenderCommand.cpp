@@ -65,10 +65,18 @@ int run(const RenderOptions& o, MPI_Comm comm) {
     RankCounters counters;
     if (!buildField(o.field, comm, progress, field, counters)) return 1;
   }
-  const SparseField all = SparseField::gather(*field.store, minWeight, 0, comm);
+  Image img;
+  if (pic.slice) {
+    // Only the bricks the plane cuts travel to rank 0.
+    const int plane = slicePlane(field.store->grid(), pic.axis, pic.value);
+    const int B = field.store->grid().brick;
+    const auto cut = [&](const BrickCoord& b) { return floorDiv(plane, B) == b[pic.axis]; };
+    img = renderSlice(SparseField::gather(*field.store, minWeight, 0, comm, cut), pic.axis,
+                      pic.value);
+  } else {
+    img = renderDistributed(*field.store, minWeight, pic.view, 0, comm);
+  }
   return runOnRoot(comm, [&] {
-    const Image img =
-        pic.slice ? renderSlice(all, pic.axis, pic.value) : renderField(all, pic.view);
     io::writePng(o.out, img);
     std::printf("render: %dx%d picture -> %s\n", img.width, img.height, o.out.c_str());
     return 0;

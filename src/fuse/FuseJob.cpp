@@ -13,10 +13,10 @@
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/fuse/StreamedField.h"
 #include "rangefuse/io/Conf.h"
-#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/MeshPartPly.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/mesh/DistributedMesh.h"
-#include "rangefuse/mesh/MarchingCubes.h"
+#include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/Registration.h"
@@ -104,18 +104,13 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   return evaluateNearSurface(*field.store, sampler);
 }
 
-bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
-                  TriangleMesh& mesh) {
-  if (!collectively(comm, [&] {
-        if (mpi::rank(comm) != 0) return;
-        if (o.normals) mesh.normals = vertexNormals(mesh);
-        io::writeMeshPly(o.out, mesh);
-      }))
-    return false;
+bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field, MeshPart& mesh) {
+  if (o.normals) addPartNormals(mesh, comm);
+  if (!io::writeMeshPartPly(o.out, mesh, comm)) return false;
   if (o.preview.empty()) return true;
-  const SparseField all = SparseField::gather(*field.store, o.minWeight, 0, comm);
+  const Image picture = renderDistributed(*field.store, o.minWeight, ViewSettings{}, 0, comm);
   return collectively(comm, [&] {
-    if (mpi::rank(comm) == 0) io::writePng(o.preview, renderField(all, ViewSettings{}));
+    if (mpi::rank(comm) == 0) io::writePng(o.preview, picture);
   });
 }
 
@@ -295,11 +290,11 @@ namespace {
 int finish(const FuseOptions& o, MPI_Comm comm, Progress& progress, const LoadedScans& scans,
            FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
   MeshStats ms;
-  TriangleMesh mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms);
+  MeshPart mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms);
   counters.haloBricks = ms.haloBricksReceived;
   counters.triangles = ms.localTriangles;
-  progress.stage("mesh", std::to_string(mesh.faces.size()) + " triangles, " +
-                             std::to_string(mesh.vertices.size()) +
+  progress.stage("mesh", std::to_string(mesh.totalFaces) + " triangles, " +
+                             std::to_string(mesh.totalVertices) +
                              " vertices, halo bricks per rank " +
                              perRank(comm, ms.haloBricksReceived));
   if (!writeOutputs(o, comm, field, mesh) || !writePoses(o, comm, scans)) return 1;

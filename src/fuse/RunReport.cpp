@@ -43,7 +43,7 @@ json registrationJson(const FuseOptions& o, const std::vector<RegistrationStep>&
 }  // namespace
 
 void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progress,
-                    const RankCounters& counters, const FusedField& field, const TriangleMesh& mesh,
+                    const RankCounters& counters, const FusedField& field, const MeshPart& mesh,
                     const std::vector<RegistrationStep>& steps) {
   const std::string mine = rankEntry(comm, progress, counters);
   std::vector<char> bytes(mine.begin(), mine.end());
@@ -68,8 +68,7 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
       {"total_bricks", field.layout.codes.size()},
       {"wall_seconds", progress.elapsed()},
       {"per_rank", ranks},
-      {"mesh",
-       {{"file", o.out}, {"triangles", mesh.faces.size()}, {"vertices", mesh.vertices.size()}}},
+      {"mesh", {{"file", o.out}, {"triangles", mesh.totalFaces}, {"vertices", mesh.totalVertices}}},
       {"registration", registrationJson(o, steps)}};
   io::writeJson(o.report, report);
 }

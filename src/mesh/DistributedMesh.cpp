@@ -5,6 +5,7 @@
 #include <set>
 
 #include "rangefuse/mesh/MarchingCubes.h"
+#include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {
@@ -78,34 +79,6 @@ FieldBlock blockFor(uint64_t code, int B, const BrickValues& local, const BrickV
   return block;
 }
 
-std::vector<char> packPiece(const MeshPiece& p) {
-  std::vector<char> buf;
-  const uint64_t nv = p.keys.size(), nf = p.faces.size();
-  mpi::pack(buf, &nv, 1);
-  mpi::pack(buf, p.keys.data(), nv);
-  mpi::pack(buf, p.positions.data(), nv);
-  mpi::pack(buf, &nf, 1);
-  mpi::pack(buf, p.faces.data(), nf);
-  return buf;
-}
-
-std::vector<MeshPiece> unpackPieces(const std::vector<char>& buf) {
-  std::vector<MeshPiece> pieces;
-  for (size_t pos = 0; pos < buf.size();) {
-    MeshPiece& p = pieces.emplace_back();
-    uint64_t nv, nf;
-    mpi::unpack(buf, pos, &nv, 1);
-    p.keys.resize(nv);
-    p.positions.resize(nv);
-    mpi::unpack(buf, pos, p.keys.data(), nv);
-    mpi::unpack(buf, pos, p.positions.data(), nv);
-    mpi::unpack(buf, pos, &nf, 1);
-    p.faces.resize(nf);
-    mpi::unpack(buf, pos, p.faces.data(), nf);
-  }
-  return pieces;
-}
-
 }  // namespace
 
 std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWeight) {
@@ -116,8 +89,8 @@ std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWe
   return d;
 }
 
-TriangleMesh extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
-                                    MeshStats* stats) {
+MeshPart extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
+                                MeshStats* stats) {
   BrickValues local;
   for (size_t b = 0; b < store.brickCount(); ++b)
     local[store.code(b)] = brickDistances(store, b, minWeight);
@@ -129,9 +102,7 @@ TriangleMesh extractDistributedMesh(const BrickStore& store, float minWeight, MP
     stats->haloBricksReceived = halo.size();
     stats->localTriangles = piece.faces.size();
   }
-  const std::vector<char> all = mpi::gatherBytes(packPiece(piece), 0, comm);
-  if (mpi::rank(comm) != 0) return {};
-  return mergePieces(unpackPieces(all));
+  return stitchPiece(piece, store.layout(), comm);
 }
 
 }  // namespace rangefuse

@@ -11,7 +11,7 @@ struct Camera {
   double radius;
 };
 
-Camera makeCamera(const SparseField& field, const ViewSettings& view) {
+Camera makeCamera(const Eigen::AlignedBox3d& box, const ViewSettings& view) {
   const double az = view.azimuthDeg * M_PI / 180, el = view.elevationDeg * M_PI / 180;
   Camera c;
   c.toCamera =
@@ -20,7 +20,6 @@ Camera makeCamera(const SparseField& field, const ViewSettings& view) {
       std::abs(c.toCamera.y()) > 0.99 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
   c.right = worldUp.cross(c.toCamera).normalized();
   c.up = c.toCamera.cross(c.right);
-  const Eigen::AlignedBox3d box = field.bounds();
   c.centre = box.center();
   c.radius = 0.5 * box.diagonal().norm();
   return c;
@@ -40,20 +39,24 @@ double brickExit(const SparseField& f, const BrickCoord& b, const Eigen::Vector3
   return exit;
 }
 
-/// First outside-to-inside crossing along o + t d, t in [0, tMax]; NaN when none.
+/// First outside-to-inside crossing along o + t d, t in [0, tMax], whose later sample lies in
+/// a brick `counts` accepts; NaN when none. Samples sit at multiples of half a voxel whatever
+/// bricks were skipped, so that a rank holding part of the field samples its bricks at the
+/// same points as a rank holding all of it.
 double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                     double tMax) {
+                     double tMax, const BrickFilter& counts) {
   const double step = 0.5 * f.grid().voxel;
   bool havePrev = false;
   double prev = 0;
-  for (double t = 0; t <= tMax; t += step) {
+  for (int64_t k = 0; k * step <= tMax; ++k) {
+    const double t = k * step;
     const Eigen::Vector3d p = o + t * d;
     VoxelIndex cell;
     for (int a = 0; a < 3; ++a) cell[a] = static_cast<int>(std::floor(f.grid().coord(p, a)));
     const BrickCoord b = brickOf(cell, f.grid().brick);
     if ((cell.array() < 0).any() || !f.hasBrick(b)) {
       havePrev = false;
-      t = std::max(t, brickExit(f, b, o, d) - step + 1e-9 * step);
+      k = std::max(k, static_cast<int64_t>(std::ceil(brickExit(f, b, o, d) / step)) - 1);
       continue;
     }
     double cur;
@@ -61,7 +64,8 @@ double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen
       havePrev = false;
       continue;
     }
-    if (havePrev && prev > 0 && cur <= 0) return t - step + step * prev / (prev - cur);
+    if (havePrev && prev > 0 && cur <= 0 && (!counts || counts(b)))
+      return t - step + step * prev / (prev - cur);
     prev = cur;
     havePrev = true;
   }
@@ -70,10 +74,11 @@ double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen
 
 }  // namespace
 
-Image renderField(const SparseField& field, const ViewSettings& view) {
-  Image img(view.width, view.height, 255);
-  if (field.bounds().isEmpty()) return img;
-  const Camera cam = makeCamera(field, view);
+std::vector<RayHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
+                             const ViewSettings& view, const BrickFilter& counts) {
+  std::vector<RayHit> hits(static_cast<size_t>(view.width) * view.height);
+  if (bounds.isEmpty()) return hits;
+  const Camera cam = makeCamera(bounds, view);
   const double aspect = double(view.width) / view.height;
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) {
@@ -81,12 +86,25 @@ Image renderField(const SparseField& field, const ViewSettings& view) {
       const double v = (1 - (y + 0.5) / view.height * 2) * cam.radius;
       const Eigen::Vector3d o =
           cam.centre + 1.5 * cam.radius * cam.toCamera + u * cam.right + v * cam.up;
-      const double t = firstCrossing(field, o, -cam.toCamera, 3 * cam.radius);
+      const double t = firstCrossing(field, o, -cam.toCamera, 3 * cam.radius, counts);
       if (std::isnan(t)) continue;
       const Eigen::Vector3d n = field.gradient(o - t * cam.toCamera);
       const double shade = 0.15 + 0.85 * std::max(0.0, n.dot(cam.toCamera));
-      img.set(x, y, static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
-              static_cast<uint8_t>(205 * shade));
+      RayHit& h = hits[static_cast<size_t>(y) * view.width + x];
+      h.t = t;
+      h.rgb = {static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
+               static_cast<uint8_t>(205 * shade)};
+    }
+  return hits;
+}
+
+Image renderField(const SparseField& field, const ViewSettings& view) {
+  const std::vector<RayHit> hits = castRays(field, field.bounds(), view, nullptr);
+  Image img(view.width, view.height, 255);
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      const RayHit& h = hits[static_cast<size_t>(y) * view.width + x];
+      if (!std::isnan(h.t)) img.set(x, y, h.rgb[0], h.rgb[1], h.rgb[2]);
     }
   return img;
 }

@@ -7,6 +7,10 @@
 
 namespace rangefuse {
 
+int slicePlane(const VoxelGrid& grid, int axis, double value) {
+  return static_cast<int>(std::lround(grid.coord(Eigen::Vector3d::Constant(value), axis)));
+}
+
 Image renderSlice(const SparseField& field, int axis, double value) {
   const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
   const VoxelGrid& g = field.grid();
@@ -16,7 +20,7 @@ Image renderSlice(const SparseField& field, int axis, double value) {
   const int nu = hi[u] - lo[u] + 1, nv = hi[v] - lo[v] + 1;
   const int scale = std::max(1, 512 / std::max(nu, nv));
   VoxelIndex at = VoxelIndex::Zero();
-  at[axis] = static_cast<int>(std::lround(g.coord(Eigen::Vector3d::Constant(value), axis)));
+  at[axis] = slicePlane(g, axis, value);
   double dmax = 0;
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {

@@ -1,28 +1,79 @@
 #include "rangefuse/render/SparseField.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {
 
-SparseField SparseField::gather(const BrickStore& store, float minWeight, int root, MPI_Comm comm) {
-  std::vector<char> buf;
-  const size_t per = store.voxelsPerBrick();
-  for (size_t b = 0; b < store.brickCount(); ++b) {
-    const uint64_t code = store.code(b);
-    mpi::pack(buf, &code, 1);
-    mpi::pack(buf, store.sums().data() + b * per, per);
-  }
-  const std::vector<char> all = mpi::gatherBytes(buf, root, comm);
-  SparseField field(store.grid(), minWeight);
-  for (size_t pos = 0; pos < all.size();) {
+namespace {
+
+void packBrick(std::vector<char>& buf, const BrickStore& store, size_t b) {
+  const uint64_t code = store.code(b);
+  mpi::pack(buf, &code, 1);
+  mpi::pack(buf, store.sums().data() + b * store.voxelsPerBrick(), store.voxelsPerBrick());
+}
+
+void unpackBricks(const std::vector<char>& buf, size_t per, SparseField& field) {
+  for (size_t pos = 0; pos < buf.size();) {
     uint64_t code;
-    mpi::unpack(all, pos, &code, 1);
+    mpi::unpack(buf, pos, &code, 1);
     std::vector<VoxelSums> sums(per);
-    mpi::unpack(all, pos, sums.data(), per);
+    mpi::unpack(buf, pos, sums.data(), per);
     field.addBrick(code, std::move(sums));
   }
+}
+
+}  // namespace
+
+Eigen::AlignedBox3d brickBounds(const VoxelGrid& grid, const std::vector<uint64_t>& codes) {
+  Eigen::AlignedBox3d box;
+  const int B = grid.brick;
+  for (const uint64_t code : codes) {
+    const VoxelIndex lo = mortonDecode(code) * B;
+    box.extend(grid.centre(lo));
+    box.extend(grid.centre(lo + VoxelIndex::Constant(B - 1)));
+  }
+  return box;
+}
+
+SparseField SparseField::gather(const BrickStore& store, float minWeight, int root, MPI_Comm comm,
+                                const std::function<bool(const BrickCoord&)>& keep) {
+  std::vector<char> buf;
+  for (size_t b = 0; b < store.brickCount(); ++b)
+    if (!keep || keep(mortonDecode(store.code(b)))) packBrick(buf, store, b);
+  SparseField field(store.grid(), minWeight);
+  unpackBricks(mpi::gatherBytes(buf, root, comm), store.voxelsPerBrick(), field);
+  field.frame_ = brickBounds(store.grid(), store.layout().codes);
+  return field;
+}
+
+SparseField SparseField::withNeighbours(const BrickStore& store, float minWeight, MPI_Comm comm) {
+  const BrickLayout& layout = store.layout();
+  const int me = mpi::rank(comm);
+  std::vector<std::vector<char>> out(mpi::size(comm));
+  SparseField field(store.grid(), minWeight);
+  for (size_t b = 0; b < store.brickCount(); ++b) {
+    const size_t per = store.voxelsPerBrick();
+    field.addBrick(store.code(b), std::vector<VoxelSums>(store.sums().begin() + b * per,
+                                                         store.sums().begin() + (b + 1) * per));
+    const BrickCoord c = mortonDecode(store.code(b));
+    std::vector<int> sent;
+    for (int o = 0; o < 27; ++o) {
+      const BrickCoord n = c + BrickCoord(o % 3 - 1, (o / 3) % 3 - 1, o / 9 - 1);
+      if ((n.array() < 0).any()) continue;
+      const int64_t i = layout.find(mortonEncode(n));
+      if (i < 0 || layout.ownerOf(i) == me) continue;
+      const int r = layout.ownerOf(i);
+      if (std::find(sent.begin(), sent.end(), r) != sent.end()) continue;
+      sent.push_back(r);
+      packBrick(out[r], store, b);
+    }
+  }
+  for (const auto& buf : mpi::exchangeBytes(std::move(out), comm))
+    unpackBricks(buf, store.voxelsPerBrick(), field);
+  field.frame_ = brickBounds(store.grid(), layout.codes);
   return field;
 }
 
@@ -31,14 +82,10 @@ void SparseField::addBrick(uint64_t code, std::vector<VoxelSums> sums) {
 }
 
 Eigen::AlignedBox3d SparseField::bounds() const {
-  Eigen::AlignedBox3d box;
-  const int B = grid_.brick;
-  for (const auto& kv : bricks_) {
-    const VoxelIndex lo = mortonDecode(kv.first) * B;
-    box.extend(grid_.centre(lo));
-    box.extend(grid_.centre(lo + VoxelIndex::Constant(B - 1)));
-  }
-  return box;
+  if (!frame_.isEmpty()) return frame_;
+  std::vector<uint64_t> codes;
+  for (const auto& kv : bricks_) codes.push_back(kv.first);
+  return brickBounds(grid_, codes);
 }
 
 const VoxelSums* SparseField::voxel(const VoxelIndex& v) const {

@@ -3,7 +3,7 @@
 
 #include <mpi.h>
 
-#include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/core/MeshPart.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/register/Registration.h"
 
@@ -15,7 +15,7 @@ uint64_t peakMemoryMiB();
 /// Collective: gathers every rank's stage times and counters; rank 0 writes the JSON report
 /// to options.report. Throws InputError on a write failure (on rank 0).
 void writeRunReport(const FuseOptions& options, MPI_Comm comm, const Progress& progress,
-                    const RankCounters& counters, const FusedField& field, const TriangleMesh& mesh,
+                    const RankCounters& counters, const FusedField& field, const MeshPart& mesh,
                     const std::vector<RegistrationStep>& steps);
 
 }  // namespace rangefuse

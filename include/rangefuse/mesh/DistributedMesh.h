@@ -1,9 +1,9 @@
-// Marching cubes over the distributed bricks, stitched into one mesh on rank 0.
+// Marching cubes over the distributed bricks, stitched across ranks without gathering.
 #pragma once
 
 #include <mpi.h>
 
-#include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/core/MeshPart.h"
 #include "rangefuse/volume/BrickStore.h"
 
 namespace rangefuse {
@@ -18,9 +18,10 @@ struct MeshStats {
 std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWeight);
 
 /// Each rank extracts the cubes whose min corner lies in its bricks, reading the +1 layer
-/// from neighbour bricks (exchanged between ranks). Rank 0 returns the stitched mesh, with
-/// vertices named by global edge so there are no duplicates or cracks; others return empty.
-TriangleMesh extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
-                                    MeshStats* stats = nullptr);
+/// from neighbour bricks (exchanged between ranks), and returns its part of the stitched
+/// mesh: vertices named by global lattice edge, so there are no duplicates or cracks, each
+/// owned by one rank and numbered as one rank would number the whole mesh.
+MeshPart extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
+                                MeshStats* stats = nullptr);
 
 }  // namespace rangefuse

@@ -1,8 +1,9 @@
-// The whole fused field on one rank, for pictures: bricks gathered from every rank.
+// Fused-field bricks held by one rank for pictures: gathered, or its own and their neighbours.
 #pragma once
 
 #include <mpi.h>
 
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -10,16 +11,25 @@
 
 namespace rangefuse {
 
+/// Bounds, in world units, of the voxel centres of the given bricks.
+Eigen::AlignedBox3d brickBounds(const VoxelGrid& grid, const std::vector<uint64_t>& codes);
+
 class SparseField {
  public:
   SparseField(const VoxelGrid& grid, float minWeight) : grid_(grid), minWeight_(minWeight) {}
 
-  /// Collective: every rank's bricks, on `root` (elsewhere the field is empty).
-  static SparseField gather(const BrickStore& store, float minWeight, int root, MPI_Comm comm);
+  /// Collective: every rank's bricks that `keep` accepts (null: all), on `root` (elsewhere the
+  /// field is empty). Its bounds are those of all bricks, kept or not.
+  static SparseField gather(const BrickStore& store, float minWeight, int root, MPI_Comm comm,
+                            const std::function<bool(const BrickCoord&)>& keep = nullptr);
+
+  /// Collective: this rank's bricks and every existing brick next to one of them (26
+  /// neighbours), whoever owns it: what a ray needs to be followed through this rank's bricks.
+  static SparseField withNeighbours(const BrickStore& store, float minWeight, MPI_Comm comm);
 
   void addBrick(uint64_t code, std::vector<VoxelSums> sums);
   const VoxelGrid& grid() const { return grid_; }
-  /// Bounds of the existing bricks, world units.
+  /// Bounds of the existing bricks (of the whole layout when gathered), world units.
   Eigen::AlignedBox3d bounds() const;
   bool hasBrick(const BrickCoord& b) const { return bricks_.count(mortonEncode(b)) > 0; }
 
@@ -34,6 +44,7 @@ class SparseField {
   VoxelGrid grid_;
   float minWeight_;
   std::unordered_map<uint64_t, std::vector<VoxelSums>> bricks_;
+  Eigen::AlignedBox3d frame_;  ///< bounds of the whole layout, when set
 };
 
 }  // namespace rangefuse
