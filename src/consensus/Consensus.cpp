@@ -44,7 +44,8 @@ void overViews(const RegionViews& rv, Fn&& fn, Done&& done) {
 
 }  // namespace
 
-RegionViews::RegionViews(const std::vector<ViewIndex>& views) : views_(&views) {
+RegionViews::RegionViews(const std::vector<ViewIndex>& views, bool complete)
+    : views_(&views), complete_(complete) {
   for (int v = 0; v < static_cast<int>(views.size()); ++v) near_.push_back(v);
 }
 
@@ -115,6 +116,12 @@ int chooseConsensus(std::vector<Seed>& seeds, const RegionViews& views,
   int viewC = -1, viewO = -1;
   for (const Seed& s : seeds) {
     if (viewC >= 0 && s.o.distance - params.sameDistance > bestC.distance) break;
+    // Without all triangles, a seed is exact only when the ball from x out to it lies in the
+    // region, and its consensus only when its delta_d ball does; closestConsensusSurface
+    // answers only when the seeds skipped here cannot matter.
+    if (!views.complete() &&
+        (!views.coversBall(x, s.o.distance) || !views.coversBall(s.o.point, params.sameDistance)))
+      continue;
     SurfaceObservation c = consensusSurface(s.o.point, s.o.normal, views, params);
     c.distance = (x - c.point).norm();
     const int v = s.view;
@@ -146,6 +153,10 @@ bool closestConsensusSurface(const Eigen::Vector3d& x, const RegionViews& views,
   // A view that is not near has its closest point beyond the margin and so its consensus
   // beyond margin - delta_d: it cannot beat a near consensus closer than that.
   if (fromQuorum && out.distance < views.margin() - params.sameDistance) return true;
+  // Routed triangles: a seed that was skipped lies over margin - delta_d from the region, so
+  // its consensus is over margin - 2 delta_d away; closer than that, the answer is exact.
+  if (!views.complete())
+    return fromQuorum && out.distance < views.margin() - 2 * params.sameDistance;
   if (views.near().size() == views.all().size()) return chosen >= 0;
   seeds.clear();
   for (int v = 0; v < static_cast<int>(views.all().size()); ++v) collect(v);
@@ -170,9 +181,14 @@ bool naiveSignedDistance(const Eigen::Vector3d& x, const RegionViews& views,
     if (bestView < 0 || o.distance < best.distance || (o.distance == best.distance && v < bestView))
       best = o, bestView = v;
   };
-  overViews(views, consider, [&] { return bestView >= 0 && best.distance < views.margin(); });
-  if (bestView >= 0) out = signedFrom(x, best);
-  return bestView >= 0;
+  const auto decided = [&] { return bestView >= 0 && best.distance < views.margin(); };
+  if (views.complete())
+    overViews(views, consider, decided);
+  else
+    for (int v : views.near()) consider(v);
+  if (!decided() && (!views.complete() || bestView < 0)) return false;
+  out = signedFrom(x, best);
+  return true;
 }
 
 }  // namespace rangefuse

@@ -84,6 +84,12 @@ void validateFuseOptions(const FuseOptions& o) {
 
 namespace {
 
+/// Past the largest distance a brick-sized cell is refined at, plus 2 delta_d: a consensus
+/// closer than margin - 2 delta_d is settled by the triangles within the margin.
+double closestSurfaceMargin(const FuseOptions& o) {
+  return (std::sqrt(3.0) * (0.5 * o.brick + 1) + 1) * o.voxel + 2 * o.sameDistance * o.voxel;
+}
+
 /// Consensus or naive distances near the surface of every local brick.
 EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& field) {
   std::vector<ViewIndex> views;
@@ -97,9 +103,9 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   // test; joining a consensus is judged tighter, as a rim point biases the average.
   params.edgeSlack = 0.5 * o.voxel;
   params.memberSlack = 0.05 * o.voxel;
-  // Past the largest distance a brick-sized cell is refined at, plus delta_d.
-  const double margin = (std::sqrt(3.0) * (0.5 * o.brick + 1) + 1) * o.voxel + params.sameDistance;
-  ConsensusSampler sampler(views, params, o.method == "naive", margin);
+  // Routed or not, a voxel's value depends only on the triangles within the margin of its
+  // brick, so that it is the same on any number of ranks (docs/consensus.md).
+  ConsensusSampler sampler(views, params, o.method == "naive", closestSurfaceMargin(o), false);
   faultPoint("field");
   return evaluateNearSurface(*field.store, sampler);
 }
@@ -218,7 +224,7 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
 }
 
 bool streams(const FuseOptions& o) {
-  return o.method == "prism" && o.registration == "none";
+  return o.registration == "none";
 }
 
 namespace {
@@ -228,7 +234,7 @@ std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& fie
   std::string line = o.method + ": " + std::to_string(field.layout.codes.size()) +
                      " bricks, per rank " + perRank(comm, counters.bricks) +
                      "; voxels updated per rank " + perRank(comm, counters.voxelUpdates);
-  if (field.scans.empty() && field.scanTriangles > 0) {
+  if (field.routedCopies > 0) {
     char routed[160];
     std::snprintf(routed, sizeof routed,
                   "; routed %.3f copies and %.1f bytes to other ranks per input triangle",
@@ -247,6 +253,10 @@ StreamOptions streamOptions(const FuseOptions& o) {
   s.surface = o.surface;
   s.limits = o.limits;
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
+  // Every triangle within the margin of a brick's bounding ball, whose radius is half the
+  // diagonal of its voxel centres; one voxel more as bricksOfBox goes by voxel centres.
+  if (o.method != "prism")
+    s.routeReach = closestSurfaceMargin(o) + (0.5 * std::sqrt(3.0) * (o.brick - 1) + 1) * o.voxel;
   return s;
 }
 
@@ -267,6 +277,13 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
     scans.poses.push_back(c.pose);
   }
   if (!buildStreamedField(streamOptions(o), conf, comm, progress, field, counters)) return false;
+  if (o.method != "prism" && !collectively(comm, [&] {
+        const EvaluationStats st = evaluateClosestSurfaceField(o, field);
+        counters.evaluatedPoints = st.points;
+        counters.voxelUpdates = st.voxels;
+        field.scans = {};
+      }))
+    return false;
   progress.stage("field", fieldLine(o, comm, field, counters));
   return true;
 }

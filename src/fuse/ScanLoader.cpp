@@ -95,14 +95,27 @@ uint64_t scanBytes(const PrismScan& s) {
   return perPoint * s.surface.points.size() + perTriangle * s.surface.triangles.size();
 }
 
-void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout,
+namespace {
+
+Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
+  if (reach == 0) return prismBounds(scanPrism(world, t));
+  Eigen::AlignedBox3d box;
+  for (const int32_t v : world.surface.triangles[t]) box.extend(world.surface.points[v]);
+  box.min().array() -= reach;
+  box.max().array() += reach;
+  return box;
+}
+
+}  // namespace
+
+void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout, double reach,
                std::vector<std::vector<char>>& out, RoutingStats& stats) {
   const int ranks = layout.ranks();
   std::vector<std::vector<uint32_t>> triangles(ranks);
   std::vector<int> owners;
   for (size_t t = 0; t < world.surface.triangles.size(); ++t) {
     BrickCoord lo, hi, b;
-    if (!bricksOfBox(layout.grid, prismBounds(scanPrism(world, t)), lo, hi)) continue;
+    if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
     owners.clear();
     for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
       for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())

@@ -133,9 +133,12 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
 }
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
-/// they receive in scan order.
-bool integrateShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, Progress& progress,
-                    BrickStore& store, RankCounters& counters, RoutingStats& routing) {
+/// they receive in scan order (or keep it, for the closest-surface methods).
+bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, MPI_Comm comm,
+                    Progress& progress, FusedField& field, RankCounters& counters,
+                    RoutingStats& routing) {
+  BrickStore& store = *field.store;
+  if (reach > 0) field.scans.resize(conf.scans.size());
   const int ranks = mpi::size(comm);
   PrismIntegrator integrator(store);
   routing.bytes.assign(ranks, 0);
@@ -145,11 +148,15 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, P
     std::vector<std::vector<char>> out(ranks);
     if (!collectively(comm, [&] {
           for (size_t i = first; i < end; ++i)
-            if (share.reads(i)) routeScan(i, share.take(i), store.layout(), out, routing);
+            if (share.reads(i)) routeScan(i, share.take(i), store.layout(), reach, out, routing);
         }))
       return false;
     for (auto& [i, part] : unpackRouted(mpi::exchangeBytes(std::move(out), comm))) {
       faultPoint("field");
+      if (reach > 0) {
+        field.scans[i] = std::move(part);
+        continue;
+      }
       const IntegrationStats st = integrator.addScan(part);
       counters.prisms += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
@@ -203,7 +210,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
   RoutingStats routing;
-  if (!integrateShare(conf, share, comm, progress, *field.store, counters, routing)) return false;
+  if (!integrateShare(conf, share, o.routeReach, comm, progress, field, counters, routing))
+    return false;
   uint64_t sent = 0;
   for (int r = 0; r < ranks; ++r) sent += r == me ? 0 : routing.bytes[r];
   uint64_t totals[2] = {sent, routing.copies};

@@ -212,3 +212,64 @@ TEST(Consensus, RegionCullingGivesExactlyTheFullAnswers) {
     }
   }
 }
+
+/// The triangles of `s` that some point of lies within `r` of `centre`, in order (what a
+/// rank receives for a brick whose focus ball is (centre, r)), plus every `extra`-th other
+/// triangle (what it receives for its other bricks).
+static ScanSurface routedPart(const ScanSurface& s, const Eigen::Vector3d& centre, double r,
+                              int extra) {
+  ScanSurface part = s;
+  part.triangles.clear();
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    const auto& f = s.triangles[t];
+    const Eigen::Vector3d q =
+        closestPointOnTriangle(centre, s.points[f[0]], s.points[f[1]], s.points[f[2]]);
+    if ((q - centre).norm() <= r || t % extra == 0) part.triangles.push_back(f);
+  }
+  return part;
+}
+
+TEST(Consensus, RoutedTrianglesGiveTheFullAnswerOrNone) {
+  const auto surfaces = planeWithPatch();
+  const auto views = indexAll(surfaces);
+  const RegionViews all(views);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0, 4);
+  const ConsensusParams p = params(1.5);
+  int settled = 0;
+  for (int b = 0; b < 20; ++b) {
+    const Eigen::Vector3d lo(u(rng) * 4 - 8, u(rng) * 4 - 8, u(rng) * 2 - 2);
+    const Eigen::AlignedBox3d box(lo, lo + Eigen::Vector3d::Constant(3));
+    const double margin = 8.0, reach = 0.5 * box.diagonal().norm() + margin;
+    for (const int extra : {1000000, 7}) {
+      std::vector<ScanSurface> parts;
+      for (const auto& s : surfaces) parts.push_back(routedPart(s, box.center(), reach, extra));
+      const auto partViews = indexAll(parts);
+      RegionViews local(partViews, false);
+      local.focus(box, margin);
+      for (int i = 0; i < 20; ++i) {
+        const Eigen::Vector3d x = lo + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.75;
+        SignedDistance a, c;
+        const bool fa = consensusSignedDistance(x, all, p, a);
+        const bool fc = consensusSignedDistance(x, local, p, c);
+        if (fc) {
+          ASSERT_TRUE(fa);
+          EXPECT_EQ(a.d, c.d);
+          EXPECT_EQ(a.weight, c.weight);
+        }
+        // A quorum surface closer than margin - 2 delta_d is always found.
+        if (fa && a.weight >= p.quorum && std::abs(a.d) < margin - 2 * p.sameDistance) {
+          EXPECT_TRUE(fc) << "at " << x.transpose();
+          ++settled;
+        }
+        ASSERT_TRUE(naiveSignedDistance(x, all, p, a));
+        if (naiveSignedDistance(x, local, p, c)) {
+          EXPECT_EQ(a.d, c.d);
+        } else {
+          EXPECT_GE(std::abs(a.d), margin);
+        }
+      }
+    }
+  }
+  EXPECT_GT(settled, 100);
+}

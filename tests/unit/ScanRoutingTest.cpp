@@ -57,7 +57,7 @@ TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
   std::vector<std::vector<char>> out(ranks);
   RoutingStats stats;
   stats.bytes.assign(ranks, 0);
-  routeScan(7, scan, layout, out, stats);
+  routeScan(7, scan, layout, 0, out, stats);
   std::vector<IndexedScans> got(ranks);
   for (int r = 0; r < ranks; ++r) got[r] = unpackRouted({out[r]});
 
@@ -100,7 +100,7 @@ TEST(ScanRouting, PartsCarryOnlyTheVerticesTheirTrianglesUse) {
   std::vector<std::vector<char>> out(4);
   RoutingStats stats;
   stats.bytes.assign(4, 0);
-  routeScan(0, scan, layout, out, stats);
+  routeScan(0, scan, layout, 0, out, stats);
   for (int r = 0; r < 4; ++r) {
     const IndexedScans got = unpackRouted({out[r]});
     if (got.empty()) continue;

@@ -23,7 +23,10 @@ struct ConsensusParams {
 /// those of the full algorithms.
 class RegionViews {
  public:
-  explicit RegionViews(const std::vector<ViewIndex>& views);
+  /// `complete`: the views hold every triangle of every scan. When false they may hold only
+  /// the triangles near the focused region (a rank's routed share), and a question the near
+  /// triangles cannot settle exactly is answered "unobserved" instead of by all triangles.
+  explicit RegionViews(const std::vector<ViewIndex>& views, bool complete = true);
   /// Restricts to a ball around box: near = views with a triangle within ball radius + margin.
   void focus(const Eigen::AlignedBox3d& box, double margin);
 
@@ -36,12 +39,14 @@ class RegionViews {
   /// A closest-surface result farther than this from a point in the region cannot come from
   /// a view that is not near.
   double margin() const { return margin_; }
+  bool complete() const { return complete_; }
 
  private:
   const std::vector<ViewIndex>* views_;
   std::vector<int> near_;
   Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
   double radius_ = INFINITY, margin_ = INFINITY;
+  bool complete_ = true;
 };
 
 /// Eq. 1: two observations of the same surface.

@@ -7,11 +7,12 @@ namespace rangefuse {
 
 class ConsensusSampler : public FieldSampler {
  public:
-  /// `margin` (world units): views farther than this from a brick are consulted only when
-  /// the nearer ones cannot decide; it changes speed, never results.
+  /// `margin` (world units): triangles farther than this from a brick are consulted only when
+  /// the nearer ones cannot decide, and never when `complete` is false (the views hold only
+  /// the triangles near this rank's bricks): there the voxel stays unobserved (RegionViews).
   ConsensusSampler(const std::vector<ViewIndex>& views, const ConsensusParams& params, bool naive,
-                   double margin)
-      : region_(views), params_(params), naive_(naive), margin_(margin) {}
+                   double margin, bool complete)
+      : region_(views, complete), params_(params), naive_(naive), margin_(margin) {}
 
   void enterBrick(const Eigen::AlignedBox3d& bounds) override { region_.focus(bounds, margin_); }
 

@@ -58,7 +58,9 @@ struct LoadedScans {
 /// The fused field of one job: every rank holds its own bricks, and all scans only when the
 /// field was built from replicated scans (registration, closest-surface methods).
 struct FusedField {
-  std::vector<PrismScan> scans;  ///< empty when the scans were streamed
+  /// Every scan, placed; when streamed, empty (prism) or, while the closest-surface field is
+  /// evaluated, the triangles routed to this rank.
+  std::vector<PrismScan> scans;
   size_t scanCount = 0;
   uint64_t scanTriangles = 0;
   uint64_t routedBytes = 0, routedCopies = 0;  ///< streamed: all ranks, to other ranks
@@ -81,8 +83,8 @@ bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, Lo
 bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_Comm comm,
                   FusedField& field, RankCounters& counters);
 
-/// True when the field can be built from streamed scans (no rank holds them all): prism
-/// fields at the .conf poses.
+/// True when the field can be built from streamed scans (no rank holds them all): any method
+/// at the .conf poses.
 bool streams(const FuseOptions& options);
 
 /// Collective: reads the scans and builds the field at the .conf poses, with progress lines.

@@ -39,10 +39,12 @@ struct RoutingStats {
   std::vector<uint64_t> bytes;
 };
 
-/// Appends to out[r], for every rank r owning a brick some prism of the placed scan touches,
-/// the part of the scan made of those triangles (in order) and their vertices. A triangle whose
-/// prism touches no existing brick goes nowhere.
-void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout,
+/// Appends to out[r], for every rank r owning a brick some triangle of the placed scan must
+/// reach, the part of the scan made of those triangles (in order) and their vertices. With
+/// reach 0 a triangle reaches the bricks its prism touches (prism fields); with reach > 0, the
+/// bricks with a voxel centre within reach of its bounding box (closest-surface methods). A
+/// triangle that reaches no existing brick goes nowhere.
+void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout, double reach,
                std::vector<std::vector<char>>& out, RoutingStats& stats);
 
 /// The scan parts received from every rank, in scan order.

@@ -17,6 +17,9 @@ struct StreamOptions {
   SurfaceOptions surface;
   InputLimits limits;
   uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes; the rest are re-read
+  /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
+  /// scan's triangles within this reach of a local brick kept in FusedField::scans.
+  double routeReach = 0;
 };
 
 /// The reader rank of each scan: scans are taken in windows of `ranks` consecutive scans and
@@ -25,7 +28,8 @@ std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks
 
 /// Collective: the prism field of the .conf's scans at the .conf's poses. Contributions reach
 /// every voxel in scan order, then triangle order, so the field is the same on any rank count.
-/// False when any rank failed (printed once).
+/// With routeReach > 0 the field is left empty and field.scans holds the routed triangles
+/// instead. False when any rank failed (printed once).
 bool buildStreamedField(const StreamOptions& options, const io::ConfFile& conf, MPI_Comm comm,
                         Progress& progress, FusedField& field, RankCounters& counters);
 
