@@ -2,13 +2,16 @@
 
 #include <hdf5.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Digest.h"
+#include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::io {
@@ -30,6 +33,12 @@ class Handle {
   Handle& operator=(const Handle&) = delete;
   operator hid_t() const { return id_; }
   bool ok() const { return id_ >= 0; }
+  /// Closes now, returning the status (a file's close writes what HDF5 still buffers).
+  herr_t close() {
+    const herr_t status = id_ >= 0 ? close_(id_) : 0;
+    id_ = -1;
+    return status;
+  }
 
  private:
   hid_t id_;
@@ -40,6 +49,23 @@ void check(bool ok, const std::string& path, const std::string& what) {
   if (!ok) throw InputError(path + ": " + what);
 }
 
+/// Thrown on the ranks whose step succeeded when another rank's failed, so that every rank
+/// leaves the writer at the same step and closes its handles in the same collective order.
+struct OtherRankFailed : std::runtime_error {
+  OtherRankFailed() : std::runtime_error("a step failed on another rank") {}
+};
+
+/// Collective: a write step that every rank must pass before the next collective one.
+void together(bool ok, const std::string& path, const std::string& what, MPI_Comm comm) {
+  const int cause = ok ? 0 : errno;
+  int mine = ok, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm);
+  if (all) return;
+  if (ok) throw OtherRankFailed();
+  throw InputError(path + ": " + what +
+                   (cause ? std::string(" (") + std::strerror(cause) + ")" : ""));
+}
+
 Handle accessList(MPI_Comm comm) {
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
@@ -48,17 +74,17 @@ Handle accessList(MPI_Comm comm) {
 
 /// A 1-D or 2-D dataset of `type`, rows x cols.
 Handle createDataset(hid_t file, const char* name, hid_t type, hsize_t rows, hsize_t cols,
-                     const std::string& path) {
+                     const std::string& path, MPI_Comm comm) {
   const hsize_t dims[2] = {rows, cols};
   Handle space(H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose);
   Handle set(H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  check(set.ok(), path, std::string("cannot create dataset ") + name);
+  together(set.ok(), path, std::string("cannot create dataset ") + name, comm);
   return set;
 }
 
 /// Writes rows [first, first + count) of a dataset from this rank (independent I/O).
 void writeRows(hid_t set, hid_t type, hsize_t first, hsize_t count, hsize_t cols, const void* data,
-               const std::string& path, const char* name) {
+               const std::string& path, const char* name, MPI_Comm comm) {
   Handle space(H5Dget_space(set), H5Sclose);
   const hsize_t start[2] = {first, 0}, size[2] = {count, cols};
   if (count == 0) {
@@ -68,8 +94,9 @@ void writeRows(hid_t set, hid_t type, hsize_t first, hsize_t count, hsize_t cols
   }
   Handle mem(H5Screate_simple(cols ? 2 : 1, size, nullptr), H5Sclose);
   if (count == 0) H5Sselect_none(mem);
-  check(H5Dwrite(set, type, mem, space, H5P_DEFAULT, data) >= 0, path,
-        std::string("cannot write ") + name);
+  errno = 0;
+  together(H5Dwrite(set, type, mem, space, H5P_DEFAULT, data) >= 0, path,
+           std::string("cannot write ") + name, comm);
 }
 
 nlohmann::json metaJson(const CheckpointMeta& m) {
@@ -234,10 +261,10 @@ void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI
   const bool root = mpi::rank(comm) == 0;
   const BrickLayout& l = store.layout();
   const hsize_t nb = l.codes.size(), per = store.voxelsPerBrick();
-  Handle codes = createDataset(file, "field_codes", H5T_NATIVE_UINT64, nb, 0, tmp);
-  Handle work = createDataset(file, "field_work", H5T_NATIVE_UINT64, nb, 0, tmp);
-  Handle sums = createDataset(file, "field_sums", H5T_NATIVE_FLOAT, nb, per * 6, tmp);
-  Handle digests = createDataset(file, "field_digests", H5T_NATIVE_UINT64, nb, 0, tmp);
+  Handle codes = createDataset(file, "field_codes", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
+  Handle work = createDataset(file, "field_work", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
+  Handle sums = createDataset(file, "field_sums", H5T_NATIVE_FLOAT, nb, per * 6, tmp, comm);
+  Handle digests = createDataset(file, "field_digests", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   const float* mine = reinterpret_cast<const float*>(store.sums().data());
   const std::vector<uint64_t> own = brickDigests(mine, store.brickCount(), per);
   std::vector<char> bytes;
@@ -250,27 +277,41 @@ void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI
   writeAttributeU64(codes, kDigest, fnv1a64(l.codes.data(), nb * sizeof(uint64_t)));
   writeAttributeU64(work, kDigest, fnv1a64(l.work.data(), nb * sizeof(uint64_t)));
   writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));
-  writeRows(codes, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.codes.data(), tmp, "field_codes");
-  writeRows(work, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.work.data(), tmp, "field_work");
+  writeRows(codes, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.codes.data(), tmp, "field_codes",
+            comm);
+  writeRows(work, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.work.data(), tmp, "field_work", comm);
   const int r = mpi::rank(comm);
   const hsize_t first = l.rankStart[r], count = l.rankStart[r + 1] - first;
-  writeRows(sums, H5T_NATIVE_FLOAT, first, count, per * 6, mine, tmp, "field_sums");
-  writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_digests");
+  writeRows(sums, H5T_NATIVE_FLOAT, first, count, per * 6, mine, tmp, "field_sums", comm);
+  writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_digests", comm);
 }
 
 void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickStore* store,
                MPI_Comm comm) {
   Handle fapl = accessList(comm);
+  errno = 0;
   Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose);
-  check(file.ok(), tmp, "cannot create checkpoint file");
+  together(file.ok(), tmp, "cannot create checkpoint file", comm);
   writeAttributeString(file, "format", kFormat);
   writeAttributeInt(file, "version", meta.version);
-  const std::string json = metaJson(meta).dump();
-  const bool root = mpi::rank(comm) == 0;
-  Handle metaSet = createDataset(file, "meta", H5T_NATIVE_CHAR, json.size(), 0, tmp);
-  writeAttributeU64(metaSet, kDigest, fnv1a64(json.data(), json.size()));
-  writeRows(metaSet, H5T_NATIVE_CHAR, 0, root ? json.size() : 0, 0, json.data(), tmp, "meta");
+  {
+    const std::string json = metaJson(meta).dump();
+    const bool root = mpi::rank(comm) == 0;
+    Handle metaSet = createDataset(file, "meta", H5T_NATIVE_CHAR, json.size(), 0, tmp, comm);
+    writeAttributeU64(metaSet, kDigest, fnv1a64(json.data(), json.size()));
+    writeRows(metaSet, H5T_NATIVE_CHAR, 0, root ? json.size() : 0, 0, json.data(), tmp, "meta",
+              comm);
+  }
   if (store) writeField(file, *store, tmp, comm);
+  errno = 0;
+  together(file.close() >= 0, tmp, "cannot finish writing (flush and close)", comm);
+}
+
+/// Bytes the checkpoint's datasets hold, for the message when a write fails.
+uint64_t checkpointBytes(const CheckpointMeta& meta, const BrickStore* store) {
+  uint64_t bytes = metaJson(meta).dump().size() + 4096;
+  if (store) bytes += store->layout().codes.size() * (3 * 8 + store->voxelsPerBrick() * 24);
+  return bytes;
 }
 
 }  // namespace
@@ -279,14 +320,31 @@ void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const 
                      MPI_Comm comm) {
   const std::string tmp = path + ".tmp";
   std::string error;
+  bool failed = false;
   try {
-    writeFile(tmp, meta, store, comm);  // the file closes (collectively) on the way out
+    writeFile(tmp, meta, store, comm);  // on failure every rank unwinds from the same step
+  } catch (const OtherRankFailed&) {
+    failed = true;
   } catch (const std::exception& e) {
     error = e.what();
+    failed = true;
   }
-  if (!mpi::agree(error.empty(), error, comm)) {
+  int any = failed;
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm);
+  if (any) {
+    // The cause as the lowest rank that had one saw it, so that every rank throws one message.
+    const int size = mpi::size(comm);
+    int from = error.empty() ? size : mpi::rank(comm);
+    MPI_Allreduce(MPI_IN_PLACE, &from, 1, MPI_INT, MPI_MIN, comm);
+    const std::string cause = from < size ? mpi::broadcastString(error, from, comm) : "";
     if (mpi::rank(comm) == 0) std::remove(tmp.c_str());
-    throw InputError(path + ": checkpoint not written");
+    const int64_t free = freeBytes(tmp);
+    const std::string space =
+        free < 0 ? ""
+                 : "; it needs about " + std::to_string(checkpointBytes(meta, store) >> 20) +
+                       " MiB, " + std::to_string(free >> 20) + " MiB are free there";
+    throw InputError(path + ": checkpoint not written: " + cause + space +
+                     " (the previous checkpoint, if any, is unchanged)");
   }
   int renamed = 0;
   if (mpi::rank(comm) == 0) renamed = std::rename(tmp.c_str(), path.c_str()) == 0;

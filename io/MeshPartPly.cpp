@@ -11,6 +11,7 @@
 
 #include "PlyMeshFormat.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -84,7 +85,10 @@ void writeAt(MPI_File file, MPI_Offset offset, const std::string& bytes, const s
                path, "write");
     int written = 0;
     MPI_Get_count(&status, MPI_CHAR, &written);
-    if (written != n) throw InputError(path + ": short write (disk full?)");
+    if (written != n)
+      throw InputError(path + ": short write: the disk is full? (" +
+                       std::to_string(std::max<int64_t>(0, freeBytes(path)) >> 20) +
+                       " MiB free there)");
     done += static_cast<size_t>(n);
   }
 }

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Peak memory per rank and wall time of one streamed prism fuse on 1, 2, 4 and 8 ranks (more
-# ranks than cores are oversubscribed), with the bytes routed per input triangle. The scan set
-# is made once by the synthetic scanner and kept in the cache folder.
+# ranks than cores are oversubscribed), with the bytes routed per input triangle; then, in the
+# same run, Open3D's ScalableTSDFVolume on the same scans when python3-open3d is installed
+# (jobs/open3d_tsdf.py). The scan set is made once by the synthetic scanner and kept in the
+# cache folder.
 # Usage: bash jobs/benchmark_memory.sh [VIEWS] [SIZE] [RANKS...]   (defaults: 48 1024 1 2 4 8)
 # Environment: CACHE (default /tmp/rangefuse-bench), SCAN_MEMORY (MiB, default: the option's).
 set -euo pipefail
@@ -22,7 +24,7 @@ fi
 extra=()
 [[ -n ${SCAN_MEMORY:-} ]] && extra=(--scan-memory "$SCAN_MEMORY")
 log=$(mktemp)
-trap 'rm -f "$log" "$cache/mesh.ply"' EXIT
+trap 'rm -f "$log" "$cache/mesh.ply" "$cache/open3d.ply"' EXIT
 echo "| ranks | peak memory per rank (MiB) | all ranks (MiB) | wall (s) | routed per input triangle |"
 echo "|---|---|---|---|---|"
 for n in "${ranks[@]}"; do
@@ -34,3 +36,6 @@ for n in "${ranks[@]}"; do
   routed=$(grep "routed" "$log" | sed 's/.*routed \(.*\) per input triangle.*/\1/')
   echo "| $n | $mem | $total | $wall | $routed |"
 done
+if /usr/bin/python3 -c "import open3d" 2>/dev/null; then  # Debian's python, not a pyenv one
+  /usr/bin/python3 jobs/open3d_tsdf.py "$set_dir" 0.0005 "$cache/open3d.ply"
+fi

@@ -8,6 +8,7 @@
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/fuse/OutputChecks.h"
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
@@ -39,6 +40,13 @@ std::string perRank(MPI_Comm comm, uint64_t value) {
   std::ostringstream s;
   for (size_t r = 0; r < all.size(); ++r) s << (r ? " / " : "") << all[r];
   return s.str();
+}
+
+/// Rank 0 warns when the checkpoint or the mesh may not fit where they go.
+void warnStorage(const FuseOptions& o, const BrickLayout& layout, MPI_Comm comm) {
+  if (mpi::rank(comm) != 0) return;
+  for (const std::string& w : storageWarnings(o, layout))
+    std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
 }
 
 }  // namespace
@@ -204,6 +212,7 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
                                   mpi::size(comm), o.limits.maxVoxels);
       }))
     return false;
+  warnStorage(o, field.layout, comm);
   field.store = std::make_unique<BrickStore>(field.layout, mpi::rank(comm));
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
@@ -245,8 +254,9 @@ std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& fie
   return line;
 }
 
-StreamOptions streamOptions(const FuseOptions& o) {
+StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   StreamOptions s;
+  s.planned = [&o, comm](const BrickLayout& layout) { warnStorage(o, layout, comm); };
   s.voxel = o.voxel;
   s.eps = o.envelope * o.voxel;
   s.brick = o.brick;
@@ -276,7 +286,8 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
     scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
   }
-  if (!buildStreamedField(streamOptions(o), conf, comm, progress, field, counters)) return false;
+  if (!buildStreamedField(streamOptions(o, comm), conf, comm, progress, field, counters))
+    return false;
   if (o.method != "prism" && !collectively(comm, [&] {
         const EvaluationStats st = evaluateClosestSurfaceField(o, field);
         counters.evaluatedPoints = st.points;
@@ -382,6 +393,7 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
   if (!collectively(comm, [&] {
         if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
         validateFuseOptions(o);
+        checkOutputs(o, mpi::rank(comm));
       }))
     return 1;
   if (!o.resume.empty()) {

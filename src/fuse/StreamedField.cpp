@@ -206,6 +206,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   if (!collectively(comm, [&] { grid = gridAround(box, o.voxel, o.brick, o.eps); }) ||
       !planShare(o, conf, share, grid, comm, field.layout))
     return false;
+  if (o.planned) o.planned(field.layout);
   field.store = std::make_unique<BrickStore>(field.layout, me);
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();

@@ -85,6 +85,17 @@ run_case scan-grid "exceeds the limit 100000000 (raise it with --max-grid-cells)
 run_case eval-samples "--samples 1e+12 exceeds the limit 200000000 (raise it with --max-elements)" \
   eval --mesh a.ply --reference b.ply --voxel 1 --samples 1000000000000
 
+# Bad output paths are refused before any scan is read: these scans are missing, and the
+# message must be about the output.
+run_case out-folder "$tmp/no/such/mesh.ply: cannot write the mesh there: folder '$tmp/no/such' does not exist" \
+  fuse --scans "$tmp/missing/scans.conf" --voxel 0.1 --out "$tmp/no/such/mesh.ply"
+run_case out-checkpoint "ck.h5: cannot write the checkpoint there" fuse --scans "$tmp/missing/scans.conf" \
+  --voxel 0.1 --out "$tmp/out-checkpoint.out.ply" --checkpoint "$tmp/no/ck.h5"
+run_case out-is-folder "cannot write the report there: it is a folder" fuse --scans "$tmp/missing/scans.conf" \
+  --voxel 0.1 --out "$tmp/out-is-folder.out.ply" --report "$tmp"
+run_case out-twice "given as both the mesh and the preview" fuse --scans "$tmp/missing/scans.conf" \
+  --voxel 0.1 --out "$tmp/out-twice.out.ply" --preview "$tmp/out-twice.out.ply"
+
 run_case scan-mesh "nothing.ply: cannot open" scan --mesh "$tmp/nothing.ply" --voxel 1 --out "$tmp/scan-mesh.out.dir"
 run_case scan-views "--views" scan --shape sphere --views 0 --voxel 1 --out "$tmp/scan-views.out.dir"
 run_case scan-noise "--noise" scan --shape sphere --noise -1 --voxel 1 --out "$tmp/scan-noise.out.dir"

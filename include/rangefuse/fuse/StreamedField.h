@@ -5,6 +5,8 @@
 
 #include <mpi.h>
 
+#include <functional>
+
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
 
@@ -20,6 +22,8 @@ struct StreamOptions {
   /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
   /// scan's triangles within this reach of a local brick kept in FusedField::scans.
   double routeReach = 0;
+  /// Called on every rank once the bricks are planned, before the field pass (may be null).
+  std::function<void(const BrickLayout&)> planned;
 };
 
 /// The reader rank of each scan: scans are taken in windows of `ranks` consecutive scans and
