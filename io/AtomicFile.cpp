@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/parallel/FaultInjection.h"
 
 namespace rangefuse::io {
 
@@ -13,6 +14,7 @@ void writeAtomically(const std::string& path, const std::function<void(std::ostr
   try {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot open for writing");
+    faultPoint("write", path);
     write(out);
     out.flush();
     if (!out) throw InputError(path + ": write failed (disk full?)");

@@ -12,6 +12,7 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Digest.h"
 #include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::io {
@@ -56,14 +57,17 @@ struct OtherRankFailed : std::runtime_error {
 };
 
 /// Collective: a write step that every rank must pass before the next collective one.
-void together(bool ok, const std::string& path, const std::string& what, MPI_Comm comm) {
+void together(bool ok, const std::string& message, MPI_Comm comm) {
   const int cause = ok ? 0 : errno;
   int mine = ok, all = 0;
   MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm);
   if (all) return;
   if (ok) throw OtherRankFailed();
-  throw InputError(path + ": " + what +
-                   (cause ? std::string(" (") + std::strerror(cause) + ")" : ""));
+  throw InputError(message + (cause ? std::string(" (") + std::strerror(cause) + ")" : ""));
+}
+
+void together(bool ok, const std::string& path, const std::string& what, MPI_Comm comm) {
+  together(ok, path + ": " + what, comm);
 }
 
 Handle accessList(MPI_Comm comm) {
@@ -94,9 +98,15 @@ void writeRows(hid_t set, hid_t type, hsize_t first, hsize_t count, hsize_t cols
   }
   Handle mem(H5Screate_simple(cols ? 2 : 1, size, nullptr), H5Sclose);
   if (count == 0) H5Sselect_none(mem);
+  std::string injected;  // a test's fault (RANGEFUSE_FAULT=write:throw@RANK#N)
+  try {
+    faultPoint("write", path + " (" + name + ")");
+  } catch (const std::exception& e) {
+    injected = e.what();
+  }
   errno = 0;
-  together(H5Dwrite(set, type, mem, space, H5P_DEFAULT, data) >= 0, path,
-           std::string("cannot write ") + name, comm);
+  const bool ok = injected.empty() && H5Dwrite(set, type, mem, space, H5P_DEFAULT, data) >= 0;
+  together(ok, injected.empty() ? path + ": cannot write " + name : injected, comm);
 }
 
 nlohmann::json metaJson(const CheckpointMeta& m) {

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/parallel/FaultInjection.h"
 
 namespace rangefuse::io {
 
@@ -17,6 +18,7 @@ void writePng(const std::string& path, const Image& image) {
   png.width = image.width;
   png.height = image.height;
   png.format = PNG_FORMAT_RGB;
+  faultPoint("write", path);
   if (!png_image_write_to_file(&png, tmp.c_str(), 0, image.rgb.data(), 0, nullptr)) {
     std::remove(tmp.c_str());
     throw InputError(path + ": cannot write PNG: " + png.message);

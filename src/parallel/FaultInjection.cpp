@@ -14,6 +14,7 @@ namespace {
 struct Fault {
   std::string point, action;
   int rank = -1;
+  int nth = 0;  ///< only the n-th call of the point on that rank (0: every call)
 };
 
 /// RANGEFUSE_FAULT parsed once; an unset or malformed value injects nothing.
@@ -28,6 +29,8 @@ const Fault& requested() {
     f.point = s.substr(0, colon);
     f.action = s.substr(colon + 1, at - colon - 1);
     f.rank = std::atoi(s.c_str() + at + 1);
+    const size_t hash = s.find('#', at);
+    if (hash != std::string::npos) f.nth = std::atoi(s.c_str() + hash + 1);
     return f;
   }();
   return fault;
@@ -38,6 +41,8 @@ const Fault& requested() {
 void faultPoint(const char* point, const std::string& detail) {
   const Fault& f = requested();
   if (f.point != point || f.rank != mpi::rank()) return;
+  static int calls = 0;  // of the requested point, on this rank
+  if (f.nth > 0 && ++calls != f.nth) return;
   // The time stamp lets tests measure how long the other ranks take to stop.
   const auto now = std::chrono::system_clock::now().time_since_epoch();
   std::fprintf(stderr, "rangefuse: injecting fault %s:%s on rank %d at %.3f\n", point,
