@@ -85,10 +85,11 @@ run_case scan-grid "exceeds the limit 100000000 (raise it with --max-grid-cells)
 run_case eval-samples "--samples 1e+12 exceeds the limit 200000000 (raise it with --max-elements)" \
   eval --mesh a.ply --reference b.ply --voxel 1 --samples 1000000000000
 
-# Bad output paths are refused before any scan is read: these scans are missing, and the
-# message must be about the output.
+# Bad output paths are refused before any scan is read: no "read" line with good scans, and
+# with missing scans the message is about the output.
 run_case out-folder "$tmp/no/such/mesh.ply: cannot write the mesh there: folder '$tmp/no/such' does not exist" \
-  fuse --scans "$tmp/missing/scans.conf" --voxel 0.1 --out "$tmp/no/such/mesh.ply"
+  fuse --scans "$tmp/sphere/truth.conf" --voxel 0.1 --out "$tmp/no/such/mesh.ply"
+grep -q '\] read ' "$tmp/out-folder.stdout" && { echo "FAIL out-folder: scans were read"; failures=$((failures + 1)); }
 run_case out-checkpoint "ck.h5: cannot write the checkpoint there" fuse --scans "$tmp/missing/scans.conf" \
   --voxel 0.1 --out "$tmp/out-checkpoint.out.ply" --checkpoint "$tmp/no/ck.h5"
 run_case out-is-folder "cannot write the report there: it is a folder" fuse --scans "$tmp/missing/scans.conf" \
