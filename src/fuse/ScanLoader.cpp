@@ -108,8 +108,8 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
 
 }  // namespace
 
-void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout, double reach,
-               std::vector<std::vector<char>>& out, RoutingStats& stats) {
+void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
+               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats) {
   const int ranks = layout.ranks();
   std::vector<std::vector<uint32_t>> triangles(ranks);
   std::vector<int> owners;
@@ -130,12 +130,19 @@ void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout
   std::vector<int32_t> remap(world.surface.points.size(), -1);
   stats.triangles += world.surface.triangles.size();
   for (int r = 0; r < ranks; ++r) {
-    if (triangles[r].empty()) continue;
+    if (triangles[r].empty() || r == me) continue;
     const size_t before = out[r].size();
     packScan(out[r], index, subScan(world, triangles[r], remap));
     stats.copies += triangles[r].size();
     stats.bytes[r] += out[r].size() - before;
   }
+  // This rank's own part is kept as it is, not serialised: with one rank, the whole field.
+  if (me < 0 || triangles[me].empty()) return;
+  stats.copies += triangles[me].size();
+  if (triangles[me].size() == world.surface.triangles.size())
+    mine.emplace_back(index, std::move(world));
+  else
+    mine.emplace_back(index, subScan(world, triangles[me], remap));
 }
 
 IndexedScans unpackRouted(const std::vector<std::vector<char>>& in) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <map>
 
 #include "rangefuse/fuse/ScanLoader.h"
@@ -139,19 +140,26 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, MP
                     RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(conf.scans.size());
-  const int ranks = mpi::size(comm);
+  const int ranks = mpi::size(comm), me = mpi::rank(comm);
   PrismIntegrator integrator(store);
   routing.bytes.assign(ranks, 0);
   double lastLine = progress.elapsed();
   for (size_t first = 0; first < conf.scans.size(); first += ranks) {
     const size_t end = std::min(conf.scans.size(), first + ranks);
     std::vector<std::vector<char>> out(ranks);
+    IndexedScans parts;
     if (!collectively(comm, [&] {
           for (size_t i = first; i < end; ++i)
-            if (share.reads(i)) routeScan(i, share.take(i), store.layout(), reach, out, routing);
+            if (share.reads(i))
+              routeScan(i, share.take(i), store.layout(), reach, me, out, parts, routing);
         }))
       return false;
-    for (auto& [i, part] : unpackRouted(mpi::exchangeBytes(std::move(out), comm))) {
+    IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
+    std::move(received.begin(), received.end(), std::back_inserter(parts));
+    // One reader per scan, so each scan index comes once: scan order is all the field needs.
+    std::sort(parts.begin(), parts.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto& [i, part] : parts) {
       faultPoint("field");
       if (reach > 0) {
         field.scans[i] = std::move(part);

@@ -57,9 +57,11 @@ TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
   std::vector<std::vector<char>> out(ranks);
   RoutingStats stats;
   stats.bytes.assign(ranks, 0);
-  routeScan(7, scan, layout, 0, out, stats);
+  IndexedScans mine;
+  routeScan(7, scan, layout, 0, 1, out, mine, stats);  // rank 1's part kept, not serialised
+  EXPECT_TRUE(out[1].empty());
   std::vector<IndexedScans> got(ranks);
-  for (int r = 0; r < ranks; ++r) got[r] = unpackRouted({out[r]});
+  for (int r = 0; r < ranks; ++r) got[r] = r == 1 ? mine : unpackRouted({out[r]});
 
   std::vector<size_t> expected(ranks, 0);
   std::vector<size_t> next(ranks, 0);  // position in rank r's part, in triangle order
@@ -100,7 +102,9 @@ TEST(ScanRouting, PartsCarryOnlyTheVerticesTheirTrianglesUse) {
   std::vector<std::vector<char>> out(4);
   RoutingStats stats;
   stats.bytes.assign(4, 0);
-  routeScan(0, scan, layout, 0, out, stats);
+  IndexedScans none;
+  routeScan(0, scan, layout, 0, -1, out, none, stats);
+  EXPECT_TRUE(none.empty());
   for (int r = 0; r < 4; ++r) {
     const IndexedScans got = unpackRouted({out[r]});
     if (got.empty()) continue;
@@ -123,3 +127,20 @@ TEST(AssignReaders, BalancesEachWindowBySize) {
 }
 
 }  // namespace
+
+TEST(ScanRouting, ASingleRankKeepsTheWholeScanUncopied) {
+  const PrismScan scan = wavyScan();
+  const std::vector<PrismScan> one{scan};
+  const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 1);
+  std::vector<std::vector<char>> out(1);
+  IndexedScans mine;
+  RoutingStats stats;
+  stats.bytes.assign(1, 0);
+  routeScan(3, scan, layout, 0, 0, out, mine, stats);
+  ASSERT_EQ(mine.size(), 1u);
+  EXPECT_EQ(mine[0].first, 3u);
+  EXPECT_EQ(mine[0].second.surface.points, scan.surface.points);
+  EXPECT_EQ(mine[0].second.surface.triangles, scan.surface.triangles);
+  EXPECT_TRUE(out[0].empty());
+  EXPECT_EQ(stats.copies, scan.surface.triangles.size());
+}

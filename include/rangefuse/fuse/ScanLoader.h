@@ -43,9 +43,10 @@ struct RoutingStats {
 /// reach, the part of the scan made of those triangles (in order) and their vertices. With
 /// reach 0 a triangle reaches the bricks its prism touches (prism fields); with reach > 0, the
 /// bricks with a voxel centre within reach of its bounding box (closest-surface methods). A
-/// triangle that reaches no existing brick goes nowhere.
-void routeScan(uint64_t index, const PrismScan& world, const BrickLayout& layout, double reach,
-               std::vector<std::vector<char>>& out, RoutingStats& stats);
+/// triangle that reaches no existing brick goes nowhere. The part for rank `me` (none when -1)
+/// is appended to `mine` instead, unserialised (the whole scan when it all goes there).
+void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
+               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats);
 
 /// The scan parts received from every rank, in scan order.
 IndexedScans unpackRouted(const std::vector<std::vector<char>>& in);
