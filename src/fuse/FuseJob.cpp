@@ -98,7 +98,14 @@ double closestSurfaceMargin(const FuseOptions& o) {
   return (std::sqrt(3.0) * (0.5 * o.brick + 1) + 1) * o.voxel + 2 * o.sameDistance * o.voxel;
 }
 
-/// Consensus or naive distances near the surface of every local brick.
+}  // namespace
+
+double routeReach(const FuseOptions& o) {
+  // Every triangle within the margin of a brick's bounding ball, whose radius is half the
+  // diagonal of its voxel centres; one voxel more as bricksOfBox goes by voxel centres.
+  return closestSurfaceMargin(o) + (0.5 * std::sqrt(3.0) * (o.brick - 1) + 1) * o.voxel;
+}
+
 EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& field) {
   std::vector<ViewIndex> views;
   for (const auto& s : field.scans) views.emplace_back(s.surface);
@@ -117,6 +124,8 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   faultPoint("field");
   return evaluateNearSurface(*field.store, sampler);
 }
+
+namespace {
 
 bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field, MeshPart& mesh) {
   if (o.normals) addPartNormals(mesh, comm);
@@ -183,21 +192,26 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
         mine = loadScanShare(conf, o.surface, o.limits, eps, mpi::rank(comm), mpi::size(comm));
       }))
     return false;
-  scans.local = shareScans(mine, conf.scans.size(), comm);
+  // Each rank keeps the scans it read; the others stay empty here (registration routes them).
+  scans.rank = mpi::rank(comm);
+  scans.local.assign(conf.scans.size(), PrismScan{});
+  for (size_t i = 0; i < conf.scans.size(); ++i) scans.readers.push_back(i % mpi::size(comm));
+  for (auto& [i, s] : mine) scans.local[i] = std::move(s);
   for (const auto& c : conf.scans) {
     scans.names.push_back(c.name);
     scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
   }
-  if (progress.isRoot()) {
+  if (progress.isRoot())
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
-    for (size_t i = 0; i < scans.local.size(); ++i)
-      if (scans.local[i].surface.triangles.empty())
-        std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
-                     conf.scans[i].path.c_str());
-  }
+  for (size_t i = 0; i < scans.local.size(); ++i)
+    if (scans.holds(i) && scans.local[i].surface.triangles.empty())
+      std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
+                   conf.scans[i].path.c_str());
+  uint64_t triangles = countTriangles(scans.local);
+  MPI_Allreduce(MPI_IN_PLACE, &triangles, 1, MPI_UINT64_T, MPI_SUM, comm);
   progress.stage("read", std::to_string(scans.local.size()) + " scans, " +
-                             std::to_string(countTriangles(scans.local)) + " triangles");
+                             std::to_string(triangles) + " triangles");
   return true;
 }
 
@@ -263,28 +277,30 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.surface = o.surface;
   s.limits = o.limits;
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
-  // Every triangle within the margin of a brick's bounding ball, whose radius is half the
-  // diagonal of its voxel centres; one voxel more as bricksOfBox goes by voxel centres.
-  if (o.method != "prism")
-    s.routeReach = closestSurfaceMargin(o) + (0.5 * std::sqrt(3.0) * (o.brick - 1) + 1) * o.voxel;
+  if (o.method != "prism") s.routeReach = routeReach(o);
   return s;
 }
 
 /// Streamed field at the .conf poses; scans gets the names, paths and poses only.
+/// Streamed field of the .conf's scans at `poses` (the .conf's when null); scans gets the
+/// names, paths and poses only.
 bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-                   FusedField& field, RankCounters& counters) {
+                   FusedField& field, RankCounters& counters,
+                   const std::vector<Pose>* poses = nullptr) {
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
         conf = io::readConf(o.scans);
       }))
     return false;
-  if (progress.isRoot())
+  if (progress.isRoot() && !poses)
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
-  for (const auto& c : conf.scans) {
-    scans.names.push_back(c.name);
-    scans.paths.push_back(c.path);
-    scans.poses.push_back(c.pose);
+  scans.names.clear(), scans.paths.clear(), scans.poses.clear();
+  for (size_t i = 0; i < conf.scans.size(); ++i) {
+    if (poses) conf.scans[i].pose = (*poses)[i];
+    scans.names.push_back(conf.scans[i].name);
+    scans.paths.push_back(conf.scans[i].path);
+    scans.poses.push_back(conf.scans[i].pose);
   }
   if (!buildStreamedField(streamOptions(o, comm), conf, comm, progress, field, counters))
     return false;
@@ -304,12 +320,7 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
 bool buildField(const FuseOptions& o, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters) {
   LoadedScans scans;
-  if (streams(o)) return buildStreamed(o, comm, progress, scans, field, counters);
-  if (!loadScans(o, comm, progress, scans)) return false;
-  if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
-    return false;
-  progress.stage("field", fieldLine(o, comm, field, counters));
-  return true;
+  return buildStreamed(o, comm, progress, scans, field, counters);
 }
 
 namespace {
@@ -429,11 +440,13 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
                                  std::to_string(state.iteration));
   std::vector<RegistrationStep> steps;
   if (!registerPoses(o, comm, progress, scans, state, steps)) return 1;
+  // The final field streams the scans again at the registered poses: registration keeps only
+  // each rank's own share, and the field is the same bits as one built from held scans.
+  const std::vector<Pose> registered = scans.poses;
+  scans.local = {};
   FusedField field;
   RankCounters counters;
-  if (!buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), comm, field, counters))
-    return 1;
-  progress.stage("field", fieldLine(o, comm, field, counters));
+  if (!buildStreamed(o, comm, progress, scans, field, counters, &registered)) return 1;
   if (!writeFieldCheckpoint(o, comm, progress, scans, field)) return 1;
   return finish(o, comm, progress, scans, field, counters, steps);
 }

@@ -12,13 +12,6 @@ namespace rangefuse {
 
 using mpi::collectively;
 
-std::vector<PrismScan> placeAll(const LoadedScans& scans, const std::vector<size_t>& which,
-                                const std::vector<Pose>& poses) {
-  std::vector<PrismScan> world;
-  for (size_t i : which) world.push_back(placeScan(scans.local[i], poses[i]));
-  return world;
-}
-
 std::vector<size_t> allScans(const LoadedScans& scans) {
   std::vector<size_t> all(scans.local.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;

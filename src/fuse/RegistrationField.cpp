@@ -1,11 +1,15 @@
 #include "rangefuse/fuse/RegistrationField.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/prism/PrismField.h"
+#include "rangefuse/volume/BrickPlanning.h"
 
 namespace rangefuse {
 namespace {
@@ -17,11 +21,71 @@ void collectivelyOrThrow(MPI_Comm comm, Fn&& fn) {
   if (!mpi::collectively(comm, fn)) throw mpi::Reported();
 }
 
+/// Collective: bounds of the points of every scan at its pose, each scan placed by its reader.
+Eigen::AlignedBox3d placedBounds(const LoadedScans& scans, const std::vector<size_t>& which,
+                                 const std::vector<Pose>& poses, MPI_Comm comm) {
+  Eigen::AlignedBox3d box;
+  for (size_t i : which)
+    if (scans.holds(i)) box.extend(pointBounds(placeScan(scans.local[i], poses[i])));
+  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
+  return box;
+}
+
+/// Collective: the listed scans, each placed by its reader and routed to the owners of the
+/// bricks its prisms touch (or, with reach > 0, lie within reach of), as (position in the
+/// list, part) in list order.
+IndexedScans routePlaced(const LoadedScans& scans, const std::vector<size_t>& order,
+                         const std::vector<Pose>& poses, const BrickLayout& layout, double reach,
+                         MPI_Comm comm) {
+  const int me = mpi::rank(comm);
+  std::vector<std::vector<char>> out(mpi::size(comm));
+  IndexedScans parts;
+  RoutingStats stats;
+  stats.bytes.assign(out.size(), 0);
+  for (size_t k = 0; k < order.size(); ++k)
+    if (scans.holds(order[k]))
+      routeScan(k, placeScan(scans.local[order[k]], poses[order[k]]), layout, reach, me, out, parts,
+                stats);
+  IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
+  std::move(received.begin(), received.end(), std::back_inserter(parts));
+  std::sort(parts.begin(), parts.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  return parts;
+}
+
+/// Collective: adds the listed scans to the field in list order.
+void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,
+               const std::vector<Pose>& poses, PrismIntegrator& integrator,
+               const BrickLayout& layout, MPI_Comm comm) {
+  for (const auto& [k, part] : routePlaced(scans, order, poses, layout, 0, comm))
+    integrator.addScan(part);
+}
+
+/// Collective: bricks for the prisms of the listed scans at their poses, planned from the
+/// work of each reader's scans, on the lattice a build of them all in one place would use.
+BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& which,
+                       const std::vector<Pose>& poses, const FuseOptions& o, MPI_Comm comm) {
+  const Eigen::AlignedBox3d box = placedBounds(scans, which, poses, comm);
+  BrickLayout layout;
+  collectivelyOrThrow(comm, [&] {
+    const VoxelGrid grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel);
+    BrickWork work;
+    for (size_t i : which)
+      if (scans.holds(i))
+        addPrismWork(placeScan(scans.local[i], poses[i]), grid, o.limits.maxVoxels, work);
+    layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm);
+  });
+  return layout;
+}
+
 /// Prism fields on one lattice for the whole registration. Algorithm 1 adds each registered
 /// scan in place — one rasterisation per scan, not one per fused scan for every new scan.
 /// Bricks are planned around every scan with a brick of room and planned anew only when a
 /// scan leaves them. A voxel's value depends on the lattice and the order of the scans, not
-/// on the bricks planned, so a resumed run that rebuilds the field gets the same values.
+/// on the bricks planned, so a resumed run that rebuilds the field gets the same values. Each
+/// rank holds only the scans it read: it places them and routes their triangles to the brick
+/// owners whenever the field is built or grows.
 class GrowingPrismField : public RegistrationField {
  public:
   GrowingPrismField(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
@@ -29,9 +93,9 @@ class GrowingPrismField : public RegistrationField {
 
   std::vector<double> fixLattice(const std::vector<double>& origin,
                                  const std::vector<Pose>& poses) override {
+    const Eigen::AlignedBox3d box = placedBounds(scans_, allScans(scans_), poses, comm_);
     collectivelyOrThrow(comm_, [&] {
-      grid_ = fitGrid(placeAll(scans_, allScans(scans_), poses), o_.voxel, o_.brick, eps_,
-                      kLatticeMargin);
+      grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
       if (origin.empty()) return;
       if (!(std::isfinite(origin[0]) && std::isfinite(origin[1]) && std::isfinite(origin[2])))
         throw InputError(o_.resume + ": registration lattice origin is not finite");
@@ -46,19 +110,20 @@ class GrowingPrismField : public RegistrationField {
     poses_ = poses;
     placed_.clear();
     for (size_t i : which) placed_.emplace_back(i, poses[i]);
-    world_ = placeAll(scans_, which, poses);
     return rebuild();
   }
 
   const BrickStore& add(size_t i, const std::vector<Pose>& poses) override {
     poses_ = poses;
     placed_.emplace_back(i, poses[i]);
-    world_.push_back(placeScan(scans_.local[i], poses[i]));
-    const std::vector<PrismScan> one(world_.end() - 1, world_.end());
-    bool holds = false;
-    collectivelyOrThrow(comm_, [&] { holds = gridHolds(grid_, one, eps_) && layoutHolds(one); });
+    int holds = 1;
+    if (scans_.holds(i)) {
+      const std::vector<PrismScan> one{placeScan(scans_.local[i], poses[i])};
+      holds = gridHolds(grid_, one, eps_) && layoutHolds(one);
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
     if (!holds) return rebuild();
-    integrator_->addScan(world_.back());
+    addRouted(scans_, {i}, poses_, *integrator_, store_->layout(), comm_);
     return *store_;
   }
 
@@ -87,16 +152,23 @@ class GrowingPrismField : public RegistrationField {
 
   /// New bricks around every scan at poses_, then the fused scans added in order.
   const BrickStore& rebuild() {
+    const std::vector<size_t> every = allScans(scans_);
+    const Eigen::AlignedBox3d box = placedBounds(scans_, every, poses_, comm_);
     collectivelyOrThrow(comm_, [&] {
-      const std::vector<PrismScan> everyScan = placeAll(scans_, allScans(scans_), poses_);
-      if (!gridHolds(grid_, everyScan, eps_))
-        grid_ = fitGrid(everyScan, o_.voxel, o_.brick, eps_, kLatticeMargin);
-      BrickLayout layout = planBricks(everyScan, grid_, mpi::size(comm_), o_.limits.maxVoxels);
+      if (!gridHoldsBox(grid_, box, eps_))
+        grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
+      BrickWork work;
+      for (size_t i : every)
+        if (scans_.holds(i))
+          addPrismWork(placeScan(scans_.local[i], poses_[i]), grid_, o_.limits.maxVoxels, work);
+      BrickLayout layout = reduceBrickWork(work, grid_, o_.limits.maxVoxels, comm_);
       dilateBricks(layout, mpi::size(comm_), o_.limits.maxVoxels);
       store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
     });
     integrator_ = std::make_unique<PrismIntegrator>(*store_);
-    for (const PrismScan& s : world_) integrator_->addScan(s);
+    std::vector<size_t> order;
+    for (const auto& [i, pose] : placed_) order.push_back(i);
+    addRouted(scans_, order, poses_, *integrator_, store_->layout(), comm_);
     return *store_;
   }
 
@@ -107,12 +179,12 @@ class GrowingPrismField : public RegistrationField {
   VoxelGrid grid_;
   std::vector<Pose> poses_;
   std::vector<std::pair<size_t, Pose>> placed_;  ///< the fused scans and their poses, in order
-  std::vector<PrismScan> world_;                 ///< the same scans in the world
   std::unique_ptr<BrickStore> store_;
   std::unique_ptr<PrismIntegrator> integrator_;
 };
 
-/// Consensus and naive fields need every view at once: each call builds from scratch.
+/// Consensus and naive fields need every view at once: each call builds from scratch, with the
+/// placed scans routed to the ranks whose bricks lie within the consensus margin of them.
 class RebuiltField : public RegistrationField {
  public:
   RebuiltField(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
@@ -125,9 +197,22 @@ class RebuiltField : public RegistrationField {
   const BrickStore& build(const std::vector<size_t>& which,
                           const std::vector<Pose>& poses) override {
     which_ = which;
-    RankCounters ignored;
-    if (!buildFieldOf(o_, placeAll(scans_, which, poses), comm_, field_, ignored))
-      throw mpi::Reported();
+    field_ = FusedField{};
+    field_.layout = planPlaced(scans_, which, poses, o_, comm_);
+    field_.store = std::make_unique<BrickStore>(field_.layout, mpi::rank(comm_));
+    const double reach = o_.method == "prism" ? 0 : routeReach(o_);
+    IndexedScans parts = routePlaced(scans_, which, poses, field_.layout, reach, comm_);
+    collectivelyOrThrow(comm_, [&] {
+      if (o_.method == "prism") {
+        PrismIntegrator integrator(*field_.store);
+        for (const auto& [k, part] : parts) integrator.addScan(part);
+        return;
+      }
+      field_.scans.resize(which.size());
+      for (auto& [k, part] : parts) field_.scans[k] = std::move(part);
+      evaluateClosestSurfaceField(o_, field_);
+      field_.scans = {};
+    });
     return *field_.store;
   }
 

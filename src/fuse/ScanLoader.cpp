@@ -159,19 +159,6 @@ IndexedScans unpackRouted(const std::vector<std::vector<char>>& in) {
   return scans;
 }
 
-std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Comm comm) {
-  std::vector<char> buf;
-  for (const auto& [i, s] : mine) packScan(buf, i, s);
-  std::vector<PrismScan> all(total);
-  for (const auto& part : mpi::allgatherBytes(buf, comm))
-    for (size_t pos = 0; pos < part.size();) {
-      PrismScan s;
-      uint64_t i = unpackScan(part, pos, s);
-      all[i] = std::move(s);
-    }
-  return all;
-}
-
 }  // namespace rangefuse
 
 namespace rangefuse {

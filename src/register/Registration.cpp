@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rangefuse/register/ControlRouting.h"
+
 namespace rangefuse {
 namespace {
 
@@ -49,18 +51,11 @@ double extrapolation(const Twist& now, const FitHistory& h, const RegistrationOp
 }
 
 /// One fit of scan i against the field: correspondences, sums across ranks, rigid update.
-RegistrationStep fitOnce(const PrismScan& scan, Pose& pose, const BrickStore& field,
+RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlRouting& control,
                          const RegistrationOptions& o, MPI_Comm comm, FitHistory& history) {
-  std::vector<Eigen::Vector3d> points, normals;
-  std::vector<double> weights;
-  const ScanSurface& s = scan.surface;
-  for (size_t v = 0; v < s.points.size(); v += o.controlStride) {
-    points.push_back(pose.apply(s.points[v]));
-    normals.push_back(pose.rotate(s.normals[v]));
-    weights.push_back(s.confidence[v]);
-  }
+  const ControlPoints c = control.at(i, pose, field);
   const RigidSums sums =
-      correspondenceSums(field, points, normals, weights, o.correspondences, comm);
+      correspondenceSums(field, c.points, c.normals, c.weights, o.correspondences, comm);
   RegistrationStep step;
   step.correspondences = static_cast<uint64_t>(sums.count);
   step.rms = sums.rms();
@@ -92,8 +87,8 @@ std::vector<size_t> allOf(size_t n) {
 }
 
 void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                 const RegistrationOptions& o, RegistrationField& field, MPI_Comm comm,
-                 const std::function<void(const RegistrationStep&)>& onStep,
+                 const RegistrationOptions& o, RegistrationField& field, ControlRouting& control,
+                 MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep,
                  RegistrationProgress& progress, const BoundaryCallback& onBoundary) {
   // The scans placed so far, in the order they joined: the anchor, then by index.
   std::vector<size_t> fused = {o.anchor};
@@ -102,9 +97,10 @@ void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
   const BrickStore* store = &field.build(fused, poses);
   for (size_t i = progress.nextScan; i < scans.size(); ++i) {
     if (i == o.anchor) continue;
+    control.route({i}, poses, *store);
     FitHistory history;
     for (int it = 1; it <= o.maxIterations; ++it) {
-      RegistrationStep step = fitOnce(scans[i], poses[i], *store, o, comm, history);
+      RegistrationStep step = fitOnce(i, poses[i], *store, control, o, comm, history);
       step.algorithm = "incremental";
       step.iteration = it;
       step.scan = i;
@@ -140,9 +136,10 @@ void returnAnchor(std::vector<Pose>& poses, const std::vector<Pose>& roundPoses,
   poses[anchor] = given;
 }
 
-/// The largest mean displacement of a scan's vertices between two sets of poses (every 16th).
+/// Collective: the largest mean displacement of a scan's vertices between two sets of poses
+/// (every 16th).
 double largestMotion(const std::vector<PrismScan>& scans, const std::vector<Pose>& from,
-                     const std::vector<Pose>& to) {
+                     const std::vector<Pose>& to, MPI_Comm comm) {
   double largest = 0;
   for (size_t i = 0; i < scans.size(); ++i) {
     const auto& points = scans[i].surface.points;
@@ -152,6 +149,8 @@ double largestMotion(const std::vector<PrismScan>& scans, const std::vector<Pose
       sum += (to[i].apply(points[v]) - from[i].apply(points[v])).norm();
     if (n > 0) largest = std::max(largest, sum / n);
   }
+  // A rank holds only the scans it read: the largest over ranks.
+  MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
   return largest;
 }
 
@@ -164,8 +163,8 @@ void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
 }
 
 void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                  RegistrationOptions o, RegistrationField& field, MPI_Comm comm,
-                  const std::function<void(const RegistrationStep&)>& onStep,
+                  RegistrationOptions o, RegistrationField& field, ControlRouting& control,
+                  MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep,
                   RegistrationProgress& p, const BoundaryCallback& onBoundary) {
   // The field holds each scan itself: only voxels another image also saw are overlap. Foot
   // points from voxels more images saw are less noisy (in Algorithm 1 too, but there it moved
@@ -177,10 +176,11 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
     if (p.iteration < o.maxIterations && p.lastMoved) {
       const BrickStore& store = field.build(all, p.roundPoses);
       p.latticeOrigin = field.latticeOrigin();
+      control.route(all, poses, store);
       while (p.iteration < o.maxIterations && p.lastMoved) {
         bool moved = false;
         for (size_t i = 0; i < scans.size(); ++i) {
-          RegistrationStep step = fitOnce(scans[i], poses[i], store, o, comm, p.history[i]);
+          RegistrationStep step = fitOnce(i, poses[i], store, control, o, comm, p.history[i]);
           step.algorithm = "simultaneous";
           step.round = p.round;
           step.iteration = p.iteration + 1;
@@ -194,7 +194,7 @@ void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
       }
     }
     returnAnchor(poses, p.roundPoses, o.anchor);
-    const double motion = largestMotion(scans, p.roundPoses, poses);
+    const double motion = largestMotion(scans, p.roundPoses, poses, comm);
     // Done when a rebuilt field moved nothing or a round moved no scan past the tolerance:
     // later rounds only wander within the noise (docs/registration.md).
     const int round = p.round;
@@ -225,13 +225,15 @@ void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses
   const bool second = o.mode == "simultaneous" || o.mode == "both";
   if (p.phase == "start") p.phase = first ? "incremental" : "simultaneous";
   if (p.phase == "simultaneous" && p.roundPoses.empty()) startRound(p, poses);
+  ControlRouting control(scans, o.controlStride, comm);
   if (p.phase == "incremental") {
-    incremental(scans, poses, o, field, comm, onStep, p, onBoundary);
+    incremental(scans, poses, o, field, control, comm, onStep, p, onBoundary);
     p.phase = second ? "simultaneous" : "done";
     if (second) startRound(p, poses);
     onBoundary(p, poses);
   }
-  if (p.phase == "simultaneous") simultaneous(scans, poses, o, field, comm, onStep, p, onBoundary);
+  if (p.phase == "simultaneous")
+    simultaneous(scans, poses, o, field, control, comm, onStep, p, onBoundary);
 }
 
 nlohmann::json RegistrationProgress::toJson() const {

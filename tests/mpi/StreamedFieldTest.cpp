@@ -7,7 +7,8 @@
 #include <cstring>
 
 #include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RegisterStage.h"
+#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/io/Conf.h"
 #include "rangefuse/parallel/Mpi.h"
 
 using namespace rangefuse;
@@ -21,14 +22,13 @@ FuseOptions bunnyOptions() {
   return o;
 }
 
-/// The simple method: every rank loads every scan and adds all of them.
+/// The simple method: every rank reads every scan and adds all of them.
 void replicatedField(const FuseOptions& o, FusedField& field) {
-  Progress progress(MPI_COMM_WORLD);
-  LoadedScans scans;
+  std::vector<PrismScan> world;
+  for (const auto& c : io::readConf(o.scans).scans)
+    world.push_back(placeScan(loadScan(c, o.surface, o.limits, o.envelope * o.voxel), c.pose));
   RankCounters counters;
-  ASSERT_TRUE(loadScans(o, MPI_COMM_WORLD, progress, scans));
-  ASSERT_TRUE(buildFieldOf(o, placeAll(scans, allScans(scans), scans.poses), MPI_COMM_WORLD, field,
-                           counters));
+  ASSERT_TRUE(buildFieldOf(o, std::move(world), MPI_COMM_WORLD, field, counters));
 }
 
 void streamedField(const FuseOptions& o, FusedField& field, RankCounters& counters) {

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "rangefuse/consensus/NearSurface.h"
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/fuse/Progress.h"
 #include "rangefuse/prism/PrismField.h"
@@ -51,8 +52,12 @@ struct FuseOptions {
 struct LoadedScans {
   std::vector<std::string> names;
   std::vector<std::string> paths;
-  std::vector<PrismScan> local;
+  std::vector<PrismScan> local;  ///< in the scans' frames; empty where another rank reads it
   std::vector<Pose> poses;
+  std::vector<int> readers;  ///< the rank holding each scan
+  int rank = 0;              ///< this rank
+
+  bool holds(size_t i) const { return readers[i] == rank; }
 };
 
 /// The fused field of one job: every rank holds its own bricks, and all scans only when the
@@ -82,6 +87,14 @@ bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, Lo
 /// Collective: the field of world-placed scans on new bricks. False on failure (printed once).
 bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_Comm comm,
                   FusedField& field, RankCounters& counters);
+
+/// How far from a brick the triangles a consensus or naive field needs there may lie: the
+/// consensus margin plus the ball around the brick's voxel centres.
+double routeReach(const FuseOptions& options);
+
+/// Consensus or naive distances near the surface of every local brick, from field.scans (all
+/// scans, or the triangles routed to this rank within routeReach of its bricks).
+EvaluationStats evaluateClosestSurfaceField(const FuseOptions& options, FusedField& field);
 
 /// True when the field can be built from streamed scans (no rank holds them all): any method
 /// at the .conf poses.

@@ -11,10 +11,6 @@
 
 namespace rangefuse {
 
-/// The listed scans moved to the world by the given poses.
-std::vector<PrismScan> placeAll(const LoadedScans& scans, const std::vector<size_t>& which,
-                                const std::vector<Pose>& poses);
-
 /// 0, 1, ..., number of scans - 1.
 std::vector<size_t> allScans(const LoadedScans& scans);
 

@@ -27,9 +27,6 @@ PrismScan loadScan(const io::ConfScan& scan, const SurfaceOptions& options,
 IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options,
                            const InputLimits& limits, double eps, int rank, int ranks);
 
-/// Collective: every rank's share on every rank, in .conf order.
-std::vector<PrismScan> shareScans(const IndexedScans& mine, size_t total, MPI_Comm comm);
-
 /// Bytes a prepared scan holds (points, normals, confidences, triangles, limits).
 uint64_t scanBytes(const PrismScan& scan);
 

@@ -101,7 +101,8 @@ class RegistrationField {
 using BoundaryCallback = std::function<void(const RegistrationProgress&, const std::vector<Pose>&)>;
 
 /// Collective: refines `poses` (the anchor never moves), continuing from `progress`. `scans`
-/// are in their own frames. `onStep` sees every fit (rank 0 prints it); `onBoundary` every
+/// are in their own frames; a rank holds only the scans it read (the others are empty), and
+/// the field's calls route them. `onStep` sees every fit (rank 0 prints it); `onBoundary` every
 /// point a checkpoint may be taken. Every rank ends with the same poses.
 void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
                    const RegistrationOptions& options, RegistrationField& field, MPI_Comm comm,

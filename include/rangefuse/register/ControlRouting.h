@@ -1,0 +1,65 @@
+// Control points kept on the ranks that evaluate them: a rank holds only the scans it read, and
+// sending every control point to its voxel's owner at every fit costs more than the fit itself.
+// Points are routed once with a reach, and again only when their scan has moved past it.
+#pragma once
+
+#include <mpi.h>
+
+#include <vector>
+
+#include "rangefuse/core/Pose.h"
+#include "rangefuse/prism/PrismField.h"
+#include "rangefuse/volume/BrickStore.h"
+
+namespace rangefuse {
+
+/// Control points in world coordinates, with their normals and weights.
+struct ControlPoints {
+  std::vector<Eigen::Vector3d> points, normals;
+  std::vector<double> weights;
+};
+
+/// Every scan's control points (every stride-th vertex with a positive confidence), each kept on
+/// the ranks owning its brick or a neighbour of it where it was routed. A point whose scan
+/// moved less than a brick edge less one voxel (the reach) since then is therefore on the rank
+/// owning its nearest voxel.
+class ControlRouting {
+ public:
+  /// Collective. A rank holds only the scans it read; the others are empty.
+  ControlRouting(const std::vector<PrismScan>& scans, int stride, MPI_Comm comm);
+
+  /// Collective: sends scans `which`, placed at `poses`, to the owners of `store`'s bricks. Call
+  /// it whenever the store's bricks change.
+  void route(const std::vector<size_t>& which, const std::vector<Pose>& poses,
+             const BrickStore& store);
+
+  /// Collective: the control points of scan i at `pose` that this rank holds, in scan order;
+  /// among them every point whose nearest voxel lies in this rank's bricks. Every rank must
+  /// ask for the same scan and pose: when the scan moved past the reach, it is routed again.
+  ControlPoints at(size_t i, const Pose& pose, const BrickStore& store);
+
+  /// How many times a scan moved past the reach and was routed again.
+  size_t reroutes() const { return reroutes_; }
+
+ private:
+  /// A scan's control points held here, in the scan's frame: the vertex numbers of those
+  /// needed here when this rank read the scan, copies when another rank sent them.
+  struct Held {
+    Pose routedAt;
+    std::vector<uint32_t> vertices;
+    std::vector<Eigen::Vector3d> points, normals;
+    std::vector<double> weights;
+  };
+
+  /// An upper bound on how far any control point of scan i moves from `from` to `to`.
+  double motionBound(size_t i, const Pose& from, const Pose& to) const;
+
+  const std::vector<PrismScan>& scans_;
+  int stride_;
+  MPI_Comm comm_;
+  std::vector<Eigen::Vector4d> spheres_;  ///< per scan: centre and radius of its control points
+  std::vector<Held> held_;
+  size_t reroutes_ = 0;
+};
+
+}  // namespace rangefuse

@@ -1,0 +1,122 @@
+#include "rangefuse/register/ControlRouting.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+/// A control point on its way to a rank that may evaluate it.
+struct RoutedPoint {
+  uint64_t scan;
+  Eigen::Vector3d p, n;
+  double w;
+};
+
+/// The ranks owning brick c or one of its 26 neighbours, each once.
+std::vector<int> ownersAround(const BrickLayout& layout, const BrickCoord& c) {
+  std::vector<int> ranks;
+  for (int z = -1; z <= 1; ++z)
+    for (int y = -1; y <= 1; ++y)
+      for (int x = -1; x <= 1; ++x) {
+        const int64_t b = layout.find(mortonEncode(c + BrickCoord(x, y, z)));
+        if (b < 0) continue;
+        const int owner = layout.ownerOf(static_cast<size_t>(b));
+        if (std::find(ranks.begin(), ranks.end(), owner) == ranks.end()) ranks.push_back(owner);
+      }
+  return ranks;
+}
+
+}  // namespace
+
+ControlRouting::ControlRouting(const std::vector<PrismScan>& scans, int stride, MPI_Comm comm)
+    : scans_(scans), stride_(stride), comm_(comm), held_(scans.size()) {
+  // Each scan is held by one rank, which alone fills its sphere: a sum shares them.
+  spheres_.assign(scans.size(), Eigen::Vector4d::Zero());
+  for (size_t i = 0; i < scans.size(); ++i) {
+    const ScanSurface& s = scans[i].surface;
+    Eigen::AlignedBox3d box;
+    for (size_t v = 0; v < s.points.size(); v += stride_)
+      if (s.confidence[v] > 0) box.extend(s.points[v]);
+    if (box.isEmpty()) continue;
+    const Eigen::Vector3d c = box.center();
+    spheres_[i] << c, (box.max() - c).norm();
+  }
+  MPI_Allreduce(MPI_IN_PLACE, spheres_.data(), static_cast<int>(4 * spheres_.size()), MPI_DOUBLE,
+                MPI_SUM, comm_);
+}
+
+double ControlRouting::motionBound(size_t i, const Pose& from, const Pose& to) const {
+  // R x + t - (R0 x + t0) = (R - R0)(x - c) + (R - R0) c + t - t0, and |x - c| <= r.
+  const Eigen::Vector3d c = spheres_[i].head<3>();
+  const Eigen::Matrix3d dR = to.R - from.R;
+  return dR.norm() * spheres_[i][3] + (dR * c + to.t - from.t).norm();
+}
+
+void ControlRouting::route(const std::vector<size_t>& which, const std::vector<Pose>& poses,
+                           const BrickStore& store) {
+  const BrickLayout& layout = store.layout();
+  const VoxelGrid& g = layout.grid;
+  // A point that moves less than the reach (a brick edge less one voxel) keeps its nearest
+  // voxel within a brick edge of the one it has now: in this brick or a neighbour.
+  std::unordered_map<uint64_t, std::vector<int>> owners;
+  std::vector<std::vector<char>> out(mpi::size(comm_));
+  const int me = mpi::rank(comm_);
+  for (size_t i : which) {
+    held_[i] = Held{poses[i], {}, {}, {}, {}};
+    const ScanSurface& s = scans_[i].surface;
+    for (size_t v = 0; v < s.points.size(); v += stride_) {
+      if (!(s.confidence[v] > 0)) continue;
+      const BrickCoord c = brickOf(g.nearest(poses[i].apply(s.points[v])), g.brick);
+      const uint64_t code = mortonEncode(c);
+      auto it = owners.find(code);
+      if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c)).first;
+      const RoutedPoint p{i, s.points[v], s.normals[v], s.confidence[v]};
+      for (int r : it->second)
+        if (r == me)
+          held_[i].vertices.push_back(static_cast<uint32_t>(v));
+        else
+          mpi::pack(out[r], &p, 1);
+    }
+  }
+  // Each scan comes from the one rank holding it, in its order.
+  for (const auto& buf : mpi::exchangeBytes(std::move(out), comm_)) {
+    for (size_t at = 0; at < buf.size();) {
+      RoutedPoint p;
+      mpi::unpack(buf, at, &p, 1);
+      Held& h = held_[p.scan];
+      h.points.push_back(p.p);
+      h.normals.push_back(p.n);
+      h.weights.push_back(p.w);
+    }
+  }
+}
+
+ControlPoints ControlRouting::at(size_t i, const Pose& pose, const BrickStore& store) {
+  const VoxelGrid& g = store.grid();
+  if (motionBound(i, held_[i].routedAt, pose) > (g.brick - 1) * g.voxel) {
+    std::vector<Pose> poses(scans_.size());
+    poses[i] = pose;
+    route({i}, poses, store);
+    ++reroutes_;
+  }
+  const Held& h = held_[i];
+  ControlPoints c;
+  auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n, double w) {
+    c.points.push_back(pose.apply(p));
+    c.normals.push_back(pose.rotate(n));
+    c.weights.push_back(w);
+  };
+  const size_t n = h.vertices.size() + h.points.size();
+  c.points.reserve(n);
+  c.normals.reserve(n);
+  c.weights.reserve(n);
+  const ScanSurface& s = scans_[i].surface;
+  for (uint32_t v : h.vertices) add(s.points[v], s.normals[v], s.confidence[v]);
+  for (size_t k = 0; k < h.points.size(); ++k) add(h.points[k], h.normals[k], h.weights[k]);
+  return c;
+}
+
+}  // namespace rangefuse
