@@ -30,6 +30,9 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
   add("brick", po::value(&o.brick)->default_value(8), "voxels per brick edge");
   add("min-weight", po::value(&o.minWeight)->default_value(0.0f),
       "voxels whose summed confidence is not above this are unobserved");
+  add("merge-cells", po::value(&o.mergeCells)->default_value(1.0),
+      "merge blocks of k x k range-grid cells while k cells span at most this many voxels, "
+      "so dense scans cost what the voxels need (0: never merge)");
   add("normal-passes", po::value(&o.surface.normalPasses)->default_value(2),
       "neighbour-averaging passes over vertex normals");
   add("max-edge", po::value(&o.surface.maxEdgeFactor)->default_value(4.0),

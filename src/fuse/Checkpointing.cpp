@@ -15,6 +15,7 @@ const std::map<std::string, std::string> kOptionOf = {{"method", "method"},
                                                       {"envelope_voxels", "envelope"},
                                                       {"brick", "brick"},
                                                       {"min_weight", "min-weight"},
+                                                      {"merge_cells_voxels", "merge-cells"},
                                                       {"normal_passes", "normal-passes"},
                                                       {"max_edge", "max-edge"},
                                                       {"min_cosine", "min-cosine"},
@@ -46,6 +47,8 @@ void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
     o.brick = v.get<int>();
   else if (key == "min_weight")
     o.minWeight = v.get<float>();
+  else if (key == "merge_cells_voxels")
+    o.mergeCells = v.get<double>();
   else if (key == "normal_passes")
     o.surface.normalPasses = v.get<int>();
   else if (key == "max_edge")
@@ -125,6 +128,8 @@ io::CheckpointMeta checkpointMeta(const FuseOptions& o, const LoadedScans& scans
 void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
   const nlohmann::json mine = resultParameters(o);
   std::vector<std::string> differ;
+  // Checkpoints from before --merge-cells were written from unmerged grids.
+  if (!meta.parameters.contains("merge_cells_voxels") && !given(o, "merge-cells")) o.mergeCells = 0;
   for (const auto& [key, option] : kOptionOf) {
     if (!meta.parameters.contains(key)) continue;
     const nlohmann::json& theirs = meta.parameters[key];

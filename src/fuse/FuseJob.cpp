@@ -59,6 +59,8 @@ void validateFuseOptions(const FuseOptions& o) {
     throw InputError("--envelope must be in (0, 1000] voxels");
   if (o.brick < 2 || o.brick > 64) throw InputError("--brick must be between 2 and 64");
   if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
+  if (!(o.mergeCells >= 0) || !std::isfinite(o.mergeCells))
+    throw InputError("--merge-cells must be a number of voxels >= 0 (0: never merge)");
   if (o.method != "prism" && o.method != "consensus" && o.method != "naive")
     throw InputError("--method must be prism, consensus or naive, not '" + o.method + "'");
   if (!std::isfinite(o.minWeight)) throw InputError("--min-weight must be finite");
@@ -99,6 +101,12 @@ double closestSurfaceMargin(const FuseOptions& o) {
 }
 
 }  // namespace
+
+SurfaceOptions surfaceOptions(const FuseOptions& o) {
+  SurfaceOptions s = o.surface;
+  s.mergeTarget = o.mergeCells * o.voxel;
+  return s;
+}
 
 double routeReach(const FuseOptions& o) {
   // Every triangle within the margin of a brick's bounding ball, whose radius is half the
@@ -156,6 +164,7 @@ nlohmann::json resultParameters(const FuseOptions& o) {
           {"envelope_voxels", o.envelope},
           {"brick", o.brick},
           {"min_weight", o.minWeight},
+          {"merge_cells_voxels", o.mergeCells},
           {"normal_passes", o.surface.normalPasses},
           {"max_edge", o.surface.maxEdgeFactor},
           {"min_cosine", o.surface.minCosine},
@@ -189,7 +198,8 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   IndexedScans mine;
   if (!collectively(comm, [&] {
         conf = io::readConf(o.scans);
-        mine = loadScanShare(conf, o.surface, o.limits, eps, mpi::rank(comm), mpi::size(comm));
+        mine =
+            loadScanShare(conf, surfaceOptions(o), o.limits, eps, mpi::rank(comm), mpi::size(comm));
       }))
     return false;
   // Each rank keeps the scans it read; the others stay empty here (registration routes them).
@@ -274,7 +284,7 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.voxel = o.voxel;
   s.eps = o.envelope * o.voxel;
   s.brick = o.brick;
-  s.surface = o.surface;
+  s.surface = surfaceOptions(o);
   s.limits = o.limits;
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
   if (o.method != "prism") s.routeReach = routeReach(o);

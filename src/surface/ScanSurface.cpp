@@ -2,10 +2,21 @@
 
 #include <algorithm>
 
+#include "rangefuse/surface/GridMerging.h"
+
 namespace rangefuse {
 
 ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
                              const SurfaceOptions& options) {
+  if (options.mergeTarget > 0) {
+    const int k = mergeFactor(lateralSpacing(grid), options.mergeTarget);
+    SurfaceOptions merged = options;
+    merged.mergeTarget = 0;
+    if (k > 1) {
+      const RangeGrid coarse = mergeCells(grid, k, gridSpacing(grid), options.maxEdgeFactor);
+      return buildScanSurface(coarse, pose, merged);
+    }
+  }
   TriangleMesh mesh = triangulateGrid(grid, options);
   std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
   ScanSurface s;

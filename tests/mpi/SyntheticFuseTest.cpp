@@ -24,14 +24,15 @@ namespace {
 /// Scans the composite shape into a fresh folder on rank 0; returns the folder and, through
 /// `patches`, the extraneous patches.
 std::string scanComposite(double noise, double outliers = 0, int patchCount = 0,
-                          std::vector<SyntheticPatch>* patches = nullptr) {
+                          std::vector<SyntheticPatch>* patches = nullptr, int views = 12,
+                          int width = 160, int height = 120) {
   const std::string dir = sharedTempPath("synth");
   if (mpi::rank() == 0) {
     std::filesystem::create_directories(dir);
     ScanSettings s;
-    s.views = 12;
-    s.width = 160;
-    s.height = 120;
+    s.views = views;
+    s.width = width;
+    s.height = height;
     s.noise = noise;
     s.outliers = outliers;
     s.patches = patchCount;
@@ -80,6 +81,34 @@ TEST(SyntheticFuse, CompositeWithNoiseIsAccurateAndReported) {
     const Image img = io::readPng(o.preview);
     EXPECT_EQ(img.width, 512);
     EXPECT_EQ(img.height, 512);
+    std::filesystem::remove_all(dir);
+  }
+}
+
+TEST(SyntheticFuse, DenseScansMergedToTheVoxelKeepTheirAccuracy) {
+  // Pixels about a third of a voxel: --merge-cells 1 merges 3 x 3 blocks.
+  const std::string dir = scanComposite(0.5, 0, 0, nullptr, 6, 480, 360);
+  FuseOptions o;
+  o.scans = dir + "/truth.conf";
+  o.voxel = 1;
+  double chamfer[2];
+  uint64_t triangles[2];
+  for (int m = 0; m < 2; ++m) {
+    o.mergeCells = m;
+    o.out = dir + "/mesh" + std::to_string(m) + ".ply";
+    o.report = dir + "/report" + std::to_string(m) + ".json";
+    ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+    if (mpi::rank() != 0) continue;
+    const TriangleMesh mesh = io::readMeshPly(o.out);
+    chamfer[m] = compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1}).chamfer;
+    triangles[m] = io::readJson(o.report)["inputs"]["scan_triangles"].get<uint64_t>();
+  }
+  if (mpi::rank() == 0) {
+    std::printf("dense composite: %llu triangles, chamfer %.3f voxel; merged %llu, %.3f\n",
+                static_cast<unsigned long long>(triangles[0]), chamfer[0],
+                static_cast<unsigned long long>(triangles[1]), chamfer[1]);
+    EXPECT_LT(triangles[1] * 6, triangles[0]);
+    EXPECT_LE(chamfer[1], std::max(1.1 * chamfer[0], chamfer[0] + 0.01));
     std::filesystem::remove_all(dir);
   }
 }

@@ -26,11 +26,12 @@ struct FuseOptions {
   int brick = 8;                 ///< voxels per brick edge
   float minWeight = 0.0f;        ///< voxels with summed weight not above this are unobserved
   bool normals = true;           ///< write vertex normals
-  SurfaceOptions surface;
-  double quorum = -1;         ///< consensus: summed confidence needed; -1: autoQuorum
-  double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge
-  double sameDistance = 2.0;  ///< consensus: delta_d, voxels
-  double sameAngle = 45.0;    ///< consensus: theta_n, degrees
+  SurfaceOptions surface;        ///< mergeTarget is set from mergeCells: see surfaceOptions
+  double mergeCells = 1;         ///< merge grid cells up to this many voxels (0: never)
+  double quorum = -1;            ///< consensus: summed confidence needed; -1: autoQuorum
+  double edgeAngle = 78;         ///< consensus: beyond this angle from the normal, beside an edge
+  double sameDistance = 2.0;     ///< consensus: delta_d, voxels
+  double sameAngle = 45.0;       ///< consensus: theta_n, degrees
   std::string registration = "none";   ///< none, incremental, simultaneous or both
   std::string anchor;                  ///< scan name that fixes the frame (default: the first)
   int controlStride = 1;               ///< registration: every k-th vertex is a control point
@@ -103,6 +104,9 @@ bool streams(const FuseOptions& options);
 /// Collective: reads the scans and builds the field at the .conf poses, with progress lines.
 bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
                 RankCounters& counters);
+
+/// The surface options scans are prepared with: o.surface, merging cells up to mergeCells voxels.
+SurfaceOptions surfaceOptions(const FuseOptions& options);
 
 /// Throws InputError naming the first option that is out of range.
 void validateFuseOptions(const FuseOptions& options);

@@ -14,6 +14,9 @@ struct SurfaceOptions {
   double maxEdgeFactor = 4.0;  ///< drop triangles with an edge longer than this x grid spacing
   double minCosine = 0.15;     ///< drop triangles seen more obliquely than acos(this)
   int normalPasses = 2;        ///< neighbour-averaging passes over vertex normals
+  /// Merge blocks of k x k grid cells while k cells span no more than this (world units; 0:
+  /// never), so that dense grids reach the field at about the voxel's scale.
+  double mergeTarget = 0;
 };
 
 /// One scan as a triangle surface in world coordinates. Normals are unit, point toward

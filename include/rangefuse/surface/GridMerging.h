@@ -1,0 +1,24 @@
+// Range grids brought to the voxel's scale before prisms are built: where a scan's cells are
+// much smaller than a voxel, ten triangles cover what one would, and every stage pays per
+// triangle. Blocks of k x k cells become one cell, so the grid stays a grid.
+#pragma once
+
+#include "rangefuse/core/RangeGrid.h"
+
+namespace rangefuse {
+
+/// The block edge k for a grid with lateral step `spacing`: the largest k whose merged cells
+/// stay within `target` (world units; 0 or a coarse grid: 1, nothing merged).
+int mergeFactor(double spacing, double target);
+
+/// The median step between grid neighbours across the line of sight (the part along it
+/// removed): the pixel footprint, which range noise does not inflate as it does gridSpacing.
+double lateralSpacing(const RangeGrid& grid);
+
+/// The grid with each k x k block of cells merged into one: the mean of the block's points that
+/// lie on the surface of its most central point (within maxEdgeFactor grid steps per cell of
+/// separation, the triangulation's own test), so that a block across a depth edge keeps only the
+/// side of its centre. Pinhole intrinsics are scaled to the new cells. k = 1 returns the grid.
+RangeGrid mergeCells(const RangeGrid& grid, int k, double spacing, double maxEdgeFactor);
+
+}  // namespace rangefuse

@@ -1,0 +1,102 @@
+#include "rangefuse/surface/GridMerging.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace rangefuse {
+namespace {
+
+constexpr int kLargestFactor = 64;  // past this a grid is not a range image at this voxel
+
+/// The valid cell of block (r0, c0) nearest its centre (first in row order on ties), or -1.
+int32_t centralCell(const RangeGrid& g, int r0, int c0, int k, int& rc, int& cc) {
+  const double mid = 0.5 * (k - 1);
+  double best = std::numeric_limits<double>::infinity();
+  int32_t found = -1;
+  for (int r = r0; r < std::min(r0 + k, g.rows); ++r)
+    for (int c = c0; c < std::min(c0 + k, g.cols); ++c) {
+      const int32_t i = g.at(r, c);
+      const double d = std::pow(r - r0 - mid, 2) + std::pow(c - c0 - mid, 2);
+      if (i < 0 || !(d < best)) continue;
+      best = d, found = i, rc = r, cc = c;
+    }
+  return found;
+}
+
+/// The mean of block (r0, c0)'s points on the surface of its central cell; false if none.
+bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Vector3d& mean) {
+  int rc = 0, cc = 0;
+  const int32_t centre = centralCell(g, r0, c0, k, rc, cc);
+  if (centre < 0) return false;
+  const Eigen::Vector3d& ref = g.points[centre];
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (int r = r0; r < std::min(r0 + k, g.rows); ++r)
+    for (int c = c0; c < std::min(c0 + k, g.cols); ++c) {
+      const int32_t i = g.at(r, c);
+      if (i < 0) continue;
+      const int apart = std::max({std::abs(r - rc), std::abs(c - cc), 1});
+      if ((g.points[i] - ref).norm() > step * apart) continue;
+      sum += g.points[i];
+      ++n;
+    }
+  mean = sum / n;
+  return true;
+}
+
+/// Appends the lateral steps between each cell and its neighbour (dr, dc).
+void lateralSteps(const RangeGrid& g, int dr, int dc, std::vector<double>& out) {
+  for (int r = 0; r + dr < g.rows; ++r)
+    for (int c = 0; c + dc < g.cols; ++c) {
+      const int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
+      if (a < 0 || b < 0) continue;
+      const Eigen::Vector3d d = g.points[b] - g.points[a], u = g.towardSensor(g.points[a]);
+      out.push_back((d - d.dot(u) * u).norm());
+    }
+}
+
+}  // namespace
+
+double lateralSpacing(const RangeGrid& grid) {
+  std::vector<double> steps;
+  lateralSteps(grid, 0, 1, steps);
+  lateralSteps(grid, 1, 0, steps);
+  if (steps.empty()) return 0;
+  auto mid = steps.begin() + steps.size() / 2;
+  std::nth_element(steps.begin(), mid, steps.end());
+  return *mid;
+}
+
+int mergeFactor(double spacing, double target) {
+  if (!(spacing > 0) || !(target > spacing)) return 1;
+  return static_cast<int>(std::min<double>(kLargestFactor, std::floor(target / spacing)));
+}
+
+RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFactor) {
+  if (k <= 1) return g;
+  RangeGrid out;
+  out.cols = (g.cols + k - 1) / k;
+  out.rows = (g.rows + k - 1) / k;
+  out.cell.assign(static_cast<size_t>(out.cols) * out.rows, -1);
+  if (g.pinhole) {
+    // Merged pixel (C, R) is centred on old pixel k C + (k - 1) / 2.
+    Pinhole p = *g.pinhole;
+    p.fx /= k, p.fy /= k;
+    p.cx = (p.cx - 0.5 * (k - 1)) / k;
+    p.cy = (p.cy - 0.5 * (k - 1)) / k;
+    out.pinhole = p;
+  }
+  const double step = maxEdgeFactor * spacing;
+  Eigen::Vector3d mean;
+  for (int R = 0; R < out.rows; ++R)
+    for (int C = 0; C < out.cols; ++C) {
+      if (!blockMean(g, R * k, C * k, k, step, mean)) continue;
+      out.cell[static_cast<size_t>(R) * out.cols + C] = static_cast<int32_t>(out.points.size());
+      out.points.push_back(mean);
+    }
+  return out;
+}
+
+}  // namespace rangefuse

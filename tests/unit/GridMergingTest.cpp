@@ -1,0 +1,97 @@
+// Merging range-grid cells: known answers on planes, depth edges and pinhole pixels.
+#include <gtest/gtest.h>
+
+#include "rangefuse/surface/GridMerging.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+namespace rangefuse {
+namespace {
+
+/// A pinhole image of the plane z = -2 + 0.1 x + 0.05 y, `cols` x `rows` pixels.
+RangeGrid planeImage(int cols, int rows) {
+  RangeGrid g;
+  g.cols = cols, g.rows = rows;
+  g.pinhole = Pinhole{200, 200, 0.5 * (cols - 1), 0.5 * (rows - 1)};
+  g.cell.assign(static_cast<size_t>(cols) * rows, -1);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const Eigen::Vector3d ray((c - g.pinhole->cx) / 200, (r - g.pinhole->cy) / 200, -1);
+      // n . (t ray) = -2 with n = (-0.1, -0.05, 1) and z = -2 + 0.1 x + 0.05 y.
+      const double t = -2 / Eigen::Vector3d(-0.1, -0.05, 1).dot(ray);
+      g.cell[static_cast<size_t>(r) * cols + c] = static_cast<int32_t>(g.points.size());
+      g.points.push_back(t * ray);
+    }
+  return g;
+}
+
+double planeOffset(const Eigen::Vector3d& p) {
+  return p.z() - (-2 + 0.1 * p.x() + 0.05 * p.y());
+}
+
+TEST(GridMerging, FactorKeepsCoarseGridsAndStaysWithinTheTarget) {
+  EXPECT_EQ(mergeFactor(0.3, 1.0), 3);
+  EXPECT_EQ(mergeFactor(0.26, 1.0), 3);
+  EXPECT_EQ(mergeFactor(0.6, 1.0), 1);
+  EXPECT_EQ(mergeFactor(1.5, 1.0), 1);
+  EXPECT_EQ(mergeFactor(0.3, 0.0), 1);  // 0: never merge
+  EXPECT_EQ(mergeFactor(0.0, 1.0), 1);  // no spacing known
+  EXPECT_EQ(mergeFactor(1e-9, 1.0), 64);
+}
+
+TEST(GridMerging, LateralSpacingIgnoresRangeNoise) {
+  // Fronto-parallel plane at 1.5 m, 200 px focal length: a pixel spans 7.5 mm across the ray.
+  RangeGrid g = planeImage(40, 30);
+  for (auto& p : g.points) p *= -1.5 / p.z();
+  EXPECT_NEAR(lateralSpacing(g), 0.0075, 1e-4);
+  // Range noise of a pixel's size along each ray, in a checkerboard: neighbours are 15 mm apart
+  // along their rays, so gridSpacing doubles; the lateral step does not change.
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) g.points[g.at(r, c)] *= (r + c) % 2 ? 1.005 : 0.995;
+  EXPECT_GT(gridSpacing(g), 0.015);
+  EXPECT_NEAR(lateralSpacing(g), 0.0075, 1e-4);
+}
+
+TEST(GridMerging, MergedPointsStayOnAPlaneAndTheGridShrinks) {
+  const RangeGrid g = planeImage(50, 31);
+  const RangeGrid m = mergeCells(g, 4, gridSpacing(g), 4.0);
+  EXPECT_EQ(m.cols, 13);
+  EXPECT_EQ(m.rows, 8);
+  ASSERT_EQ(m.points.size(), 13u * 8u);
+  for (const auto& p : m.points) EXPECT_NEAR(planeOffset(p), 0, 1e-12);
+  EXPECT_EQ(mergeCells(g, 1, gridSpacing(g), 4.0).points, g.points);
+}
+
+TEST(GridMerging, PinholeFollowsTheMergedPixels) {
+  // A plane facing the sensor: a 3 x 3 block's mean is its centre pixel's point, which the new
+  // intrinsics must project onto the merged pixel.
+  RangeGrid g = planeImage(30, 21);
+  for (auto& p : g.points) p *= -1.5 / p.z();
+  const RangeGrid m = mergeCells(g, 3, gridSpacing(g), 4.0);
+  ASSERT_TRUE(m.pinhole);
+  for (int R = 0; R < m.rows; ++R)
+    for (int C = 0; C < m.cols; ++C) {
+      const Eigen::Vector3d& p = m.points[m.at(R, C)];
+      EXPECT_NEAR(m.pinhole->fx * p.x() / -p.z() + m.pinhole->cx, C, 1e-9);
+      EXPECT_NEAR(m.pinhole->fy * p.y() / -p.z() + m.pinhole->cy, R, 1e-9);
+    }
+}
+
+TEST(GridMerging, ABlockAcrossADepthEdgeKeepsItsCentresSide) {
+  RangeGrid g = planeImage(9, 9);
+  const double spacing = gridSpacing(g);
+  // Columns 5.. step back by a metre: the block of columns 3-5 mixes both surfaces.
+  for (int r = 0; r < 9; ++r)
+    for (int c = 5; c < 9; ++c) g.points[g.at(r, c)] *= 1.5;
+  // And a hole: a block with no valid cell stays empty.
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) g.cell[r * 9 + c] = -1;
+  const RangeGrid m = mergeCells(g, 3, spacing, 4.0);
+  EXPECT_EQ(m.at(0, 0), -1);
+  for (int R = 0; R < 3; ++R) {
+    EXPECT_NEAR(planeOffset(m.points[m.at(R, 1)]), 0, 1e-12) << "block row " << R;
+    EXPECT_GT(std::abs(planeOffset(m.points[m.at(R, 2)])), 0.5);
+  }
+}
+
+}  // namespace
+}  // namespace rangefuse
