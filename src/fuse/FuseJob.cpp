@@ -192,36 +192,44 @@ uint64_t peakMemoryMiB() {
 }
 
 bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
-  if (!collectively(comm, [&] { validateFuseOptions(o); })) return false;
-  const double eps = o.envelope * o.voxel;
   io::ConfFile conf;
-  IndexedScans mine;
   if (!collectively(comm, [&] {
+        validateFuseOptions(o);
         conf = io::readConf(o.scans);
-        mine =
-            loadScanShare(conf, surfaceOptions(o), o.limits, eps, mpi::rank(comm), mpi::size(comm));
       }))
     return false;
-  // Each rank keeps the scans it read; the others stay empty here (registration routes them).
   scans.rank = mpi::rank(comm);
-  scans.local.assign(conf.scans.size(), PrismScan{});
   for (size_t i = 0; i < conf.scans.size(); ++i) scans.readers.push_back(i % mpi::size(comm));
-  for (auto& [i, s] : mine) scans.local[i] = std::move(s);
   for (const auto& c : conf.scans) {
     scans.names.push_back(c.name);
     scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
   }
+  const ScanPreparation preparation{surfaceOptions(o), o.limits, o.envelope * o.voxel};
+  scans.held = std::make_shared<HeldScans>(conf.scans, scans.readers, scans.rank, preparation,
+                                           static_cast<uint64_t>(o.scanMemory * 1024 * 1024));
+  // Each rank reads its scans and keeps those that fit the budget; the others are read again
+  // whenever a registration field needs them.
+  uint64_t triangles = 0;
+  std::vector<std::string> empty;
+  if (!collectively(comm, [&] {
+        for (size_t i = 0; i < conf.scans.size(); ++i) {
+          if (!scans.holds(i)) continue;
+          const auto s = scans.held->readAndOffer(i);
+          triangles += s->surface.triangles.size();
+          if (s->surface.triangles.empty()) empty.push_back(conf.scans[i].path);
+        }
+      }))
+    return false;
   if (progress.isRoot())
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
-  for (size_t i = 0; i < scans.local.size(); ++i)
-    if (scans.holds(i) && scans.local[i].surface.triangles.empty())
-      std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
-                   conf.scans[i].path.c_str());
-  uint64_t triangles = countTriangles(scans.local);
+  for (const auto& path : empty)
+    std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
+                 path.c_str());
   MPI_Allreduce(MPI_IN_PLACE, &triangles, 1, MPI_UINT64_T, MPI_SUM, comm);
-  progress.stage("read", std::to_string(scans.local.size()) + " scans, " +
-                             std::to_string(triangles) + " triangles");
+  progress.stage("read", std::to_string(conf.scans.size()) + " scans, " +
+                             std::to_string(triangles) + " triangles; scans kept per rank " +
+                             std::to_string(scans.held->keptCount()) + " (rank 0)");
   return true;
 }
 
@@ -453,7 +461,7 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
   // The final field streams the scans again at the registered poses: registration keeps only
   // each rank's own share, and the field is the same bits as one built from held scans.
   const std::vector<Pose> registered = scans.poses;
-  scans.local = {};
+  scans.held.reset();
   FusedField field;
   RankCounters counters;
   if (!buildStreamed(o, comm, progress, scans, field, counters, &registered)) return 1;

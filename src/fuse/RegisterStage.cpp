@@ -13,7 +13,7 @@ namespace rangefuse {
 using mpi::collectively;
 
 std::vector<size_t> allScans(const LoadedScans& scans) {
-  std::vector<size_t> all(scans.local.size());
+  std::vector<size_t> all(scans.names.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   return all;
 }
@@ -140,7 +140,7 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   RegistrationCheckpointer checkpointer(o, scans, comm);
   try {
     registerScans(
-        scans.local, scans.poses, r, field, comm,
+        *scans.held, scans.poses, r, field, comm,
         [&](const RegistrationStep& s) {
           steps.push_back(s);
           if (progress.isRoot()) printStep(s, scans, o.voxel);

@@ -26,7 +26,7 @@ Eigen::AlignedBox3d placedBounds(const LoadedScans& scans, const std::vector<siz
                                  const std::vector<Pose>& poses, MPI_Comm comm) {
   Eigen::AlignedBox3d box;
   for (size_t i : which)
-    if (scans.holds(i)) box.extend(pointBounds(placeScan(scans.local[i], poses[i])));
+    if (scans.holds(i)) box.extend(pointBounds(placeScan(*scans.held->get(i), poses[i])));
   MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
   return box;
@@ -45,8 +45,8 @@ IndexedScans routePlaced(const LoadedScans& scans, const std::vector<size_t>& or
   stats.bytes.assign(out.size(), 0);
   for (size_t k = 0; k < order.size(); ++k)
     if (scans.holds(order[k]))
-      routeScan(k, placeScan(scans.local[order[k]], poses[order[k]]), layout, reach, me, out, parts,
-                stats);
+      routeScan(k, placeScan(*scans.held->get(order[k]), poses[order[k]]), layout, reach, me, out,
+                parts, stats);
   IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
   std::move(received.begin(), received.end(), std::back_inserter(parts));
   std::sort(parts.begin(), parts.end(),
@@ -73,7 +73,7 @@ BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& whic
     BrickWork work;
     for (size_t i : which)
       if (scans.holds(i))
-        addPrismWork(placeScan(scans.local[i], poses[i]), grid, o.limits.maxVoxels, work);
+        addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, o.limits.maxVoxels, work);
     layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm);
   });
   return layout;
@@ -118,7 +118,7 @@ class GrowingPrismField : public RegistrationField {
     placed_.emplace_back(i, poses[i]);
     int holds = 1;
     if (scans_.holds(i)) {
-      const std::vector<PrismScan> one{placeScan(scans_.local[i], poses[i])};
+      const std::vector<PrismScan> one{placeScan(*scans_.held->get(i), poses[i])};
       holds = gridHolds(grid_, one, eps_) && layoutHolds(one);
     }
     MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
@@ -160,7 +160,8 @@ class GrowingPrismField : public RegistrationField {
       BrickWork work;
       for (size_t i : every)
         if (scans_.holds(i))
-          addPrismWork(placeScan(scans_.local[i], poses_[i]), grid_, o_.limits.maxVoxels, work);
+          addPrismWork(placeScan(*scans_.held->get(i), poses_[i]), grid_, o_.limits.maxVoxels,
+                       work);
       BrickLayout layout = reduceBrickWork(work, grid_, o_.limits.maxVoxels, comm_);
       dilateBricks(layout, mpi::size(comm_), o_.limits.maxVoxels);
       store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));

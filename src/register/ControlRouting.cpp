@@ -31,12 +31,14 @@ std::vector<int> ownersAround(const BrickLayout& layout, const BrickCoord& c) {
 
 }  // namespace
 
-ControlRouting::ControlRouting(const std::vector<PrismScan>& scans, int stride, MPI_Comm comm)
+ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm)
     : scans_(scans), stride_(stride), comm_(comm), held_(scans.size()) {
   // Each scan is held by one rank, which alone fills its sphere: a sum shares them.
   spheres_.assign(scans.size(), Eigen::Vector4d::Zero());
   for (size_t i = 0; i < scans.size(); ++i) {
-    const ScanSurface& s = scans[i].surface;
+    if (!scans.holds(i)) continue;
+    const std::shared_ptr<const PrismScan> scan = scans.get(i);
+    const ScanSurface& s = scan->surface;
     Eigen::AlignedBox3d box;
     for (size_t v = 0; v < s.points.size(); v += stride_)
       if (s.confidence[v] > 0) box.extend(s.points[v]);
@@ -65,8 +67,12 @@ void ControlRouting::route(const std::vector<size_t>& which, const std::vector<P
   std::vector<std::vector<char>> out(mpi::size(comm_));
   const int me = mpi::rank(comm_);
   for (size_t i : which) {
-    held_[i] = Held{poses[i], {}, {}, {}, {}};
-    const ScanSurface& s = scans_[i].surface;
+    held_[i] = Held{poses[i], nullptr, {}, {}, {}, {}};
+    if (!scans_.holds(i)) continue;
+    // A kept scan is referred to; one read again is copied from, then released.
+    const std::shared_ptr<const PrismScan> scan = scans_.get(i);
+    if (scans_.kept(i)) held_[i].scan = scan;
+    const ScanSurface& s = scan->surface;
     for (size_t v = 0; v < s.points.size(); v += stride_) {
       if (!(s.confidence[v] > 0)) continue;
       const BrickCoord c = brickOf(g.nearest(poses[i].apply(s.points[v])), g.brick);
@@ -75,7 +81,7 @@ void ControlRouting::route(const std::vector<size_t>& which, const std::vector<P
       if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c)).first;
       const RoutedPoint p{i, s.points[v], s.normals[v], s.confidence[v]};
       for (int r : it->second)
-        if (r == me)
+        if (r == me && held_[i].scan)
           held_[i].vertices.push_back(static_cast<uint32_t>(v));
         else
           mpi::pack(out[r], &p, 1);
@@ -113,8 +119,10 @@ ControlPoints ControlRouting::at(size_t i, const Pose& pose, const BrickStore& s
   c.points.reserve(n);
   c.normals.reserve(n);
   c.weights.reserve(n);
-  const ScanSurface& s = scans_[i].surface;
-  for (uint32_t v : h.vertices) add(s.points[v], s.normals[v], s.confidence[v]);
+  for (uint32_t v : h.vertices) {
+    const ScanSurface& s = h.scan->surface;
+    add(s.points[v], s.normals[v], s.confidence[v]);
+  }
   for (size_t k = 0; k < h.points.size(); ++k) add(h.points[k], h.normals[k], h.weights[k]);
   return c;
 }

@@ -86,9 +86,9 @@ std::vector<size_t> allOf(size_t n) {
   return all;
 }
 
-void incremental(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                 const RegistrationOptions& o, RegistrationField& field, ControlRouting& control,
-                 MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep,
+void incremental(const ScanSource& scans, std::vector<Pose>& poses, const RegistrationOptions& o,
+                 RegistrationField& field, ControlRouting& control, MPI_Comm comm,
+                 const std::function<void(const RegistrationStep&)>& onStep,
                  RegistrationProgress& progress, const BoundaryCallback& onBoundary) {
   // The scans placed so far, in the order they joined: the anchor, then by index.
   std::vector<size_t> fused = {o.anchor};
@@ -138,11 +138,13 @@ void returnAnchor(std::vector<Pose>& poses, const std::vector<Pose>& roundPoses,
 
 /// Collective: the largest mean displacement of a scan's vertices between two sets of poses
 /// (every 16th).
-double largestMotion(const std::vector<PrismScan>& scans, const std::vector<Pose>& from,
+double largestMotion(const ScanSource& scans, const std::vector<Pose>& from,
                      const std::vector<Pose>& to, MPI_Comm comm) {
   double largest = 0;
   for (size_t i = 0; i < scans.size(); ++i) {
-    const auto& points = scans[i].surface.points;
+    if (!scans.holds(i)) continue;
+    const std::shared_ptr<const PrismScan> scan = scans.get(i);
+    const auto& points = scan->surface.points;
     double sum = 0;
     size_t n = 0;
     for (size_t v = 0; v < points.size(); v += 16, ++n)
@@ -162,9 +164,9 @@ void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
   p.history.assign(poses.size(), FitHistory{});
 }
 
-void simultaneous(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                  RegistrationOptions o, RegistrationField& field, ControlRouting& control,
-                  MPI_Comm comm, const std::function<void(const RegistrationStep&)>& onStep,
+void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, RegistrationOptions o,
+                  RegistrationField& field, ControlRouting& control, MPI_Comm comm,
+                  const std::function<void(const RegistrationStep&)>& onStep,
                   RegistrationProgress& p, const BoundaryCallback& onBoundary) {
   // The field holds each scan itself: only voxels another image also saw are overlap. Foot
   // points from voxels more images saw are less noisy (in Algorithm 1 too, but there it moved
@@ -216,8 +218,8 @@ double rotationDegrees(const Eigen::Matrix3d& R) {
   return std::abs(Eigen::AngleAxisd(R).angle()) * 180 / M_PI;
 }
 
-void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
-                   const RegistrationOptions& o, RegistrationField& field, MPI_Comm comm,
+void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const RegistrationOptions& o,
+                   RegistrationField& field, MPI_Comm comm,
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& p, const BoundaryCallback& onBoundary) {
   p.latticeOrigin = field.fixLattice(p.latticeOrigin, poses);

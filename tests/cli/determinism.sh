@@ -28,3 +28,11 @@ cmp "$tmp/poses1.conf" "$tmp/poses3.conf"
 cmp "$tmp/reg1.ply" "$tmp/reg2.ply"
 cmp "$tmp/reg1.ply" "$tmp/reg3.ply"
 echo "registration: 1, 2 and 3 ranks give identical poses and meshes"
+# No scan kept in memory: every field re-reads them, and nothing changes.
+mpirun --oversubscribe -np 2 "$bin" fuse --scans "$tmp/synth/perturbed.conf" --voxel 1 \
+  --register both --max-iterations 5 --max-rounds 2 --scan-memory 0 --out "$tmp/reread.ply" \
+  --poses-out "$tmp/reread.conf" >"$tmp/log_reread"
+grep -q "scans kept per rank 0" "$tmp/log_reread"
+cmp "$tmp/poses1.conf" "$tmp/reread.conf"
+cmp "$tmp/reg1.ply" "$tmp/reread.ply"
+echo "registration re-reading every scan (--scan-memory 0) gives the same poses and mesh"

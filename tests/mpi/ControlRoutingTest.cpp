@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 
 #include "SphereField.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -59,14 +60,37 @@ void expectOwnedPointsHeld(const BrickStore& store, const PrismScan& scan, const
   EXPECT_GT(owned, 0u);
 }
 
-TEST(ControlRouting, EveryRankHoldsThePointsItOwnsWhereverTheScanMoves) {
+/// Scans that are never kept: each get() reads a fresh copy, as past the memory budget.
+class ReadAgain : public ScanSource {
+ public:
+  explicit ReadAgain(std::vector<PrismScan> scans) : scans_(std::move(scans)) {}
+  size_t size() const override { return scans_.size(); }
+  bool holds(size_t i) const override { return !scans_[i].surface.points.empty(); }
+  bool kept(size_t) const override { return false; }
+  std::shared_ptr<const PrismScan> get(size_t i) const override {
+    return std::make_shared<const PrismScan>(scans_[i]);
+  }
+
+ private:
+  std::vector<PrismScan> scans_;
+};
+
+class ControlRoutingTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ControlRoutingTest, EveryRankHoldsThePointsItOwnsWhereverTheScanMoves) {
   const BrickLayout layout = test::sphereLayout(mpi::size());
   BrickStore store(layout, mpi::rank());
   const PrismScan whole = sphereScan();
   // Scan 1 is held by the last rank alone; scan 0 is empty everywhere.
-  std::vector<PrismScan> scans(2);
-  if (mpi::rank() == mpi::size() - 1) scans[1] = whole;
-  ControlRouting routing(scans, 1, MPI_COMM_WORLD);
+  std::vector<PrismScan> given(2);
+  if (mpi::rank() == mpi::size() - 1) given[1] = whole;
+  const bool kept = GetParam();
+  std::unique_ptr<ScanSource> scans;
+  if (kept)
+    scans = std::make_unique<ScansInMemory>(given);
+  else
+    scans = std::make_unique<ReadAgain>(given);
+  ControlRouting routing(*scans, 1, MPI_COMM_WORLD);
   std::vector<Pose> poses(2);
   routing.route({0, 1}, poses, store);
   // Within the reach (a brick of 4 voxels less one), then past it, then back.
@@ -82,6 +106,8 @@ TEST(ControlRouting, EveryRankHoldsThePointsItOwnsWhereverTheScanMoves) {
   }
   EXPECT_EQ(routing.reroutes(), 2u);  // to the 15-degree turn and back
 }
+
+INSTANTIATE_TEST_SUITE_P(KeptOrReadAgain, ControlRoutingTest, ::testing::Bool());
 
 }  // namespace
 }  // namespace rangefuse

@@ -9,6 +9,7 @@
 
 #include "rangefuse/consensus/NearSurface.h"
 #include "rangefuse/core/Limits.h"
+#include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/fuse/Progress.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -53,7 +54,7 @@ struct FuseOptions {
 struct LoadedScans {
   std::vector<std::string> names;
   std::vector<std::string> paths;
-  std::vector<PrismScan> local;  ///< in the scans' frames; empty where another rank reads it
+  std::shared_ptr<HeldScans> held;  ///< the scans this rank read (registration)
   std::vector<Pose> poses;
   std::vector<int> readers;  ///< the rank holding each scan
   int rank = 0;              ///< this rank

@@ -9,6 +9,7 @@
 
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/prism/PrismField.h"
+#include "rangefuse/register/ScanSource.h"
 #include "rangefuse/volume/BrickStore.h"
 
 namespace rangefuse {
@@ -25,8 +26,8 @@ struct ControlPoints {
 /// owning its nearest voxel.
 class ControlRouting {
  public:
-  /// Collective. A rank holds only the scans it read; the others are empty.
-  ControlRouting(const std::vector<PrismScan>& scans, int stride, MPI_Comm comm);
+  /// Collective. A rank holds only the scans it read.
+  ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm);
 
   /// Collective: sends scans `which`, placed at `poses`, to the owners of `store`'s bricks. Call
   /// it whenever the store's bricks change.
@@ -43,9 +44,10 @@ class ControlRouting {
 
  private:
   /// A scan's control points held here, in the scan's frame: the vertex numbers of those
-  /// needed here when this rank read the scan, copies when another rank sent them.
+  /// needed here when this rank read the scan and keeps it in memory, copies otherwise.
   struct Held {
     Pose routedAt;
+    std::shared_ptr<const PrismScan> scan;  ///< the kept scan `vertices` number into
     std::vector<uint32_t> vertices;
     std::vector<Eigen::Vector3d> points, normals;
     std::vector<double> weights;
@@ -54,7 +56,7 @@ class ControlRouting {
   /// An upper bound on how far any control point of scan i moves from `from` to `to`.
   double motionBound(size_t i, const Pose& from, const Pose& to) const;
 
-  const std::vector<PrismScan>& scans_;
+  const ScanSource& scans_;
   int stride_;
   MPI_Comm comm_;
   std::vector<Eigen::Vector4d> spheres_;  ///< per scan: centre and radius of its control points

@@ -12,6 +12,7 @@
 
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/register/Correspondences.h"
+#include "rangefuse/register/ScanSource.h"
 
 namespace rangefuse {
 
@@ -104,7 +105,7 @@ using BoundaryCallback = std::function<void(const RegistrationProgress&, const s
 /// are in their own frames; a rank holds only the scans it read (the others are empty), and
 /// the field's calls route them. `onStep` sees every fit (rank 0 prints it); `onBoundary` every
 /// point a checkpoint may be taken. Every rank ends with the same poses.
-void registerScans(const std::vector<PrismScan>& scans, std::vector<Pose>& poses,
+void registerScans(const ScanSource& scans, std::vector<Pose>& poses,
                    const RegistrationOptions& options, RegistrationField& field, MPI_Comm comm,
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& progress, const BoundaryCallback& onBoundary);

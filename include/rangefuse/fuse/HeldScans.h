@@ -1,0 +1,47 @@
+// The scans a rank read for registration, in their own frames: kept in memory while they fit a
+// budget (--scan-memory), the rest read again from their files whenever a field needs them.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "rangefuse/core/Limits.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/register/ScanSource.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+namespace rangefuse {
+
+/// How a scan is prepared when read (again).
+struct ScanPreparation {
+  SurfaceOptions surface;
+  InputLimits limits;
+  double eps = 0;  ///< prism envelope, in the scans' units
+};
+
+class HeldScans : public ScanSource {
+ public:
+  /// `readers`: the rank reading each scan; this rank is `rank`. Nothing is read yet.
+  HeldScans(std::vector<io::ConfScan> scans, std::vector<int> readers, int rank,
+            ScanPreparation preparation, uint64_t budgetBytes);
+
+  size_t size() const override { return scans_.size(); }
+  bool holds(size_t i) const override { return readers_[i] == rank_; }
+  bool kept(size_t i) const override { return kept_[i] != nullptr; }
+  std::shared_ptr<const PrismScan> get(size_t i) const override;
+
+  /// Reads scan i (held here) and keeps it if it fits what is left of the budget.
+  std::shared_ptr<const PrismScan> readAndOffer(size_t i);
+
+  size_t keptCount() const;
+
+ private:
+  std::vector<io::ConfScan> scans_;
+  std::vector<int> readers_;
+  int rank_;
+  ScanPreparation preparation_;
+  uint64_t budgetLeft_;
+  std::vector<std::shared_ptr<const PrismScan>> kept_;
+};
+
+}  // namespace rangefuse
