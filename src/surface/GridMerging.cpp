@@ -9,6 +9,7 @@ namespace rangefuse {
 namespace {
 
 constexpr int kLargestFactor = 64;  // past this a grid is not a range image at this voxel
+constexpr int kLeastCellsAcross = 16;
 
 /// The valid cell of block (r0, c0) nearest its centre (first in row order on ties), or -1.
 int32_t centralCell(const RangeGrid& g, int r0, int c0, int k, int& rc, int& cc) {
@@ -69,9 +70,11 @@ double lateralSpacing(const RangeGrid& grid) {
   return *mid;
 }
 
-int mergeFactor(double spacing, double target) {
+int mergeFactor(double spacing, double target, int shortSide) {
   if (!(spacing > 0) || !(target > spacing)) return 1;
-  return static_cast<int>(std::min<double>(kLargestFactor, std::floor(target / spacing)));
+  // A scan much smaller than a voxel keeps a grid of its own rather than vanish into a cell.
+  const int largest = std::max(1, std::min(kLargestFactor, shortSide / kLeastCellsAcross));
+  return static_cast<int>(std::min<double>(largest, std::floor(target / spacing)));
 }
 
 RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFactor) {

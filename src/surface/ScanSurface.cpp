@@ -9,7 +9,8 @@ namespace rangefuse {
 ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
                              const SurfaceOptions& options) {
   if (options.mergeTarget > 0) {
-    const int k = mergeFactor(lateralSpacing(grid), options.mergeTarget);
+    const int k =
+        mergeFactor(lateralSpacing(grid), options.mergeTarget, std::min(grid.cols, grid.rows));
     SurfaceOptions merged = options;
     merged.mergeTarget = 0;
     if (k > 1) {

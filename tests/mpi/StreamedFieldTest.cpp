@@ -26,7 +26,8 @@ FuseOptions bunnyOptions() {
 void replicatedField(const FuseOptions& o, FusedField& field) {
   std::vector<PrismScan> world;
   for (const auto& c : io::readConf(o.scans).scans)
-    world.push_back(placeScan(loadScan(c, o.surface, o.limits, o.envelope * o.voxel), c.pose));
+    world.push_back(
+        placeScan(loadScan(c, surfaceOptions(o), o.limits, o.envelope * o.voxel), c.pose));
   RankCounters counters;
   ASSERT_TRUE(buildFieldOf(o, std::move(world), MPI_COMM_WORLD, field, counters));
 }
@@ -58,7 +59,8 @@ TEST(StreamedField, EqualsTheReplicatedFieldVoxelByVoxel) {
   streamedField(bunnyOptions(), streamed, counters);
   expectSameField(simple, streamed);
   EXPECT_EQ(streamed.scanCount, 10u);
-  EXPECT_EQ(streamed.scanTriangles, 686167u);
+  EXPECT_EQ(streamed.scanTriangles, simple.scanTriangles);
+  EXPECT_GT(simple.scanTriangles, 0u);
 }
 
 TEST(StreamedField, ReReadingScansPastTheBudgetChangesNothing) {

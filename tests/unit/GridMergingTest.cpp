@@ -29,13 +29,16 @@ double planeOffset(const Eigen::Vector3d& p) {
 }
 
 TEST(GridMerging, FactorKeepsCoarseGridsAndStaysWithinTheTarget) {
-  EXPECT_EQ(mergeFactor(0.3, 1.0), 3);
-  EXPECT_EQ(mergeFactor(0.26, 1.0), 3);
-  EXPECT_EQ(mergeFactor(0.6, 1.0), 1);
-  EXPECT_EQ(mergeFactor(1.5, 1.0), 1);
-  EXPECT_EQ(mergeFactor(0.3, 0.0), 1);  // 0: never merge
-  EXPECT_EQ(mergeFactor(0.0, 1.0), 1);  // no spacing known
-  EXPECT_EQ(mergeFactor(1e-9, 1.0), 64);
+  EXPECT_EQ(mergeFactor(0.3, 1.0, 480), 3);
+  EXPECT_EQ(mergeFactor(0.26, 1.0, 480), 3);
+  EXPECT_EQ(mergeFactor(0.6, 1.0, 480), 1);
+  EXPECT_EQ(mergeFactor(1.5, 1.0, 480), 1);
+  EXPECT_EQ(mergeFactor(0.3, 0.0, 480), 1);  // 0: never merge
+  EXPECT_EQ(mergeFactor(0.0, 1.0, 480), 1);  // no spacing known
+  EXPECT_EQ(mergeFactor(1e-9, 1.0, 4800), 64);
+  // A small grid keeps 16 cells across, however large the voxel.
+  EXPECT_EQ(mergeFactor(0.01, 1.0, 24), 1);
+  EXPECT_EQ(mergeFactor(0.01, 1.0, 100), 6);
 }
 
 TEST(GridMerging, LateralSpacingIgnoresRangeNoise) {

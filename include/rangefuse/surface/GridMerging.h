@@ -7,9 +7,10 @@
 
 namespace rangefuse {
 
-/// The block edge k for a grid with lateral step `spacing`: the largest k whose merged cells
-/// stay within `target` (world units; 0 or a coarse grid: 1, nothing merged).
-int mergeFactor(double spacing, double target);
+/// The block edge k for a grid with lateral step `spacing` and `shortSide` cells across its
+/// shorter side: the largest k whose merged cells stay within `target` (world units; 0 or a
+/// coarse grid: 1, nothing merged), and that leaves at least 16 cells across.
+int mergeFactor(double spacing, double target, int shortSide);
 
 /// The median step between grid neighbours across the line of sight (the part along it
 /// removed): the pixel footprint, which range noise does not inflate as it does gridSpacing.
