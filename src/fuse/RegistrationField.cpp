@@ -16,37 +16,38 @@ namespace {
 
 constexpr int kLatticeMargin = 4;  // bricks of room below the scans for their motion
 
-template <class Fn>
-void collectivelyOrThrow(MPI_Comm comm, Fn&& fn) {
-  if (!mpi::collectively(comm, fn)) throw mpi::Reported();
-}
+using mpi::collectivelyOrThrow;
 
 /// Collective: bounds of the points of every scan at its pose, each scan placed by its reader.
 Eigen::AlignedBox3d placedBounds(const LoadedScans& scans, const std::vector<size_t>& which,
                                  const std::vector<Pose>& poses, MPI_Comm comm) {
   Eigen::AlignedBox3d box;
-  for (size_t i : which)
-    if (scans.holds(i)) box.extend(pointBounds(placeScan(*scans.held->get(i), poses[i])));
+  collectivelyOrThrow(comm, [&] {
+    for (size_t i : which)
+      if (scans.holds(i)) box.extend(pointBounds(placeScan(*scans.held->get(i), poses[i])));
+  });
   MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
   return box;
 }
 
-/// Collective: the listed scans, each placed by its reader and routed to the owners of the
-/// bricks its prisms touch (or, with reach > 0, lie within reach of), as (position in the
-/// list, part) in list order.
-IndexedScans routePlaced(const LoadedScans& scans, const std::vector<size_t>& order,
-                         const std::vector<Pose>& poses, const BrickLayout& layout, double reach,
-                         MPI_Comm comm) {
+/// Collective: the list entries [first, end), each placed by its reader and routed to the
+/// owners of the bricks its prisms touch (or, with reach > 0, lie within reach of), as
+/// (position in the list, part) in list order. A scan read again may fail: all ranks throw.
+IndexedScans routeWindow(const LoadedScans& scans, const std::vector<size_t>& order, size_t first,
+                         size_t end, const std::vector<Pose>& poses, const BrickLayout& layout,
+                         double reach, MPI_Comm comm) {
   const int me = mpi::rank(comm);
   std::vector<std::vector<char>> out(mpi::size(comm));
   IndexedScans parts;
   RoutingStats stats;
   stats.bytes.assign(out.size(), 0);
-  for (size_t k = 0; k < order.size(); ++k)
-    if (scans.holds(order[k]))
-      routeScan(k, placeScan(*scans.held->get(order[k]), poses[order[k]]), layout, reach, me, out,
-                parts, stats);
+  collectivelyOrThrow(comm, [&] {
+    for (size_t k = first; k < end; ++k)
+      if (scans.holds(order[k]))
+        routeScan(k, placeScan(*scans.held->get(order[k]), poses[order[k]]), layout, reach, me, out,
+                  parts, stats);
+  });
   IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
   std::move(received.begin(), received.end(), std::back_inserter(parts));
   std::sort(parts.begin(), parts.end(),
@@ -54,12 +55,26 @@ IndexedScans routePlaced(const LoadedScans& scans, const std::vector<size_t>& or
   return parts;
 }
 
+/// Collective: calls fn(k, part) for the listed scans in list order (routeWindow), in windows
+/// of as many scans as ranks, so that only a window is in flight, never every placed scan.
+template <class Fn>
+void routePlaced(const LoadedScans& scans, const std::vector<size_t>& order,
+                 const std::vector<Pose>& poses, const BrickLayout& layout, double reach,
+                 MPI_Comm comm, Fn&& fn) {
+  const size_t window = static_cast<size_t>(mpi::size(comm));
+  for (size_t first = 0; first < order.size(); first += window) {
+    const size_t end = std::min(order.size(), first + window);
+    for (auto& [k, part] : routeWindow(scans, order, first, end, poses, layout, reach, comm))
+      fn(k, part);
+  }
+}
+
 /// Collective: adds the listed scans to the field in list order.
 void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,
                const std::vector<Pose>& poses, PrismIntegrator& integrator,
                const BrickLayout& layout, MPI_Comm comm) {
-  for (const auto& [k, part] : routePlaced(scans, order, poses, layout, 0, comm))
-    integrator.addScan(part);
+  routePlaced(scans, order, poses, layout, 0, comm,
+              [&](size_t, const PrismScan& part) { integrator.addScan(part); });
 }
 
 /// Collective: bricks for the prisms of the listed scans at their poses, planned from the
@@ -67,15 +82,18 @@ void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,
 BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& which,
                        const std::vector<Pose>& poses, const FuseOptions& o, MPI_Comm comm) {
   const Eigen::AlignedBox3d box = placedBounds(scans, which, poses, comm);
-  BrickLayout layout;
+  // Local work first (a scan read again may fail), agreed on; then the collective reduction.
+  VoxelGrid grid;
+  BrickWork work;
   collectivelyOrThrow(comm, [&] {
-    const VoxelGrid grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel);
-    BrickWork work;
+    grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel);
     for (size_t i : which)
       if (scans.holds(i))
         addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, o.limits.maxVoxels, work);
-    layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm);
   });
+  BrickLayout layout;
+  collectivelyOrThrow(comm,
+                      [&] { layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm); });
   return layout;
 }
 
@@ -117,10 +135,11 @@ class GrowingPrismField : public RegistrationField {
     poses_ = poses;
     placed_.emplace_back(i, poses[i]);
     int holds = 1;
-    if (scans_.holds(i)) {
+    collectivelyOrThrow(comm_, [&] {
+      if (!scans_.holds(i)) return;
       const std::vector<PrismScan> one{placeScan(*scans_.held->get(i), poses[i])};
       holds = gridHolds(grid_, one, eps_) && layoutHolds(one);
-    }
+    });
     MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
     if (!holds) return rebuild();
     addRouted(scans_, {i}, poses_, *integrator_, store_->layout(), comm_);
@@ -154,14 +173,17 @@ class GrowingPrismField : public RegistrationField {
   const BrickStore& rebuild() {
     const std::vector<size_t> every = allScans(scans_);
     const Eigen::AlignedBox3d box = placedBounds(scans_, every, poses_, comm_);
+    // Local work first (a scan read again may fail), agreed on; then the collective reduction.
+    BrickWork work;
     collectivelyOrThrow(comm_, [&] {
       if (!gridHoldsBox(grid_, box, eps_))
         grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
-      BrickWork work;
       for (size_t i : every)
         if (scans_.holds(i))
           addPrismWork(placeScan(*scans_.held->get(i), poses_[i]), grid_, o_.limits.maxVoxels,
                        work);
+    });
+    collectivelyOrThrow(comm_, [&] {
       BrickLayout layout = reduceBrickWork(work, grid_, o_.limits.maxVoxels, comm_);
       dilateBricks(layout, mpi::size(comm_), o_.limits.maxVoxels);
       store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
@@ -201,16 +223,16 @@ class RebuiltField : public RegistrationField {
     field_ = FusedField{};
     field_.layout = planPlaced(scans_, which, poses, o_, comm_);
     field_.store = std::make_unique<BrickStore>(field_.layout, mpi::rank(comm_));
-    const double reach = o_.method == "prism" ? 0 : routeReach(o_);
-    IndexedScans parts = routePlaced(scans_, which, poses, field_.layout, reach, comm_);
+    if (o_.method == "prism") {
+      PrismIntegrator integrator(*field_.store);
+      routePlaced(scans_, which, poses, field_.layout, 0, comm_,
+                  [&](size_t, const PrismScan& part) { integrator.addScan(part); });
+      return *field_.store;
+    }
+    field_.scans.resize(which.size());
+    routePlaced(scans_, which, poses, field_.layout, routeReach(o_), comm_,
+                [&](size_t k, PrismScan& part) { field_.scans[k] = std::move(part); });
     collectivelyOrThrow(comm_, [&] {
-      if (o_.method == "prism") {
-        PrismIntegrator integrator(*field_.store);
-        for (const auto& [k, part] : parts) integrator.addScan(part);
-        return;
-      }
-      field_.scans.resize(which.size());
-      for (auto& [k, part] : parts) field_.scans[k] = std::move(part);
       evaluateClosestSurfaceField(o_, field_);
       field_.scans = {};
     });

@@ -29,23 +29,30 @@ std::vector<int> ownersAround(const BrickLayout& layout, const BrickCoord& c) {
   return ranks;
 }
 
+/// Centre and radius of a ball around the scan's control points (its box's), zero if none.
+Eigen::Vector4d sphereOf(const PrismScan& scan, int stride) {
+  const ScanSurface& s = scan.surface;
+  Eigen::AlignedBox3d box;
+  for (size_t v = 0; v < s.points.size(); v += stride)
+    if (s.confidence[v] > 0) box.extend(s.points[v]);
+  if (box.isEmpty()) return Eigen::Vector4d::Zero();
+  const Eigen::Vector3d c = box.center();
+  Eigen::Vector4d sphere;
+  sphere << c, (box.max() - c).norm();
+  return sphere;
+}
+
 }  // namespace
 
 ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm)
     : scans_(scans), stride_(stride), comm_(comm), held_(scans.size()) {
   // Each scan is held by one rank, which alone fills its sphere: a sum shares them.
   spheres_.assign(scans.size(), Eigen::Vector4d::Zero());
-  for (size_t i = 0; i < scans.size(); ++i) {
-    if (!scans.holds(i)) continue;
-    const std::shared_ptr<const PrismScan> scan = scans.get(i);
-    const ScanSurface& s = scan->surface;
-    Eigen::AlignedBox3d box;
-    for (size_t v = 0; v < s.points.size(); v += stride_)
-      if (s.confidence[v] > 0) box.extend(s.points[v]);
-    if (box.isEmpty()) continue;
-    const Eigen::Vector3d c = box.center();
-    spheres_[i] << c, (box.max() - c).norm();
-  }
+  // A scan read again may fail on one rank: every rank then throws here.
+  mpi::collectivelyOrThrow(comm_, [&] {
+    for (size_t i = 0; i < scans.size(); ++i)
+      if (scans.holds(i)) spheres_[i] = sphereOf(*scans.get(i), stride_);
+  });
   MPI_Allreduce(MPI_IN_PLACE, spheres_.data(), static_cast<int>(4 * spheres_.size()), MPI_DOUBLE,
                 MPI_SUM, comm_);
 }
@@ -60,35 +67,26 @@ double ControlRouting::motionBound(size_t i, const Pose& from, const Pose& to) c
 void ControlRouting::route(const std::vector<size_t>& which, const std::vector<Pose>& poses,
                            const BrickStore& store) {
   const BrickLayout& layout = store.layout();
-  const VoxelGrid& g = layout.grid;
-  // A point that moves less than the reach (a brick edge less one voxel) keeps its nearest
-  // voxel within a brick edge of the one it has now: in this brick or a neighbour.
   std::unordered_map<uint64_t, std::vector<int>> owners;
-  std::vector<std::vector<char>> out(mpi::size(comm_));
-  const int me = mpi::rank(comm_);
-  for (size_t i : which) {
-    held_[i] = Held{poses[i], nullptr, {}, {}, {}, {}};
-    if (!scans_.holds(i)) continue;
-    // A kept scan is referred to; one read again is copied from, then released.
-    const std::shared_ptr<const PrismScan> scan = scans_.get(i);
-    if (scans_.kept(i)) held_[i].scan = scan;
-    const ScanSurface& s = scan->surface;
-    for (size_t v = 0; v < s.points.size(); v += stride_) {
-      if (!(s.confidence[v] > 0)) continue;
-      const BrickCoord c = brickOf(g.nearest(poses[i].apply(s.points[v])), g.brick);
-      const uint64_t code = mortonEncode(c);
-      auto it = owners.find(code);
-      if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c)).first;
-      const RoutedPoint p{i, s.points[v], s.normals[v], s.confidence[v]};
-      for (int r : it->second)
-        if (r == me && held_[i].scan)
-          held_[i].vertices.push_back(static_cast<uint32_t>(v));
-        else
-          mpi::pack(out[r], &p, 1);
-    }
+  const int me = mpi::rank(comm_), ranks = mpi::size(comm_);
+  for (size_t i : which) held_[i] = Held{poses[i], nullptr, {}, {}, {}, {}};
+  // In windows of as many scans as ranks: only a window's points are in flight at once.
+  for (size_t first = 0; first < which.size(); first += ranks) {
+    const size_t end = std::min(which.size(), first + ranks);
+    std::vector<std::vector<char>> out(ranks);
+    // A scan read again may fail on one rank: every rank then throws before the exchange.
+    mpi::collectivelyOrThrow(comm_, [&] {
+      for (size_t k = first; k < end; ++k)
+        if (scans_.holds(which[k]))
+          packControlPoints(which[k], poses[which[k]], layout, me, owners, out);
+    });
+    receive(mpi::exchangeBytes(std::move(out), comm_));
   }
+}
+
+void ControlRouting::receive(const std::vector<std::vector<char>>& in) {
   // Each scan comes from the one rank holding it, in its order.
-  for (const auto& buf : mpi::exchangeBytes(std::move(out), comm_)) {
+  for (const auto& buf : in) {
     for (size_t at = 0; at < buf.size();) {
       RoutedPoint p;
       mpi::unpack(buf, at, &p, 1);
@@ -97,6 +95,32 @@ void ControlRouting::route(const std::vector<size_t>& which, const std::vector<P
       h.normals.push_back(p.n);
       h.weights.push_back(p.w);
     }
+  }
+}
+
+void ControlRouting::packControlPoints(size_t i, const Pose& pose, const BrickLayout& layout,
+                                       int me,
+                                       std::unordered_map<uint64_t, std::vector<int>>& owners,
+                                       std::vector<std::vector<char>>& out) {
+  const VoxelGrid& g = layout.grid;
+  // A kept scan is referred to; one read again is copied from, then released.
+  const std::shared_ptr<const PrismScan> scan = scans_.get(i);
+  if (scans_.kept(i)) held_[i].scan = scan;
+  const ScanSurface& s = scan->surface;
+  // A point that moves less than the reach (a brick edge less one voxel) keeps its nearest
+  // voxel within a brick edge of the one it has now: in this brick or a neighbour.
+  for (size_t v = 0; v < s.points.size(); v += stride_) {
+    if (!(s.confidence[v] > 0)) continue;
+    const BrickCoord c = brickOf(g.nearest(pose.apply(s.points[v])), g.brick);
+    const uint64_t code = mortonEncode(c);
+    auto it = owners.find(code);
+    if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c)).first;
+    const RoutedPoint p{i, s.points[v], s.normals[v], s.confidence[v]};
+    for (int r : it->second)
+      if (r == me && held_[i].scan)
+        held_[i].vertices.push_back(static_cast<uint32_t>(v));
+      else
+        mpi::pack(out[r], &p, 1);
   }
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ControlRouting.h"
 
 namespace rangefuse {
@@ -141,16 +142,19 @@ void returnAnchor(std::vector<Pose>& poses, const std::vector<Pose>& roundPoses,
 double largestMotion(const ScanSource& scans, const std::vector<Pose>& from,
                      const std::vector<Pose>& to, MPI_Comm comm) {
   double largest = 0;
-  for (size_t i = 0; i < scans.size(); ++i) {
-    if (!scans.holds(i)) continue;
-    const std::shared_ptr<const PrismScan> scan = scans.get(i);
-    const auto& points = scan->surface.points;
-    double sum = 0;
-    size_t n = 0;
-    for (size_t v = 0; v < points.size(); v += 16, ++n)
-      sum += (to[i].apply(points[v]) - from[i].apply(points[v])).norm();
-    if (n > 0) largest = std::max(largest, sum / n);
-  }
+  // A scan read again may fail on one rank: every rank then throws here.
+  mpi::collectivelyOrThrow(comm, [&] {
+    for (size_t i = 0; i < scans.size(); ++i) {
+      if (!scans.holds(i)) continue;
+      const std::shared_ptr<const PrismScan> scan = scans.get(i);
+      const auto& points = scan->surface.points;
+      double sum = 0;
+      size_t n = 0;
+      for (size_t v = 0; v < points.size(); v += 16, ++n)
+        sum += (to[i].apply(points[v]) - from[i].apply(points[v])).norm();
+      if (n > 0) largest = std::max(largest, sum / n);
+    }
+  });
   // A rank holds only the scans it read: the largest over ranks.
   MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
   return largest;

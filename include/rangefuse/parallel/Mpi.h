@@ -36,6 +36,13 @@ bool collectively(MPI_Comm comm, Fn&& fn) {
   return agree(error.empty(), error, comm);
 }
 
+/// Collective: as collectively, but a failure throws Reported on every rank, so that a stage in
+/// the middle of a sequence of collectives unwinds on all ranks at the same step.
+template <class Fn>
+void collectivelyOrThrow(MPI_Comm comm, Fn&& fn) {
+  if (!collectively(comm, fn)) throw Reported();
+}
+
 /// Largest message the byte helpers below send at once (1 GiB), so that no MPI count passes
 /// INT_MAX however much they carry. Tests lower it with RANGEFUSE_MPI_CHUNK_BYTES to run the
 /// chunked paths on small data.

@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 
+#include <unordered_map>
 #include <vector>
 
 #include "rangefuse/core/Pose.h"
@@ -52,6 +53,15 @@ class ControlRouting {
     std::vector<Eigen::Vector3d> points, normals;
     std::vector<double> weights;
   };
+
+  /// Appends scan i's control points at `pose` to out[r] for every rank r owning their brick or
+  /// a neighbour (owners caches the ranks around each brick); its own go to held_[i].
+  void packControlPoints(size_t i, const Pose& pose, const BrickLayout& layout, int me,
+                         std::unordered_map<uint64_t, std::vector<int>>& owners,
+                         std::vector<std::vector<char>>& out);
+
+  /// Adds the control points other ranks sent (and those this rank sent itself) to held_.
+  void receive(const std::vector<std::vector<char>>& in);
 
   /// An upper bound on how far any control point of scan i moves from `from` to `to`.
   double motionBound(size_t i, const Pose& from, const Pose& to) const;

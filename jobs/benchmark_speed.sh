@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Speed on dense scans (issue 15): one rank, compute by stage (read / field / mesh) and the cost
+# of a voxel update, beside Open3D 0.16's ScalableTSDFVolume on the same scans in the same run
+# (depth conversion / integrate / extract; its Python loading left out), with the Chamfer
+# distance of both meshes to bun_zipper.ply. Sets: the bunny mesh re-scanned, 24 x 320x240 at
+# 1 mm and 48 x 1024x1024 at 0.5 mm (kept in the cache folder), and the real bunny at 0.5 mm
+# (ours only: its Cyberware grids have no pinhole for Open3D's depth images).
+# Usage: bash jobs/benchmark_speed.sh [EXTRA FUSE OPTIONS...]   e.g. --merge-cells 0
+# Environment: CACHE (default /tmp/rangefuse-bench).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash jobs/setup.sh >/dev/null
+bin=$PWD/build/rangefuse
+reference=tests/data/bunny/bun_zipper.ply
+cache=${CACHE:-/tmp/rangefuse-bench}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# make_set VIEWS WIDTH HEIGHT VOXEL NOISE: the scan folder (made once).
+make_set() {
+  local dir=$cache/bunny-$1x$2x$3-n$5
+  [[ $1 == 48 && $2 == 1024 ]] && dir=$cache/bunny-48x1024  # benchmark_memory.sh's set
+  if [[ ! -f $dir/truth.conf ]]; then
+    $bin scan --mesh "$reference" --views "$1" --width "$2" --height "$3" --voxel "$4" \
+      --noise "$5" --out "$dir" >/dev/null
+  fi
+  echo "$dir"
+}
+seconds() { grep "] $1 " "$2" | grep -v "scans added" | sed 's/.*(\([0-9.]*\)s)$/\1/'; }
+chamfer() { $bin eval --mesh "$1" --reference "$reference" --voxel "$2" | awk '/^chamfer/ { print substr($3, 2) }'; }
+
+echo "| input | triangles | rangefuse read / field / mesh (s) | ns a voxel update | Chamfer (voxel) | Open3D depth conversion / integrate / extract (s) | Open3D Chamfer | compute ratio (field + mesh) / (integrate + extract) |"
+echo "|---|---|---|---|---|---|---|---|"
+# run NAME CONF VOXEL [SET_DIR]
+run() {
+  local name=$1 conf=$2 voxel=$3 set=${4:-} log=$tmp/log
+  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" "${extra[@]}" >"$log"
+  local r f m tri updates ns
+  r=$(seconds read "$log") f=$(seconds field "$log") m=$(seconds mesh "$log")
+  tri=$(grep "] read " "$log" | sed 's/.*scans, \([0-9]*\) triangles.*/\1/')
+  updates=$(grep "] field " "$log" | grep -v "scans added" | sed 's/.*voxels updated per rank \([0-9]*\).*/\1/')
+  ns=$(awk -v f="$f" -v u="$updates" 'BEGIN { printf "%.0f", 1e9 * f / u }')
+  local o3d="—" o3dc="—" ratio="—"
+  if [[ -n $set ]] && /usr/bin/python3 -c "import open3d" 2>/dev/null; then
+    local line
+    line=$(/usr/bin/python3 jobs/open3d_tsdf.py "$set" "$voxel" "$tmp/o3d.ply")
+    local c i e
+    c=$(echo "$line" | sed 's/.*depth conversion \([0-9.]*\) s.*/\1/')
+    i=$(echo "$line" | sed 's/.*integrate \([0-9.]*\) s.*/\1/')
+    e=$(echo "$line" | sed 's/.*extract \([0-9.]*\) s.*/\1/')
+    o3d="$c / $i / $e" o3dc=$(chamfer "$tmp/o3d.ply" "$voxel")
+    ratio=$(awk -v a="$f" -v b="$m" -v c="$i" -v d="$e" 'BEGIN { printf "%.2f", (a + b) / (c + d) }')
+  fi
+  echo "| $name | $tri | $r / $f / $m | $ns | $(chamfer "$tmp/ours.ply" "$voxel") | $o3d | $o3dc | $ratio |"
+}
+extra=("$@")
+s24=$(make_set 24 320 240 0.001 0.5)
+run "synthetic bunny, 24 x 320x240, 1 mm" "$s24/truth.conf" 0.001 "$s24"
+run "real bunny, 10 scans, 0.5 mm" tests/data/bunny/bun.conf 0.0005
+s48=$(make_set 48 1024 1024 0.0005 0.3)
+run "bunny re-scanned, 48 x 1024x1024, 0.5 mm" "$s48/truth.conf" 0.0005 "$s48"
