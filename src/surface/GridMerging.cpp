@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "rangefuse/surface/GridSteps.h"
+
 namespace rangefuse {
 namespace {
 
@@ -47,27 +49,14 @@ bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Ve
   return true;
 }
 
-/// Appends the lateral steps between each cell and its neighbour (dr, dc).
-void lateralSteps(const RangeGrid& g, int dr, int dc, std::vector<double>& out) {
-  for (int r = 0; r + dr < g.rows; ++r)
-    for (int c = 0; c + dc < g.cols; ++c) {
-      const int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
-      if (a < 0 || b < 0) continue;
-      const Eigen::Vector3d d = g.points[b] - g.points[a], u = g.towardSensor(g.points[a]);
-      out.push_back((d - d.dot(u) * u).norm());
-    }
-}
-
 }  // namespace
 
 double lateralSpacing(const RangeGrid& grid) {
-  std::vector<double> steps;
-  lateralSteps(grid, 0, 1, steps);
-  lateralSteps(grid, 1, 0, steps);
-  if (steps.empty()) return 0;
-  auto mid = steps.begin() + steps.size() / 2;
-  std::nth_element(steps.begin(), mid, steps.end());
-  return *mid;
+  return internal::medianNeighbourStep(grid,
+                                       [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                                         const Eigen::Vector3d d = b - a, u = grid.towardSensor(a);
+                                         return (d - d.dot(u) * u).norm();
+                                       });
 }
 
 int mergeFactor(double spacing, double target, int shortSide) {

@@ -1,17 +1,10 @@
 #include <algorithm>
 
+#include "rangefuse/surface/GridSteps.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
 namespace {
-
-void collectSteps(const RangeGrid& g, int dr, int dc, std::vector<double>& out) {
-  for (int r = 0; r + dr < g.rows; ++r)
-    for (int c = 0; c + dc < g.cols; ++c) {
-      int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
-      if (a >= 0 && b >= 0) out.push_back((g.points[a] - g.points[b]).norm());
-    }
-}
 
 bool keepTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                   const Eigen::Vector3d& c, double maxEdge, double minCos) {
@@ -27,13 +20,8 @@ bool keepTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vec
 }  // namespace
 
 double gridSpacing(const RangeGrid& grid) {
-  std::vector<double> steps;
-  collectSteps(grid, 0, 1, steps);
-  collectSteps(grid, 1, 0, steps);
-  if (steps.empty()) return 0;
-  auto mid = steps.begin() + steps.size() / 2;
-  std::nth_element(steps.begin(), mid, steps.end());
-  return *mid;
+  return internal::medianNeighbourStep(
+      grid, [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm(); });
 }
 
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options) {
