@@ -23,8 +23,12 @@ Eigen::AlignedBox3d placedBounds(const LoadedScans& scans, const std::vector<siz
                                  const std::vector<Pose>& poses, MPI_Comm comm) {
   Eigen::AlignedBox3d box;
   collectivelyOrThrow(comm, [&] {
-    for (size_t i : which)
-      if (scans.holds(i)) box.extend(pointBounds(placeScan(*scans.held->get(i), poses[i])));
+    for (size_t i : which) {
+      if (!scans.holds(i)) continue;
+      // The points alone: placing the whole scan would copy its triangles just for a box.
+      const std::shared_ptr<const PrismScan> scan = scans.held->get(i);
+      for (const Eigen::Vector3d& p : scan->surface.points) box.extend(poses[i].apply(p));
+    }
   });
   MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
@@ -77,24 +81,31 @@ void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,
               [&](size_t, const PrismScan& part) { integrator.addScan(part); });
 }
 
-/// Collective: bricks for the prisms of the listed scans at their poses, planned from the
-/// work of each reader's scans, on the lattice a build of them all in one place would use.
+/// Collective: the bricks the prisms of the listed scans touch at their poses, planned from the
+/// work of each reader's scans. The local pass (a scan read again may fail) is agreed on before
+/// the collective reduction.
+BrickLayout planPlacedOn(const LoadedScans& scans, const std::vector<size_t>& which,
+                         const std::vector<Pose>& poses, const VoxelGrid& grid, uint64_t maxVoxels,
+                         MPI_Comm comm) {
+  BrickWork work;
+  collectivelyOrThrow(comm, [&] {
+    for (size_t i : which)
+      if (scans.holds(i))
+        addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, maxVoxels, work);
+  });
+  BrickLayout layout;
+  collectivelyOrThrow(comm, [&] { layout = reduceBrickWork(work, grid, maxVoxels, comm); });
+  return layout;
+}
+
+/// Collective: planPlacedOn the lattice a build of the listed scans in one place would use.
 BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& which,
                        const std::vector<Pose>& poses, const FuseOptions& o, MPI_Comm comm) {
   const Eigen::AlignedBox3d box = placedBounds(scans, which, poses, comm);
-  // Local work first (a scan read again may fail), agreed on; then the collective reduction.
   VoxelGrid grid;
-  BrickWork work;
-  collectivelyOrThrow(comm, [&] {
-    grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel);
-    for (size_t i : which)
-      if (scans.holds(i))
-        addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, o.limits.maxVoxels, work);
-  });
-  BrickLayout layout;
   collectivelyOrThrow(comm,
-                      [&] { layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm); });
-  return layout;
+                      [&] { grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel); });
+  return planPlacedOn(scans, which, poses, grid, o.limits.maxVoxels, comm);
 }
 
 /// Prism fields on one lattice for the whole registration. Algorithm 1 adds each registered
@@ -173,18 +184,12 @@ class GrowingPrismField : public RegistrationField {
   const BrickStore& rebuild() {
     const std::vector<size_t> every = allScans(scans_);
     const Eigen::AlignedBox3d box = placedBounds(scans_, every, poses_, comm_);
-    // Local work first (a scan read again may fail), agreed on; then the collective reduction.
-    BrickWork work;
     collectivelyOrThrow(comm_, [&] {
       if (!gridHoldsBox(grid_, box, eps_))
         grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
-      for (size_t i : every)
-        if (scans_.holds(i))
-          addPrismWork(placeScan(*scans_.held->get(i), poses_[i]), grid_, o_.limits.maxVoxels,
-                       work);
     });
+    BrickLayout layout = planPlacedOn(scans_, every, poses_, grid_, o_.limits.maxVoxels, comm_);
     collectivelyOrThrow(comm_, [&] {
-      BrickLayout layout = reduceBrickWork(work, grid_, o_.limits.maxVoxels, comm_);
       dilateBricks(layout, mpi::size(comm_), o_.limits.maxVoxels);
       store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
     });
