@@ -15,8 +15,8 @@ double evalSlope(const double c[4], double x) {
 
 /// Root of a function monotonic on [a, b] with a sign change: Newton kept inside the
 /// bracket, bisection when it would leave it.
-double bracketedRoot(const double c[4], double a, double b, double fa) {
-  double x = 0.5 * (a + b);
+double bracketedRoot(const double c[4], double a, double b, double fa, double start) {
+  double x = start;
   for (int it = 0; it < 60; ++it) {
     double fx = evalCubic(c, x);
     if (fx == 0) return x;
@@ -59,9 +59,29 @@ int criticalPoints(const double c[4], double lo, double hi, double out[2]) {
   return m;
 }
 
+/// The root in [lo, hi] of a cubic known to be monotonic there, if any.
+int monotonicRoot(const double c[4], double lo, double hi, double roots[3]) {
+  const double fa = evalCubic(c, lo), fb = evalCubic(c, hi);
+  if (fa == 0 || fb == 0) {
+    roots[0] = fa == 0 ? lo : hi;
+    return 1;
+  }
+  if ((fa < 0) == (fb < 0)) return 0;
+  // Nearly linear: Newton from the linear root converges in a step or two.
+  double start = -c[0] / c[1];
+  if (!(start > lo && start < hi)) start = 0.5 * (lo + hi);
+  roots[0] = bracketedRoot(c, lo, hi, fa, start);
+  return 1;
+}
+
 }  // namespace
 
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {
+  // Most prisms are nearly straight: the slope then keeps c1's sign over the whole range
+  // (|c1| beats the other terms of the derivative), so there is one root at most.
+  const double r = std::max(std::abs(lo), std::abs(hi));
+  if (std::abs(c[1]) > 1.01 * (2 * std::abs(c[2]) * r + 3 * std::abs(c[3]) * r * r))
+    return monotonicRoot(c, lo, hi, roots);
   double knots[4] = {lo};
   int nk = 1 + criticalPoints(c, lo, hi, knots + 1);
   knots[nk++] = hi;
@@ -75,7 +95,7 @@ int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) 
     else if (fb == 0)
       r = b;
     else if ((fa < 0) != (fb < 0))
-      r = bracketedRoot(c, a, b, fa);
+      r = bracketedRoot(c, a, b, fa, 0.5 * (a + b));
     else
       continue;
     if (nr == 0 || r != roots[nr - 1]) roots[nr++] = r;

@@ -78,22 +78,33 @@ Eigen::AlignedBox3d prismBounds(const Prism& prism) {
   return box;
 }
 
-bool solvePrismDistance(const Prism& prism, const Eigen::Vector3d& x, PrismHit& hit) {
-  const Eigen::Vector3d a1 = prism.p[0] - x, a2 = prism.p[1] - x, a3 = prism.p[2] - x;
-  const Eigen::Vector3d &n1 = prism.n[0], &n2 = prism.n[1], &n3 = prism.n[2];
-  // det[a1 + d n1, a2 + d n2, a3 + d n3] expanded in powers of d.
-  const double c[4] = {det3(a1, a2, a3), det3(n1, a2, a3) + det3(a1, n2, a3) + det3(a1, a2, n3),
-                       det3(a1, n2, n3) + det3(n1, a2, n3) + det3(n1, n2, a3), det3(n1, n2, n3)};
+namespace internal {
+
+PrismCubic::PrismCubic(const Prism& prism) {
+  const Eigen::Vector3d e1 = prism.p[1] - prism.p[0], e2 = prism.p[2] - prism.p[0];
+  const Eigen::Vector3d f1 = prism.n[1] - prism.n[0], f2 = prism.n[2] - prism.n[0];
+  N = e1.cross(e2);
+  K = e1.cross(f2) + f1.cross(e2);
+  L = f1.cross(f2);
+  Nn = N.dot(prism.n[0]), Kn = K.dot(prism.n[0]), Ln = L.dot(prism.n[0]);
+}
+
+bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
+                        PrismHit& hit) {
+  const Eigen::Vector3d w = prism.p[0] - x;
+  const double c[4] = {cubic.N.dot(w), cubic.Nn + cubic.K.dot(w), cubic.Kn + cubic.L.dot(w),
+                       cubic.Ln};
   double roots[3];
-  int nr = internal::cubicRootsInRange(c, prism.dMin, prism.dMax, roots);
+  const int nr = cubicRootsInRange(c, prism.dMin, prism.dMax, roots);
   bool found = false;
   for (int k = 0; k < nr; ++k) {
-    double d = roots[k];
+    const double d = roots[k];
     if (found && std::abs(d) >= std::abs(hit.d)) continue;
-    Eigen::Vector3d q1 = a1 + d * n1, q2 = a2 + d * n2, q3 = a3 + d * n3;  // T(d) - x
-    Eigen::Vector3d m = (q2 - q1).cross(q3 - q1);
-    double area2 = m.squaredNorm();
+    const Eigen::Vector3d m = cubic.N + d * (cubic.K + d * cubic.L);  // T(d)'s normal
+    const double area2 = m.squaredNorm();
     if (area2 == 0) continue;
+    const Eigen::Vector3d q1 = w + d * prism.n[0], q2 = prism.p[1] - x + d * prism.n[1],
+                          q3 = prism.p[2] - x + d * prism.n[2];  // T(d) - x
     Eigen::Vector3d b(q2.cross(q3).dot(m), q3.cross(q1).dot(m), 0);
     b /= area2;
     b[2] = 1 - b[0] - b[1];
@@ -106,9 +117,15 @@ bool solvePrismDistance(const Prism& prism, const Eigen::Vector3d& x, PrismHit& 
   if (!found) return false;
   const Eigen::Vector3d& b = hit.bary;
   hit.closest = b[0] * prism.p[0] + b[1] * prism.p[1] + b[2] * prism.p[2];
-  hit.gradient = (b[0] * n1 + b[1] * n2 + b[2] * n3).normalized();
+  hit.gradient = (b[0] * prism.n[0] + b[1] * prism.n[1] + b[2] * prism.n[2]).normalized();
   hit.weight = b[0] * prism.w[0] + b[1] * prism.w[1] + b[2] * prism.w[2];
   return true;
+}
+
+}  // namespace internal
+
+bool solvePrismDistance(const Prism& prism, const Eigen::Vector3d& x, PrismHit& hit) {
+  return internal::solvePrismDistance(prism, internal::PrismCubic(prism), x, hit);
 }
 
 }  // namespace rangefuse

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <map>
 #include <random>
 
@@ -34,6 +35,52 @@ TEST(CubicRoots, KnownRootsAndDegenerateLeadingTerms) {
   const double l[4] = {1, 4, 0, 0};  // linear
   ASSERT_EQ(internal::cubicRootsInRange(l, -1, 1, r), 1);
   EXPECT_NEAR(r[0], -0.25, 1e-15);
+}
+
+TEST(CubicRoots, EveryRootInRangeAgainstDenseSampling) {
+  // Nearly linear cubics take the monotonic path, the others the general one: both must find
+  // each sign change a fine sampling of the range sees.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int roots = 0;
+  for (int t = 0; t < 2000; ++t) {
+    const double curved = t % 2 ? 1.0 : 1e-3;
+    const double c[4] = {u(rng), 1 + u(rng), curved * u(rng), curved * u(rng)};
+    double r[3];
+    const int n = internal::cubicRootsInRange(c, -1, 1, r);
+    auto f = [&](double x) { return ((c[3] * x + c[2]) * x + c[1]) * x + c[0]; };
+    int changes = 0;
+    for (int i = 0; i < 4000; ++i)
+      if ((f(-1 + i / 2000.0) < 0) != (f(-1 + (i + 1) / 2000.0) < 0)) ++changes;
+    ASSERT_EQ(n, changes) << "cubic " << t;
+    for (int k = 0; k < n; ++k) EXPECT_LT(std::abs(f(r[k])), 1e-12) << "cubic " << t;
+    roots += n;
+  }
+  EXPECT_GT(roots, 1000);
+}
+
+TEST(Prism, CubicIsTheDeterminantOfTheIsoTriangle) {
+  // Eq. 6's det[T(d) - x], expanded once per prism, against the determinant itself.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int t = 0; t < 100; ++t) {
+    std::array<Eigen::Vector3d, 3> p, n;
+    for (int k = 0; k < 3; ++k) {
+      p[k] = Eigen::Vector3d(u(rng), u(rng), u(rng));
+      n[k] = Eigen::Vector3d(u(rng), u(rng), 2 + u(rng)).normalized();
+    }
+    const Prism prism = makePrism(p, n, kW, 0.5);
+    const internal::PrismCubic cubic(prism);
+    const Eigen::Vector3d x(u(rng), u(rng), u(rng));
+    for (double d : {-0.4, 0.0, 0.3}) {
+      Eigen::Matrix3d m;
+      for (int k = 0; k < 3; ++k) m.col(k) = p[k] + d * n[k] - x;
+      const Eigen::Vector3d w = p[0] - x;
+      const double c = cubic.N.dot(w) + d * (cubic.Nn + cubic.K.dot(w)) +
+                       d * d * (cubic.Kn + cubic.L.dot(w)) + d * d * d * cubic.Ln;
+      EXPECT_NEAR(c, m.determinant(), 1e-12);
+    }
+  }
 }
 
 TEST(Prism, PlaneDistanceIsHeight) {

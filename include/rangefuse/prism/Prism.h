@@ -42,10 +42,66 @@ bool solvePrismDistance(const Prism& prism, const Eigen::Vector3d& x, PrismHit& 
 
 using PrismVisitor = std::function<void(const VoxelIndex&, const PrismHit&)>;
 
-/// Visits every voxel centre inside the prism. Rows of the bounding box are cut to the
-/// span between their entry into and exit from the prism, so most outside voxels are
-/// never solved for.
-void rasterizePrism(const Prism& prism, const VoxelGrid& grid, const PrismVisitor& visit);
+namespace internal {
+
+/// Eq. 6's cubic in d, det[T(d) - x] = (N + d K + d^2 L) . (p0 - x + d n0), whose prism-only
+/// parts are computed once: each point then costs three dot products, not seven determinants.
+struct PrismCubic {
+  explicit PrismCubic(const Prism& prism);
+  Eigen::Vector3d N, K, L;  ///< T(d)'s (unnormalised) normal is N + d K + d^2 L
+  double Nn = 0, Kn = 0, Ln = 0;
+};
+
+/// solvePrismDistance with the prism's cubic computed once (the same bits).
+bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
+                        PrismHit& hit);
+
+/// The voxel rows a prism may cross: rows run along the longest side of the prism's box, and
+/// each is cut to where it lies between five slabs that hold the prism's six corner points
+/// (and so the whole prism, a blend of its corners): across its two end triangles and its
+/// three sides. Cheap (a few products a row) and never too short, so the exact solve at each
+/// voxel left decides, as it does for every voxel of the box.
+class PrismRows {
+ public:
+  PrismRows(const Prism& prism, const VoxelGrid& grid);
+
+  bool empty() const { return (lo.array() > hi.array()).any(); }
+  /// Voxels [a0, a1] along `along` of the row at (vb, vc) on the two other axes, false if none.
+  bool span(int vb, int vc, int& a0, int& a1) const;
+
+  int along = 0, b = 1, c = 2;  ///< the rows' axis and the two fixed ones
+  VoxelIndex lo, hi;            ///< voxels of the prism's box
+
+ private:
+  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along).
+  struct Slab {
+    double lo, hi, atRow0, perB, perC, perStep;
+  };
+  static constexpr int kSlabs = 5;
+  Slab slabs_[kSlabs];
+  int count_ = 0;
+};
+
+}  // namespace internal
+
+/// Visits every voxel centre inside the prism: visit(VoxelIndex, PrismHit), each once. Rows
+/// of the bounding box are cut to the prism's slabs (internal::PrismRows), so most outside
+/// voxels are never solved for.
+template <class Visit>
+void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
+  const internal::PrismRows rows(prism, grid);
+  if (rows.empty()) return;
+  const internal::PrismCubic cubic(prism);
+  PrismHit hit;
+  VoxelIndex v;
+  int a0, a1;
+  for (v[rows.b] = rows.lo[rows.b]; v[rows.b] <= rows.hi[rows.b]; ++v[rows.b])
+    for (v[rows.c] = rows.lo[rows.c]; v[rows.c] <= rows.hi[rows.c]; ++v[rows.c]) {
+      if (!rows.span(v[rows.b], v[rows.c], a0, a1)) continue;
+      for (v[rows.along] = a0; v[rows.along] <= a1; ++v[rows.along])
+        if (internal::solvePrismDistance(prism, cubic, grid.centre(v), hit)) visit(v, hit);
+    }
+}
 
 /// Reference for rasterizePrism: solves at every voxel of the bounding box.
 void rasterizePrismBruteForce(const Prism& prism, const VoxelGrid& grid, const PrismVisitor& visit);
