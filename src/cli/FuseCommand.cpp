@@ -42,6 +42,9 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
   add("scan-memory", po::value(&o.scanMemory)->default_value(1024),
       "MiB of prepared scans a rank keeps between reading and fusing; scans past it are read "
       "again (prism fields without registration stream their scans)");
+  add("threads", po::value(&o.threads)->default_value(0),
+      "threads per rank for reading scans and adding them to the field (0: the CPUs the rank "
+      "may run on, shared among the ranks on its node); any count gives the same bits");
   addLimitOptions(d, o.limits);
 }
 

@@ -71,7 +71,9 @@ int main(int argc, char** argv) {
   // writer killed mid-checkpoint leaves it locked and the next open of that name hangs. We
   // never use shared file pointers, so leave that component out (unless the user chose).
   setenv("OMPI_MCA_sharedfp", "^sm", 0);
-  MPI_Init(&argc, &argv);
+  // Worker threads read and compute; only this thread calls MPI.
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our own messages
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

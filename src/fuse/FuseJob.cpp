@@ -20,6 +20,7 @@
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
 #include "rangefuse/register/Registration.h"
 #include "rangefuse/render/Render.h"
 
@@ -70,6 +71,7 @@ void validateFuseOptions(const FuseOptions& o) {
     throw InputError("--min-cosine must be in [-1, 1]");
   if (!(o.scanMemory >= 0) || !std::isfinite(o.scanMemory))
     throw InputError("--scan-memory must be a finite number of MiB >= 0");
+  if (o.threads < 0) throw InputError("--threads must be >= 0 (0: the rank's share of its CPUs)");
   if (!(o.checkpointEvery >= 0) || !std::isfinite(o.checkpointEvery))
     throw InputError("--checkpoint-every must be a finite number of seconds >= 0");
   if (!std::isfinite(o.quorum) || (!(o.quorum >= 0) && o.quorum != -1))
@@ -295,6 +297,7 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.surface = surfaceOptions(o);
   s.limits = o.limits;
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
+  s.threads = o.threads;
   if (o.method != "prism") s.routeReach = routeReach(o);
   return s;
 }
@@ -425,6 +428,7 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
         checkOutputs(o, mpi::rank(comm));
       }))
     return 1;
+  if (o.threads == 0) o.threads = threadsPerRank(comm);
   if (!o.resume.empty()) {
     const std::string stage = resumed.progress.value("stage", "");
     if (stage == "field") return resumeFromField(o, resumed, comm, progress);

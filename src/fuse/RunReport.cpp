@@ -65,6 +65,7 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
         {"scan_triangles", field.scanTriangles}}},
       {"parameters", parameters},
       {"ranks", mpi::size(comm)},
+      {"threads_per_rank", o.threads},
       {"total_bricks", field.layout.codes.size()},
       {"wall_seconds", progress.elapsed()},
       {"per_rank", ranks},

@@ -5,6 +5,7 @@
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
 
 namespace rangefuse {
 namespace {
@@ -72,13 +73,33 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
 
 }  // namespace
 
-PrismScan loadScan(const io::ConfScan& c, const SurfaceOptions& options, const InputLimits& limits,
-                   double eps) {
+namespace {
+
+PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
+                      const InputLimits& limits, double eps) {
   PrismScan s;
-  faultPoint("read", c.path);
   s.surface = buildScanSurface(io::readRangeGridPly(c.path, limits), Pose{}, options);
   s.limits = computePrismLimits(s.surface, eps);
   return s;
+}
+
+}  // namespace
+
+PrismScan loadScan(const io::ConfScan& c, const SurfaceOptions& options, const InputLimits& limits,
+                   double eps) {
+  faultPoint("read", c.path);
+  return prepareScan(c, options, limits, eps);
+}
+
+std::vector<PrismScan> loadScans(const std::vector<const io::ConfScan*>& scans,
+                                 const SurfaceOptions& options, const InputLimits& limits,
+                                 double eps, int threads) {
+  // Fault points count calls and ask MPI for the rank: the main thread passes them in order.
+  for (const io::ConfScan* c : scans) faultPoint("read", c->path);
+  std::vector<PrismScan> out(scans.size());
+  parallelFor(scans.size(), threads,
+              [&](size_t k) { out[k] = prepareScan(*scans[k], options, limits, eps); });
+  return out;
 }
 
 IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& options,
@@ -163,8 +184,7 @@ IndexedScans unpackRouted(const std::vector<std::vector<char>>& in) {
 
 namespace rangefuse {
 
-PrismScan placeScan(const PrismScan& local, const Pose& pose) {
-  PrismScan s = local;
+PrismScan placeScan(PrismScan s, const Pose& pose) {
   for (auto& p : s.surface.points) p = pose.apply(p);
   for (auto& n : s.surface.normals) n = pose.rotate(n);
   return s;

@@ -27,6 +27,16 @@ class ScanShare {
     return placeScan(loadScan(conf_.scans[i], o_.surface, o_.limits, o_.eps), conf_.scans[i].pose);
   }
 
+  /// Scans `which` read and placed, on the rank's threads.
+  std::vector<PrismScan> read(const std::vector<size_t>& which) const {
+    std::vector<const io::ConfScan*> scans;
+    for (size_t i : which) scans.push_back(&conf_.scans[i]);
+    std::vector<PrismScan> out = loadScans(scans, o_.surface, o_.limits, o_.eps, o_.threads);
+    for (size_t k = 0; k < out.size(); ++k)
+      out[k] = placeScan(std::move(out[k]), conf_.scans[which[k]].pose);
+    return out;
+  }
+
   /// Calls fn with scan i placed: the kept copy (not copied again), or one read anew.
   template <class Fn>
   void use(size_t i, Fn&& fn) const {
@@ -96,19 +106,28 @@ void printWarnings(const std::map<size_t, std::string>& mine, MPI_Comm comm) {
 }
 
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
-bool readShare(const io::ConfFile& conf, ScanShare& share, MPI_Comm comm, Eigen::AlignedBox3d& box,
-               uint64_t& triangles) {
+bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
+               Eigen::AlignedBox3d& box, uint64_t& triangles) {
   std::map<size_t, std::string> warnings;
   triangles = 0;
   if (!collectively(comm, [&] {
-        for (size_t i = 0; i < conf.scans.size(); ++i) {
-          if (!share.reads(i)) continue;
-          PrismScan s = share.read(i);
-          if (s.surface.triangles.empty())
-            warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
-          box.extend(pointBounds(s));
-          triangles += s.surface.triangles.size();
-          share.offer(i, std::move(s));
+        std::vector<size_t> mine;
+        for (size_t i = 0; i < conf.scans.size(); ++i)
+          if (share.reads(i)) mine.push_back(i);
+        // As many scans at a time as the rank has threads: one each.
+        for (size_t first = 0; first < mine.size(); first += threads) {
+          const std::vector<size_t> batch(mine.begin() + first,
+                                          mine.begin() + std::min(mine.size(), first + threads));
+          std::vector<PrismScan> scans = share.read(batch);
+          for (size_t k = 0; k < batch.size(); ++k) {
+            const size_t i = batch[k];
+            PrismScan& s = scans[k];
+            if (s.surface.triangles.empty())
+              warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
+            box.extend(pointBounds(s));
+            triangles += s.surface.triangles.size();
+            share.offer(i, std::move(s));
+          }
         }
       }))
     return false;
@@ -135,14 +154,17 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
-bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, MPI_Comm comm,
-                    Progress& progress, FusedField& field, RankCounters& counters,
+bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, int threads,
+                    MPI_Comm comm, Progress& progress, FusedField& field, RankCounters& counters,
                     RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(conf.scans.size());
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
-  PrismIntegrator integrator(store);
+  PrismIntegrator integrator(store, threads);
   routing.bytes.assign(ranks, 0);
+  // One rank owns every brick: its scans go to the integrator whole, and the copies it would
+  // have routed are the prisms the integrator finds reaching a brick.
+  const bool alone = ranks == 1 && reach == 0;
   double lastLine = progress.elapsed();
   for (size_t first = 0; first < conf.scans.size(); first += ranks) {
     const size_t end = std::min(conf.scans.size(), first + ranks);
@@ -150,7 +172,9 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, MP
     IndexedScans parts;
     if (!collectively(comm, [&] {
           for (size_t i = first; i < end; ++i)
-            if (share.reads(i))
+            if (alone)
+              parts.emplace_back(i, share.take(i));
+            else if (share.reads(i))
               routeScan(i, share.take(i), store.layout(), reach, me, out, parts, routing);
         }))
       return false;
@@ -167,6 +191,7 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, MP
       }
       const IntegrationStats st = integrator.addScan(part);
       counters.prisms += st.prisms;
+      if (alone) routing.copies += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
     }
     if (progress.isRoot() && progress.elapsed() - lastLine > 10 && end < conf.scans.size()) {
@@ -204,7 +229,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   ScanShare share(o, conf, assignReaders(fileSizes(conf), ranks), me);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
-  if (!readShare(conf, share, comm, box, triangles)) return false;
+  if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles)) return false;
   progress.stage("read", std::to_string(conf.scans.size()) + " scans, " +
                              std::to_string(triangles) + " triangles; scans kept per rank " +
                              std::to_string(share.keptCount()) + " (rank 0)");
@@ -219,7 +244,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
   RoutingStats routing;
-  if (!integrateShare(conf, share, o.routeReach, comm, progress, field, counters, routing))
+  if (!integrateShare(conf, share, o.routeReach, o.threads, comm, progress, field, counters,
+                      routing))
     return false;
   uint64_t sent = 0;
   for (int r = 0; r < ranks; ++r) sent += r == me ? 0 : routing.bytes[r];

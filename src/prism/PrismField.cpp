@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <string>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/parallel/Threads.h"
 
 namespace rangefuse {
 namespace {
@@ -68,8 +71,10 @@ BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& gri
   return layoutFromWork(work, grid, ranks);
 }
 
-PrismIntegrator::PrismIntegrator(BrickStore& store)
-    : store_(store), scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}) {}
+PrismIntegrator::PrismIntegrator(BrickStore& store, int threads)
+    : store_(store),
+      scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}),
+      slabs_(std::max(1, threads)) {}
 
 bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
   BrickCoord lo, hi, b;
@@ -81,35 +86,56 @@ bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
   return false;
 }
 
-IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
-  IntegrationStats stats;
+void PrismIntegrator::findReach(const PrismScan& scan, size_t first, size_t end) {
+  VoxelIndex lo, hi;
+  for (size_t t = first; t < end; ++t) {
+    const Eigen::AlignedBox3d box = prismBounds(scanPrism(scan, t));
+    store_.grid().voxelRange(box, lo, hi);
+    reach_[t] = {lo.z(), hi.z(), touchesOwnedBrick(box)};
+  }
+}
+
+/// Rasterizes the scan's prisms within the slab; returns the prisms counted here (those that
+/// reach a local brick and whose lowest layer is in the slab).
+uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   const VoxelGrid& grid = store_.grid();
   BrickCoord lastBrick(-1, -1, -1);
   int64_t lastLocal = -1;
   auto visit = [&](const VoxelIndex& v, const PrismHit& hit) {
-    BrickCoord b = brickOf(v, grid.brick);
+    const BrickCoord b = brickOf(v, grid.brick);
     if (b != lastBrick) {
       lastBrick = b;
       lastLocal = store_.localBrick(mortonEncode(b));
     }
     if (lastLocal < 0) return;
-    Sample& s = scratch_[store_.offset(lastLocal, lastBrick, v)];
+    const size_t at = store_.offset(lastLocal, lastBrick, v);
+    Sample& s = scratch_[at];
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
     if (!(std::abs(hit.d) < std::abs(s.d))) return;
-    if (s.d == kEmpty) touched_.push_back(store_.offset(lastLocal, lastBrick, v));
+    if (s.d == kEmpty) slab.touched.push_back(at);
     s = Sample{static_cast<float>(hit.d),
                static_cast<float>(hit.weight),
                {static_cast<float>(hit.gradient.x()), static_cast<float>(hit.gradient.y()),
                 static_cast<float>(hit.gradient.z())}};
   };
+  uint64_t counted = 0;
   for (size_t t = 0; t < scan.surface.triangles.size(); ++t) {
-    Prism prism = scanPrism(scan, t);
-    if (!touchesOwnedBrick(prismBounds(prism))) continue;
-    ++stats.prisms;
-    rasterizePrism(prism, grid, visit);
+    const Reach& r = reach_[t];
+    if (!r.local) continue;
+    if (r.zLo >= slab.zLo && r.zLo <= slab.zHi) ++counted;
+    if (r.zLo > slab.zHi || r.zHi < slab.zLo) continue;
+    const Prism prism = scanPrism(scan, t);
+    internal::PrismRows rows(prism, grid);
+    rows.lo.z() = std::max(rows.lo.z(), slab.zLo);
+    rows.hi.z() = std::min(rows.hi.z(), slab.zHi);
+    internal::rasterizeRows(prism, grid, rows, visit);
   }
+  return counted;
+}
+
+void PrismIntegrator::accumulate(Slab& slab) {
   auto& sums = store_.sums();
-  for (size_t off : touched_) {
+  for (size_t off : slab.touched) {
     Sample& s = scratch_[off];
     VoxelSums& acc = sums[off];
     acc.wd += s.w * s.d;
@@ -118,8 +144,47 @@ IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
     acc.images += 1;
     s.d = kEmpty;
   }
-  stats.voxelUpdates = touched_.size();
-  touched_.clear();
+}
+
+void PrismIntegrator::cutSlabs() {
+  // A view sees a part of the object: cut at the quantiles of this scan's own prisms.
+  std::vector<int> mids;
+  for (const Reach& r : reach_)
+    if (r.local && r.zLo <= r.zHi) mids.push_back(r.zLo + (r.zHi - r.zLo) / 2);
+  int from = std::numeric_limits<int>::min();
+  for (size_t k = 0; k + 1 < slabs_.size(); ++k) {
+    int cut = from;
+    if (!mids.empty()) {
+      auto at = mids.begin() + mids.size() * (k + 1) / slabs_.size();
+      std::nth_element(mids.begin(), at, mids.end());
+      cut = std::max(from, *at);
+    }
+    slabs_[k].zLo = from, slabs_[k].zHi = cut - 1;
+    from = cut;
+  }
+  slabs_.back().zLo = from, slabs_.back().zHi = std::numeric_limits<int>::max();
+}
+
+IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
+  const size_t n = scan.surface.triangles.size(), threads = slabs_.size();
+  reach_.resize(n);
+  parallelFor(threads, static_cast<int>(threads),
+              [&](size_t k) { findReach(scan, n * k / threads, n * (k + 1) / threads); });
+  cutSlabs();
+  std::vector<uint64_t> prisms(threads), updates(threads);
+  // Slabs own disjoint voxels of scratch_ and sums: no two threads write the same one.
+  parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
+    Slab& slab = slabs_[k];
+    prisms[k] = rasterizeSlab(scan, slab);
+    accumulate(slab);
+    updates[k] = slab.touched.size();
+    slab.touched.clear();
+  });
+  IntegrationStats stats;
+  for (size_t k = 0; k < threads; ++k) {
+    stats.prisms += prisms[k];
+    stats.voxelUpdates += updates[k];
+  }
   return stats;
 }
 

@@ -1,6 +1,6 @@
 // The streamed prism field (each rank reads a share, triangles routed to brick owners) equals
 // the field built from scans replicated on every rank, voxel by voxel and bit for bit, whatever
-// the rank count, the scan memory budget or the collective chunk size.
+// the rank count, the thread count, the scan memory budget or the collective chunk size.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -71,6 +71,25 @@ TEST(StreamedField, ReReadingScansPastTheBudgetChangesNothing) {
   streamedField(kept, a, ca);
   streamedField(reread, b, cb);
   expectSameField(a, b);
+}
+
+TEST(StreamedField, ThreadsChangeNothing) {
+  // Each thread reads its own scans and adds prisms to its own slab of voxels: any thread count
+  // gives the single-threaded field, and counts every prism and voxel update once.
+  FusedField simple;
+  RankCounters one;
+  streamedField(bunnyOptions(), simple, one);
+  for (int threads : {2, 3, 7}) {
+    FuseOptions o = bunnyOptions();
+    o.threads = threads;
+    FusedField field;
+    RankCounters counters;
+    streamedField(o, field, counters);
+    expectSameField(simple, field);
+    EXPECT_EQ(counters.prisms, one.prisms) << threads << " threads";
+    EXPECT_EQ(counters.voxelUpdates, one.voxelUpdates) << threads << " threads";
+  }
+  EXPECT_GT(one.voxelUpdates, 0u);
 }
 
 TEST(StreamedField, TinyCollectiveChunksChangeNothing) {

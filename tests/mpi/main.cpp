@@ -6,7 +6,8 @@
 
 int main(int argc, char** argv) {
   setenv("OMPI_MCA_sharedfp", "^sm", 0);  // as the rangefuse executable does
-  MPI_Init(&argc, &argv);
+  int provided = 0;                       // worker threads never call MPI
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   ::testing::InitGoogleTest(&argc, argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

@@ -46,6 +46,7 @@ struct FuseOptions {
   double checkpointEvery = 0;          ///< seconds between registration checkpoints (0: each)
   InputLimits limits;                  ///< refuse input that would need more memory than this
   double scanMemory = 1024;            ///< MiB of prepared scans a rank keeps between passes
+  int threads = 0;                     ///< threads per rank (0: its CPUs shared on the node)
   std::vector<std::string>
       givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };

@@ -21,6 +21,11 @@ using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
 PrismScan loadScan(const io::ConfScan& scan, const SurfaceOptions& options,
                    const InputLimits& limits, double eps);
 
+/// loadScan for several scans at once, on up to `threads` threads; the same scans, in order.
+std::vector<PrismScan> loadScans(const std::vector<const io::ConfScan*>& scans,
+                                 const SurfaceOptions& options, const InputLimits& limits,
+                                 double eps, int threads);
+
 /// Reads, triangulates and computes prism limits for the scans i with i % ranks == rank, in
 /// each scan's own frame (poses are applied later, as registration moves them). Throws
 /// InputError naming the file on bad input.
@@ -49,6 +54,6 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
 IndexedScans unpackRouted(const std::vector<std::vector<char>>& in);
 
 /// A scan-frame scan moved to the world by pose (prism limits are rigid-invariant).
-PrismScan placeScan(const PrismScan& local, const Pose& pose);
+PrismScan placeScan(PrismScan local, const Pose& pose);
 
 }  // namespace rangefuse

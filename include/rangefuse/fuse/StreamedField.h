@@ -18,7 +18,9 @@ struct StreamOptions {
   int brick = 8;
   SurfaceOptions surface;
   InputLimits limits;
-  uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes; the rest are re-read
+  uint64_t keepBytes = 0;
+  int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)  ///<
+                    ///< prepared scans a rank keeps between passes; the rest are re-read
   /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
   /// scan's triangles within this reach of a local brick kept in FusedField::scans.
   double routeReach = 0;

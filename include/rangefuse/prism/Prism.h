@@ -82,16 +82,13 @@ class PrismRows {
   int count_ = 0;
 };
 
-}  // namespace internal
-
-/// Visits every voxel centre inside the prism: visit(VoxelIndex, PrismHit), each once. Rows
-/// of the bounding box are cut to the prism's slabs (internal::PrismRows), so most outside
-/// voxels are never solved for.
+/// Visits the voxels of `rows` (PrismRows of the prism, perhaps with a smaller box) that lie
+/// inside the prism.
 template <class Visit>
-void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
-  const internal::PrismRows rows(prism, grid);
+void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& rows,
+                   Visit&& visit) {
   if (rows.empty()) return;
-  const internal::PrismCubic cubic(prism);
+  const PrismCubic cubic(prism);
   PrismHit hit;
   VoxelIndex v;
   int a0, a1;
@@ -99,8 +96,18 @@ void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
     for (v[rows.c] = rows.lo[rows.c]; v[rows.c] <= rows.hi[rows.c]; ++v[rows.c]) {
       if (!rows.span(v[rows.b], v[rows.c], a0, a1)) continue;
       for (v[rows.along] = a0; v[rows.along] <= a1; ++v[rows.along])
-        if (internal::solvePrismDistance(prism, cubic, grid.centre(v), hit)) visit(v, hit);
+        if (solvePrismDistance(prism, cubic, grid.centre(v), hit)) visit(v, hit);
     }
+}
+
+}  // namespace internal
+
+/// Visits every voxel centre inside the prism: visit(VoxelIndex, PrismHit), each once. Rows
+/// of the bounding box are cut to the prism's slabs (internal::PrismRows), so most outside
+/// voxels are never solved for.
+template <class Visit>
+void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
+  internal::rasterizeRows(prism, grid, internal::PrismRows(prism, grid), visit);
 }
 
 /// Reference for rasterizePrism: solves at every voxel of the bounding box.

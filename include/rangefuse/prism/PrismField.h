@@ -54,21 +54,39 @@ struct IntegrationStats {
 };
 
 /// Adds images one at a time: per image, each voxel keeps the value of the prism with the
-/// smallest |d|; that value is then added, weighted, to the running sums.
+/// smallest |d|; that value is then added, weighted, to the running sums. With several threads
+/// each takes a slab of voxels along z (cut per image, so that each gets as many of its prisms)
+/// and every prism that reaches it, so each voxel still sees the image's triangles in order:
+/// the same bits as one thread.
 class PrismIntegrator {
  public:
-  explicit PrismIntegrator(BrickStore& store);
+  explicit PrismIntegrator(BrickStore& store, int threads = 1);
   IntegrationStats addScan(const PrismScan& scan);
 
  private:
   struct Sample {
     float d, w, f[3];
   };
+  /// One thread's share: voxels with z in [zLo, zHi], and those it gave a value.
+  struct Slab {
+    int zLo = 0, zHi = -1;
+    std::vector<size_t> touched;
+  };
+  /// A prism's voxel layers along z, and whether its box reaches a local brick at all.
+  struct Reach {
+    int zLo, zHi;
+    bool local;
+  };
   bool touchesOwnedBrick(const Eigen::AlignedBox3d& box) const;
+  void findReach(const PrismScan& scan, size_t first, size_t end);
+  void cutSlabs();
+  uint64_t rasterizeSlab(const PrismScan& scan, Slab& slab);
+  void accumulate(Slab& slab);
 
   BrickStore& store_;
   std::vector<Sample> scratch_;
-  std::vector<size_t> touched_;
+  std::vector<Slab> slabs_;
+  std::vector<Reach> reach_;  ///< per triangle of the scan being added
 };
 
 }  // namespace rangefuse

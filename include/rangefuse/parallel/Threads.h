@@ -1,0 +1,44 @@
+// Threads inside a rank: the CPUs a rank may use besides its MPI peers on the same node. Only
+// the main thread calls MPI; worker threads read files and compute.
+#pragma once
+
+#include <mpi.h>
+
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rangefuse {
+
+/// Collective: the threads each rank of `comm` should use: the CPUs this process may run on,
+/// shared among the ranks on its node (at least 1).
+int threadsPerRank(MPI_Comm comm);
+
+/// Calls fn(i) for every i in [0, n) on up to `threads` threads (the calling one among them).
+/// Every call runs; if any threw, the exception of the lowest i is rethrown.
+template <class Fn>
+void parallelFor(size_t n, int threads, Fn&& fn) {
+  std::atomic<size_t> next{0};
+  std::mutex mutex;
+  size_t failedAt = n;
+  std::exception_ptr error;
+  auto work = [&] {
+    for (size_t i; (i = next++) < n;) {
+      try {
+        fn(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (i < failedAt) failedAt = i, error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads && static_cast<size_t>(t) < n; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace rangefuse
