@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <sstream>
+#include <sstream>  // splitWords
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
@@ -14,11 +14,15 @@ namespace rangefuse::io::internal {
 namespace {
 
 std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path + ": cannot open file");
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
+  // One allocation and one read: a stream buffer would grow and copy the file several times.
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw InputError(path + ": cannot tell the file's size");
+  std::string text(static_cast<size_t>(size), '\0');
+  in.seekg(0);
+  if (!in.read(text.data(), size)) throw InputError(path + ": read failed");
+  return text;
 }
 
 bool parseType(const std::string& s, PlyType& t) {
@@ -199,6 +203,9 @@ class BinaryCursor {
   BinaryCursor(const std::string& text, size_t pos, bool bigEndian)
       : text_(text), pos_(pos), swap_(bigEndian) {}
 
+  size_t position() const { return pos_; }
+  void skip(size_t n) { pos_ += n; }
+
   bool read(PlyType t, double& out) {
     size_t n = typeSize(t);
     if (pos_ + n > text_.size()) return false;
@@ -319,11 +326,116 @@ void readAsciiBody(PlyFile& f, const Header& h, const std::string& text) {
   if (cur.nextLine()) cur.fail("data after the last element: header counts do not match the body");
 }
 
+template <class T>
+void decodeColumn(const char* first, size_t stride, uint64_t count, double* out, size_t columns) {
+  for (uint64_t i = 0; i < count; ++i, first += stride) {
+    T v;
+    std::memcpy(&v, first, sizeof(T));
+    out[i * columns] = static_cast<double>(v);
+  }
+}
+
+/// An element of fixed-size scalars in host (little-endian) order, decoded a column at a time
+/// rather than a value at a time. False, with nothing read, if the body is too short.
+bool readScalarTable(PlyElementData& d, BinaryCursor& cur, const std::string& text) {
+  const auto& props = d.element.properties;
+  size_t stride = 0;
+  for (const auto& p : props) stride += typeSize(p.type);
+  const uint64_t count = d.element.count;
+  if (stride == 0 || cur.remaining() / stride < count) return false;
+  d.scalars.resize(count * props.size());
+  const char* row = text.data() + cur.position();
+  for (size_t c = 0, offset = 0; c < props.size(); offset += typeSize(props[c].type), ++c) {
+    double* out = d.scalars.data() + c;
+    const char* first = row + offset;
+    switch (props[c].type) {
+      case PlyType::Int8:
+        decodeColumn<int8_t>(first, stride, count, out, props.size());
+        break;
+      case PlyType::UInt8:
+        decodeColumn<uint8_t>(first, stride, count, out, props.size());
+        break;
+      case PlyType::Int16:
+        decodeColumn<int16_t>(first, stride, count, out, props.size());
+        break;
+      case PlyType::UInt16:
+        decodeColumn<uint16_t>(first, stride, count, out, props.size());
+        break;
+      case PlyType::Int32:
+        decodeColumn<int32_t>(first, stride, count, out, props.size());
+        break;
+      case PlyType::UInt32:
+        decodeColumn<uint32_t>(first, stride, count, out, props.size());
+        break;
+      case PlyType::Float32:
+        decodeColumn<float>(first, stride, count, out, props.size());
+        break;
+      case PlyType::Float64:
+        decodeColumn<double>(first, stride, count, out, props.size());
+        break;
+    }
+  }
+  cur.skip(count * stride);
+  return true;
+}
+
+/// An element of one list with uchar counts and 32-bit integer items (range grids, faces),
+/// little-endian. False, with nothing read, if the body ends early.
+bool readIndexLists(PlyElementData& d, BinaryCursor& cur, const std::string& text) {
+  const PlyProperty& p = d.element.properties[0];
+  const bool isSigned = p.type == PlyType::Int32;
+  const unsigned char* at = reinterpret_cast<const unsigned char*>(text.data()) + cur.position();
+  const unsigned char* end = at + cur.remaining();
+  std::vector<uint32_t>& offsets = d.listOffsets[0];
+  std::vector<int64_t>& values = d.listValues[0];
+  values.reserve(std::min<uint64_t>(d.element.count, cur.remaining() / 4));
+  auto giveUp = [&] {
+    offsets.resize(1);
+    values.clear();
+    return false;
+  };
+  for (uint64_t i = 0; i < d.element.count; ++i) {
+    if (at == end) return giveUp();
+    const unsigned n = *at++;
+    if (static_cast<size_t>(end - at) < 4 * n) return giveUp();
+    for (unsigned k = 0; k < n; ++k, at += 4) {
+      int32_t s;
+      uint32_t u;
+      std::memcpy(&s, at, 4);
+      std::memcpy(&u, at, 4);
+      values.push_back(isSigned ? static_cast<int64_t>(s) : static_cast<int64_t>(u));
+    }
+    offsets.push_back(static_cast<uint32_t>(values.size()));
+  }
+  cur.skip(at - (reinterpret_cast<const unsigned char*>(text.data()) + cur.position()));
+  return true;
+}
+
+/// The common layouts read in bulk; false leaves the element to the value-by-value reader
+/// (which also words the errors of a short body).
+bool readElementFast(PlyElementData& d, BinaryCursor& cur, const std::string& text,
+                     bool bigEndian) {
+  const auto& props = d.element.properties;
+  const uint16_t one = 1;
+  const bool littleHost = *reinterpret_cast<const unsigned char*>(&one) == 1;
+  if (bigEndian || !littleHost || props.empty()) return false;
+  const bool scalars = std::none_of(props.begin(), props.end(), [](auto& p) { return p.isList; });
+  if (scalars) return readScalarTable(d, cur, text);
+  const bool indexList = props.size() == 1 && props[0].countType == PlyType::UInt8 &&
+                         (props[0].type == PlyType::Int32 || props[0].type == PlyType::UInt32);
+  return indexList && readIndexLists(d, cur, text);
+}
+
 void readBinaryBody(PlyFile& f, const Header& h, const std::string& text) {
-  BinaryCursor cur(text, h.bodyOffset, h.format == PlyFormat::BinaryBigEndian);
+  const bool bigEndian = h.format == PlyFormat::BinaryBigEndian;
+  BinaryCursor cur(text, h.bodyOffset, bigEndian);
   for (const auto& e : h.elements) {
     PlyElementData d = makeData(e);
     reserveFor(d);
+    if (readElementFast(d, cur, text, bigEndian)) {
+      f.elements.push_back(std::move(d));
+      continue;
+    }
     for (uint64_t i = 0; i < e.count; ++i) {
       auto fail = [&](const std::string& m) {
         throw InputError(f.path + ": element '" + e.name + "' #" + std::to_string(i) + ": " + m);

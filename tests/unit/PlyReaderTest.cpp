@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/MeshPly.h"
@@ -135,6 +139,60 @@ TEST(PlyReader, GridSizeDisagreesWithCells) {
   std::string h = kAsciiHeader;
   h.replace(h.find("num_cols 2"), 10, "num_cols 3");
   expectError(dir.write("s.ply", h + asciiBody()), "num_cols");
+}
+
+namespace {
+
+/// A binary grid of mixed property types, written byte by byte in either byte order.
+std::string mixedBinaryGrid(bool bigEndian, int cols, int rows) {
+  std::string out =
+      std::string("ply\nformat ") + (bigEndian ? "binary_big_endian" : "binary_little_endian") +
+      " 1.0\nobj_info num_cols " + std::to_string(cols) + "\nobj_info num_rows " +
+      std::to_string(rows) + "\nelement vertex " + std::to_string(cols * rows / 2) +
+      "\nproperty double x\nproperty float y\nproperty int16 z\n"
+      "property uchar intensity\nelement range_grid " +
+      std::to_string(cols * rows) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+  auto put = [&](auto v) {
+    char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);
+    if (bigEndian) std::reverse(b, b + sizeof v);
+    out.append(b, sizeof v);
+  };
+  for (int i = 0; i < cols * rows / 2; ++i) {
+    put(0.125 * i - 3.0);
+    put(static_cast<float>(i) / 7.0f);
+    put(static_cast<int16_t>(-i));
+    put(static_cast<uint8_t>(i % 251));
+  }
+  for (int c = 0; c < cols * rows; ++c) {
+    out += static_cast<char>(c % 2 == 0 ? 1 : 0);
+    if (c % 2 == 0) put(static_cast<uint32_t>(c / 2));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(PlyReader, BulkAndValueByValueReadersAgree) {
+  // Little-endian bodies are decoded in bulk, big-endian ones value by value.
+  test::TempDir dir;
+  const RangeGrid little =
+      io::readRangeGridPly(dir.write("le.ply", mixedBinaryGrid(false, 40, 30)));
+  const RangeGrid big = io::readRangeGridPly(dir.write("be.ply", mixedBinaryGrid(true, 40, 30)));
+  ASSERT_EQ(little.points.size(), 600u);
+  EXPECT_EQ(little.points, big.points);
+  EXPECT_EQ(little.cell, big.cell);
+  EXPECT_EQ(little.points[5], Eigen::Vector3d(0.125 * 5 - 3.0, 5.0f / 7.0f, -5));
+  EXPECT_EQ(little.cell[10], 5);
+  EXPECT_EQ(little.cell[11], -1);
+}
+
+TEST(PlyReader, EveryTruncationOfABinaryGridIsAnError) {
+  test::TempDir dir;
+  const std::string whole = mixedBinaryGrid(false, 6, 4);
+  const size_t header = whole.find("end_header\n") + 11;
+  for (size_t n = header; n < whole.size(); ++n)
+    expectError(dir.write("cut.ply", whole.substr(0, n)), "");
 }
 
 TEST(PlyReader, TruncatedBinary) {
