@@ -144,8 +144,9 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
   if (!collectively(comm, [&] {
         for (size_t i = 0; i < conf.scans.size(); ++i)
           if (share.reads(i))
-            share.use(i,
-                      [&](const PrismScan& s) { addPrismWork(s, grid, o.limits.maxVoxels, work); });
+            share.use(i, [&](const PrismScan& s) {
+              addPrismWork(s, grid, o.limits.maxVoxels, work, o.threads);
+            });
       }))
     return false;
   return collectively(comm,

@@ -58,10 +58,17 @@ bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, doubl
   return gridHoldsBox(grid, pointBounds(scans), eps);
 }
 
-void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels,
-                  BrickWork& work) {
-  for (size_t t = 0; t < scan.surface.triangles.size(); ++t)
-    addBoxWork(grid, prismBounds(scanPrism(scan, t)), maxVoxels, work);
+void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
+                  int threads) {
+  const size_t n = scan.surface.triangles.size(), parts = std::max(1, threads);
+  std::vector<BrickWork> part(parts);
+  parallelFor(parts, threads, [&](size_t k) {
+    BrickWork& mine = parts == 1 ? work : part[k];
+    for (size_t t = n * k / parts; t < n * (k + 1) / parts; ++t)
+      addBoxWork(grid, prismBounds(scanPrism(scan, t)), maxVoxels, mine);
+  });
+  if (parts > 1)
+    for (const BrickWork& p : part) addWork(p, grid, maxVoxels, work);
 }
 
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,

@@ -52,11 +52,12 @@ bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Ve
 }  // namespace
 
 double lateralSpacing(const RangeGrid& grid) {
-  return internal::medianNeighbourStep(grid,
-                                       [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-                                         const Eigen::Vector3d d = b - a, u = grid.towardSensor(a);
-                                         return (d - d.dot(u) * u).norm();
-                                       });
+  // Squares keep the order, so the median step is the root of the median square: one root.
+  return std::sqrt(
+      internal::medianNeighbourStep(grid, [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+        const Eigen::Vector3d d = b - a, u = grid.towardSensor(a);
+        return (d - d.dot(u) * u).squaredNorm();
+      }));
 }
 
 int mergeFactor(double spacing, double target, int shortSide) {

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 
 #include "rangefuse/surface/GridSteps.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -20,8 +21,10 @@ bool keepTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vec
 }  // namespace
 
 double gridSpacing(const RangeGrid& grid) {
-  return internal::medianNeighbourStep(
-      grid, [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm(); });
+  // Squares keep the order, so the median step is the root of the median square: one root.
+  return std::sqrt(internal::medianNeighbourStep(
+      grid,
+      [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).squaredNorm(); }));
 }
 
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options) {

@@ -83,6 +83,13 @@ void addBoxWork(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, uint64_t 
       for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) ++work[mortonEncode(b)];
 }
 
+void addWork(const BrickWork& part, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work) {
+  for (const auto& [code, w] : part) work[code] += w;
+  const double voxels = static_cast<double>(work.size()) * std::pow(grid.brick, 3);
+  if (voxels > static_cast<double>(maxVoxels))
+    checkVoxels(grid, "voxels needed near the surface (estimate):", voxels, maxVoxels);
+}
+
 BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ranks) {
   BrickLayout layout;
   layout.grid = grid;

@@ -38,9 +38,10 @@ VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, 
 /// guarantee), so that the scans can be added to a field on this grid.
 bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, double eps);
 
-/// Adds one to the work of every brick a prism of the scan touches (see addBoxWork).
-void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels,
-                  BrickWork& work);
+/// Adds one to the work of every brick a prism of the scan touches (see addBoxWork), with the
+/// triangles shared among `threads`.
+void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
+                  int threads = 1);
 
 /// Every brick some prism's bounding box touches, with the number of such prisms as its
 /// work, split over `ranks`. The same on every rank. Throws InputError, before allocating

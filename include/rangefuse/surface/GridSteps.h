@@ -14,6 +14,7 @@ namespace rangefuse::internal {
 template <class Step>
 double medianNeighbourStep(const RangeGrid& g, Step&& step) {
   std::vector<double> steps;
+  steps.reserve(2 * g.cell.size());
   for (const auto& [dr, dc] : {std::pair{0, 1}, std::pair{1, 0}})
     for (int r = 0; r + dr < g.rows; ++r)
       for (int c = 0; c + dc < g.cols; ++c) {

@@ -28,6 +28,10 @@ bool gridHoldsBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, double 
 bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
                  BrickCoord& hi);
 
+/// Adds the work of `part` (planned apart, e.g. on another thread) to `work`; refuses the sum
+/// as addBoxWork does.
+void addWork(const BrickWork& part, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work);
+
 /// Adds one to the work of every brick `box` touches. Throws InputError, before the map
 /// grows, when the bricks would hold more than maxVoxels voxels.
 void addBoxWork(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, uint64_t maxVoxels,
