@@ -214,12 +214,19 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   // whenever a registration field needs them.
   uint64_t triangles = 0;
   std::vector<std::string> empty;
+  std::vector<size_t> mine;
+  for (size_t i = 0; i < conf.scans.size(); ++i)
+    if (scans.holds(i)) mine.push_back(i);
+  const size_t batch = static_cast<size_t>(std::max(1, o.threads));
   if (!collectively(comm, [&] {
-        for (size_t i = 0; i < conf.scans.size(); ++i) {
-          if (!scans.holds(i)) continue;
-          const auto s = scans.held->readAndOffer(i);
-          triangles += s->surface.triangles.size();
-          if (s->surface.triangles.empty()) empty.push_back(conf.scans[i].path);
+        for (size_t first = 0; first < mine.size(); first += batch) {
+          const std::vector<size_t> which(mine.begin() + first,
+                                          mine.begin() + std::min(mine.size(), first + batch));
+          const auto read = scans.held->readAndOffer(which, o.threads);
+          for (size_t k = 0; k < which.size(); ++k) {
+            triangles += read[k]->surface.triangles.size();
+            if (read[k]->surface.triangles.empty()) empty.push_back(conf.scans[which[k]].path);
+          }
         }
       }))
     return false;

@@ -22,7 +22,25 @@ std::shared_ptr<const PrismScan> HeldScans::get(size_t i) const {
 }
 
 std::shared_ptr<const PrismScan> HeldScans::readAndOffer(size_t i) {
-  std::shared_ptr<const PrismScan> scan = get(i);
+  return offer(i, get(i));
+}
+
+std::vector<std::shared_ptr<const PrismScan>> HeldScans::readAndOffer(
+    const std::vector<size_t>& which, int threads) {
+  std::vector<const io::ConfScan*> unread;
+  for (size_t i : which)
+    if (!kept_[i]) unread.push_back(&scans_[i]);
+  const ScanPreparation& p = preparation_;
+  std::vector<PrismScan> read = loadScans(unread, p.surface, p.limits, p.eps, threads);
+  std::vector<std::shared_ptr<const PrismScan>> out;
+  size_t next = 0;
+  for (size_t i : which)
+    out.push_back(kept_[i] ? kept_[i]
+                           : offer(i, std::make_shared<const PrismScan>(std::move(read[next++]))));
+  return out;
+}
+
+std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, std::shared_ptr<const PrismScan> scan) {
   const uint64_t bytes = scanBytes(*scan);
   if (!kept_[i] && bytes <= budgetLeft_) {
     budgetLeft_ -= bytes;

@@ -86,12 +86,12 @@ void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,
 /// the collective reduction.
 BrickLayout planPlacedOn(const LoadedScans& scans, const std::vector<size_t>& which,
                          const std::vector<Pose>& poses, const VoxelGrid& grid, uint64_t maxVoxels,
-                         MPI_Comm comm) {
+                         int threads, MPI_Comm comm) {
   BrickWork work;
   collectivelyOrThrow(comm, [&] {
     for (size_t i : which)
       if (scans.holds(i))
-        addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, maxVoxels, work);
+        addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, maxVoxels, work, threads);
   });
   BrickLayout layout;
   collectivelyOrThrow(comm, [&] { layout = reduceBrickWork(work, grid, maxVoxels, comm); });
@@ -105,7 +105,7 @@ BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& whic
   VoxelGrid grid;
   collectivelyOrThrow(comm,
                       [&] { grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel); });
-  return planPlacedOn(scans, which, poses, grid, o.limits.maxVoxels, comm);
+  return planPlacedOn(scans, which, poses, grid, o.limits.maxVoxels, o.threads, comm);
 }
 
 /// Prism fields on one lattice for the whole registration. Algorithm 1 adds each registered
@@ -188,12 +188,13 @@ class GrowingPrismField : public RegistrationField {
       if (!gridHoldsBox(grid_, box, eps_))
         grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
     });
-    BrickLayout layout = planPlacedOn(scans_, every, poses_, grid_, o_.limits.maxVoxels, comm_);
+    BrickLayout layout =
+        planPlacedOn(scans_, every, poses_, grid_, o_.limits.maxVoxels, o_.threads, comm_);
     collectivelyOrThrow(comm_, [&] {
       dilateBricks(layout, mpi::size(comm_), o_.limits.maxVoxels);
       store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
     });
-    integrator_ = std::make_unique<PrismIntegrator>(*store_);
+    integrator_ = std::make_unique<PrismIntegrator>(*store_, o_.threads);
     std::vector<size_t> order;
     for (const auto& [i, pose] : placed_) order.push_back(i);
     addRouted(scans_, order, poses_, *integrator_, store_->layout(), comm_);
@@ -229,7 +230,7 @@ class RebuiltField : public RegistrationField {
     field_.layout = planPlaced(scans_, which, poses, o_, comm_);
     field_.store = std::make_unique<BrickStore>(field_.layout, mpi::rank(comm_));
     if (o_.method == "prism") {
-      PrismIntegrator integrator(*field_.store);
+      PrismIntegrator integrator(*field_.store, o_.threads);
       routePlaced(scans_, which, poses, field_.layout, 0, comm_,
                   [&](size_t, const PrismScan& part) { integrator.addScan(part); });
       return *field_.store;

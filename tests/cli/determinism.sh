@@ -36,3 +36,15 @@ grep -q "scans kept per rank 0" "$tmp/log_reread"
 cmp "$tmp/poses1.conf" "$tmp/reread.conf"
 cmp "$tmp/reg1.ply" "$tmp/reread.ply"
 echo "registration re-reading every scan (--scan-memory 0) gives the same poses and mesh"
+# Threads inside the ranks: any count gives the same poses and mesh.
+mpirun --oversubscribe -np 2 "$bin" fuse --scans "$tmp/synth/perturbed.conf" --voxel 1 \
+  --register both --max-iterations 5 --max-rounds 2 --threads 3 --out "$tmp/threads.ply" \
+  --poses-out "$tmp/threads.conf" >"$tmp/log_threads"
+cmp "$tmp/poses1.conf" "$tmp/threads.conf"
+cmp "$tmp/reg1.ply" "$tmp/threads.ply"
+"$bin" fuse --scans "$data/bunny/bun.conf" --voxel 0.0015 --threads 3 --out "$tmp/bunny3.ply" \
+  >"$tmp/log_bunny3"
+mpirun --oversubscribe -np 1 "$bin" fuse --scans "$data/bunny/bun.conf" --voxel 0.0015 \
+  --threads 1 --out "$tmp/bunny1.ply" >"$tmp/log_bunny1"
+cmp "$tmp/bunny1.ply" "$tmp/bunny3.ply"
+echo "registration and fusion with 3 threads a rank give the same poses and meshes as with 1"

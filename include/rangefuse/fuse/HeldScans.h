@@ -32,10 +32,16 @@ class HeldScans : public ScanSource {
 
   /// Reads scan i (held here) and keeps it if it fits what is left of the budget.
   std::shared_ptr<const PrismScan> readAndOffer(size_t i);
+  /// readAndOffer for the listed scans, read on up to `threads` threads and offered in order.
+  std::vector<std::shared_ptr<const PrismScan>> readAndOffer(const std::vector<size_t>& which,
+                                                             int threads);
 
   size_t keptCount() const;
 
  private:
+  /// Keeps scan i if it fits what is left of the budget; returns it.
+  std::shared_ptr<const PrismScan> offer(size_t i, std::shared_ptr<const PrismScan> scan);
+
   std::vector<io::ConfScan> scans_;
   std::vector<int> readers_;
   int rank_;
