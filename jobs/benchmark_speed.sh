@@ -5,7 +5,8 @@
 # distance of both meshes to bun_zipper.ply. Sets: the bunny mesh re-scanned, 24 x 320x240 at
 # 1 mm and 48 x 1024x1024 at 0.5 mm (kept in the cache folder), and the real bunny at 0.5 mm
 # (ours only: its Cyberware grids have no pinhole for Open3D's depth images).
-# Usage: bash jobs/benchmark_speed.sh [EXTRA FUSE OPTIONS...]   e.g. --merge-cells 0
+# Usage: bash jobs/benchmark_speed.sh [EXTRA FUSE OPTIONS...]   e.g. --merge-cells 0, --threads 1
+# (rangefuse runs as one process without mpirun, so it may use every core, as Open3D does).
 # Environment: CACHE (default /tmp/rangefuse-bench).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,18 +30,20 @@ make_set() {
 seconds() { grep "] $1 " "$2" | grep -v "scans added" | sed 's/.*(\([0-9.]*\)s)$/\1/'; }
 chamfer() { $bin eval --mesh "$1" --reference "$reference" --voxel "$2" | awk '/^chamfer/ { print substr($3, 2) }'; }
 
-echo "| input | triangles | rangefuse read / field / mesh (s) | ns a voxel update | Chamfer (voxel) | Open3D depth conversion / integrate / extract (s) | Open3D Chamfer | compute ratio (field + mesh) / (integrate + extract) |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| input | triangles | rangefuse read / field / mesh (s) | read to write (s) | ns a voxel update | peak MiB | Chamfer (voxel) | Open3D depth conversion / integrate / extract (s) | Open3D peak MiB | Open3D Chamfer | (field + mesh) / (integrate + extract) | read to write / Open3D compute |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 # run NAME CONF VOXEL [SET_DIR]
 run() {
   local name=$1 conf=$2 voxel=$3 set=${4:-} log=$tmp/log
   $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" "${extra[@]}" >"$log"
-  local r f m tri updates ns
+  local r f m tri updates ns total peak
   r=$(seconds read "$log") f=$(seconds field "$log") m=$(seconds mesh "$log")
   tri=$(grep "] read " "$log" | sed 's/.*scans, \([0-9]*\) triangles.*/\1/')
   updates=$(grep "] field " "$log" | grep -v "scans added" | sed 's/.*voxels updated per rank \([0-9]*\).*/\1/')
   ns=$(awk -v f="$f" -v u="$updates" 'BEGIN { printf "%.0f", 1e9 * f / u }')
-  local o3d="—" o3dc="—" ratio="—"
+  total=$(grep "] done " "$log" | sed 's/^\[ *\([0-9.]*\)s\].*/\1/')
+  peak=$(grep "] done " "$log" | sed 's/.*(MiB) \([0-9]*\).*/\1/')
+  local o3d="—" o3dc="—" o3dm="—" ratio="—" whole="—"
   if [[ -n $set ]] && /usr/bin/python3 -c "import open3d" 2>/dev/null; then
     local line
     line=$(/usr/bin/python3 jobs/open3d_tsdf.py "$set" "$voxel" "$tmp/o3d.ply")
@@ -48,10 +51,12 @@ run() {
     c=$(echo "$line" | sed 's/.*depth conversion \([0-9.]*\) s.*/\1/')
     i=$(echo "$line" | sed 's/.*integrate \([0-9.]*\) s.*/\1/')
     e=$(echo "$line" | sed 's/.*extract \([0-9.]*\) s.*/\1/')
+    o3dm=$(echo "$line" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
     o3d="$c / $i / $e" o3dc=$(chamfer "$tmp/o3d.ply" "$voxel")
     ratio=$(awk -v a="$f" -v b="$m" -v c="$i" -v d="$e" 'BEGIN { printf "%.2f", (a + b) / (c + d) }')
+    whole=$(awk -v t="$total" -v a="$c" -v b="$i" -v d="$e" 'BEGIN { printf "%.2f", t / (a + b + d) }')
   fi
-  echo "| $name | $tri | $r / $f / $m | $ns | $(chamfer "$tmp/ours.ply" "$voxel") | $o3d | $o3dc | $ratio |"
+  echo "| $name | $tri | $r / $f / $m | $total | $ns | $peak | $(chamfer "$tmp/ours.ply" "$voxel") | $o3d | $o3dm | $o3dc | $ratio | $whole |"
 }
 extra=("$@")
 s24=$(make_set 24 320 240 0.001 0.5)

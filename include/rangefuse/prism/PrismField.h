@@ -85,7 +85,7 @@ class PrismIntegrator {
   void accumulate(Slab& slab);
 
   BrickStore& store_;
-  std::vector<Sample> scratch_;
+  std::vector<Sample, HugePageAllocator<Sample>> scratch_;
   std::vector<Slab> slabs_;
   std::vector<Reach> reach_;  ///< per triangle of the scan being added
 };

@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "rangefuse/core/HugePages.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse {
@@ -19,6 +20,8 @@ struct VoxelSums {
 
 class BrickStore {
  public:
+  using Sums = std::vector<VoxelSums, HugePageAllocator<VoxelSums>>;
+
   /// Keeps its own copy of the layout (codes and owners: small next to the voxels).
   BrickStore(const BrickLayout& layout, int rank);
 
@@ -44,8 +47,8 @@ class BrickStore {
     return b * perBrick_ + (static_cast<size_t>(l.z()) * B + l.y()) * B + l.x();
   }
 
-  std::vector<VoxelSums>& sums() { return sums_; }
-  const std::vector<VoxelSums>& sums() const { return sums_; }
+  Sums& sums() { return sums_; }
+  const Sums& sums() const { return sums_; }
 
  private:
   BrickLayout layout_;
@@ -53,7 +56,7 @@ class BrickStore {
   std::unordered_map<uint64_t, int64_t> index_;
   size_t first_;  ///< layout position of local brick 0
   size_t perBrick_;
-  std::vector<VoxelSums> sums_;
+  Sums sums_;
 };
 
 }  // namespace rangefuse
