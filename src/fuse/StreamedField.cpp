@@ -1,5 +1,7 @@
 #include "rangefuse/fuse/StreamedField.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <iterator>
@@ -231,6 +233,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles)) return false;
+  malloc_trim(0);  // what reading freed goes back to the system before the field is allocated
   progress.stage("read", std::to_string(conf.scans.size()) + " scans, " +
                              std::to_string(triangles) + " triangles; scans kept per rank " +
                              std::to_string(share.keptCount()) + " (rank 0)");
