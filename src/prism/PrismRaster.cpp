@@ -38,14 +38,16 @@ PrismRows::PrismRows(const Prism& prism, const VoxelGrid& grid) {
   const Eigen::Vector3d fromP0 = grid.origin - p0;
   for (const Eigen::Vector3d& dir : dirs) {
     if (!(dir.squaredNorm() > 0) || !dir.allFinite()) continue;  // degenerate: the box decides
-    const Eigen::Vector3d m = dir.normalized();
+    // Left unnormalised (no root): the margin scales with |m|, bounded above by its 1-norm.
+    const Eigen::Vector3d& m = dir;
+    const double margin = widen * m.lpNorm<1>();
     Slab& s = slabs_[count_++];
     s.lo = s.hi = m.dot(corners[0]);
     for (const auto& k : corners) {
       s.lo = std::min(s.lo, m.dot(k));
       s.hi = std::max(s.hi, m.dot(k));
     }
-    s.lo -= widen, s.hi += widen;
+    s.lo -= margin, s.hi += margin;
     s.atRow0 = m.dot(fromP0);
     s.perStep = grid.voxel * m[along];
     s.perB = grid.voxel * m[b];
