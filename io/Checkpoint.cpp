@@ -9,6 +9,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "Hdf5Writing.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Digest.h"
 #include "rangefuse/io/OutputCheck.h"
@@ -18,96 +19,16 @@
 namespace rangefuse::io {
 namespace {
 
+using internal::accessList;
+using internal::check;
+using internal::createDataset;
+using internal::Handle;
+using internal::together;
+using internal::writeRows;
+
 static_assert(sizeof(VoxelSums) == 6 * sizeof(float), "checkpoint stores 6 floats a voxel");
 constexpr const char* kFormat = "rangefuse-checkpoint";
 constexpr const char* kDigest = "fnv1a64";  // checksum attribute of each dataset
-
-/// Owns an HDF5 handle; closes it with the matching function.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  operator hid_t() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-  /// Closes now, returning the status (a file's close writes what HDF5 still buffers).
-  herr_t close() {
-    const herr_t status = id_ >= 0 ? close_(id_) : 0;
-    id_ = -1;
-    return status;
-  }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-void check(bool ok, const std::string& path, const std::string& what) {
-  if (!ok) throw InputError(path + ": " + what);
-}
-
-/// Thrown on the ranks whose step succeeded when another rank's failed, so that every rank
-/// leaves the writer at the same step and closes its handles in the same collective order.
-struct OtherRankFailed : std::runtime_error {
-  OtherRankFailed() : std::runtime_error("a step failed on another rank") {}
-};
-
-/// Collective: a write step that every rank must pass before the next collective one.
-void together(bool ok, const std::string& message, MPI_Comm comm) {
-  const int cause = ok ? 0 : errno;
-  int mine = ok, all = 0;
-  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm);
-  if (all) return;
-  if (ok) throw OtherRankFailed();
-  throw InputError(message + (cause ? std::string(" (") + std::strerror(cause) + ")" : ""));
-}
-
-void together(bool ok, const std::string& path, const std::string& what, MPI_Comm comm) {
-  together(ok, path + ": " + what, comm);
-}
-
-Handle accessList(MPI_Comm comm) {
-  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
-  return fapl;
-}
-
-/// A 1-D or 2-D dataset of `type`, rows x cols.
-Handle createDataset(hid_t file, const char* name, hid_t type, hsize_t rows, hsize_t cols,
-                     const std::string& path, MPI_Comm comm) {
-  const hsize_t dims[2] = {rows, cols};
-  Handle space(H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose);
-  Handle set(H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  together(set.ok(), path, std::string("cannot create dataset ") + name, comm);
-  return set;
-}
-
-/// Writes rows [first, first + count) of a dataset from this rank (independent I/O).
-void writeRows(hid_t set, hid_t type, hsize_t first, hsize_t count, hsize_t cols, const void* data,
-               const std::string& path, const char* name, MPI_Comm comm) {
-  Handle space(H5Dget_space(set), H5Sclose);
-  const hsize_t start[2] = {first, 0}, size[2] = {count, cols};
-  if (count == 0) {
-    H5Sselect_none(space);
-  } else {
-    H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, size, nullptr);
-  }
-  Handle mem(H5Screate_simple(cols ? 2 : 1, size, nullptr), H5Sclose);
-  if (count == 0) H5Sselect_none(mem);
-  std::string injected;  // a test's fault (RANGEFUSE_FAULT=write:throw@RANK#N)
-  try {
-    faultPoint("write", path + " (" + name + ")");
-  } catch (const std::exception& e) {
-    injected = e.what();
-  }
-  errno = 0;
-  const bool ok = injected.empty() && H5Dwrite(set, type, mem, space, H5P_DEFAULT, data) >= 0;
-  together(ok, injected.empty() ? path + ": cannot write " + name : injected, comm);
-}
 
 nlohmann::json metaJson(const CheckpointMeta& m) {
   nlohmann::json poses = nlohmann::json::array();
@@ -329,25 +250,9 @@ uint64_t checkpointBytes(const CheckpointMeta& meta, const BrickStore* store) {
 void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const BrickStore* store,
                      MPI_Comm comm) {
   const std::string tmp = path + ".tmp";
-  std::string error;
-  bool failed = false;
-  try {
-    writeFile(tmp, meta, store, comm);  // on failure every rank unwinds from the same step
-  } catch (const OtherRankFailed&) {
-    failed = true;
-  } catch (const std::exception& e) {
-    error = e.what();
-    failed = true;
-  }
-  int any = failed;
-  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm);
-  if (any) {
-    // The cause as the lowest rank that had one saw it, so that every rank throws one message.
-    const int size = mpi::size(comm);
-    int from = error.empty() ? size : mpi::rank(comm);
-    MPI_Allreduce(MPI_IN_PLACE, &from, 1, MPI_INT, MPI_MIN, comm);
-    const std::string cause = from < size ? mpi::broadcastString(error, from, comm) : "";
-    if (mpi::rank(comm) == 0) std::remove(tmp.c_str());
+  const std::string cause =
+      internal::agreeOnWrite(tmp, comm, [&] { writeFile(tmp, meta, store, comm); });
+  if (!cause.empty()) {
     const int64_t free = freeBytes(tmp);
     const std::string space =
         free < 0 ? ""
@@ -356,10 +261,7 @@ void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const 
     throw InputError(path + ": checkpoint not written: " + cause + space +
                      " (the previous checkpoint, if any, is unchanged)");
   }
-  int renamed = 0;
-  if (mpi::rank(comm) == 0) renamed = std::rename(tmp.c_str(), path.c_str()) == 0;
-  MPI_Bcast(&renamed, 1, MPI_INT, 0, comm);
-  if (!renamed) throw InputError(path + ": cannot rename the temporary checkpoint into place");
+  internal::renameIntoPlace(tmp, path, comm);
 }
 
 CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm,
