@@ -61,7 +61,8 @@ void addLimitOptions(po::options_description& d, InputLimits& limits) {
 po::options_description fuseOptions(FuseOptions& o) {
   po::options_description d("rangefuse fuse: fuse range scans into one mesh");
   auto add = d.add_options();
-  add("out", po::value(&o.out), "output mesh (.ply, binary)");
+  add("out", po::value(&o.out),
+      "output mesh: .ply (binary), or .xdmf (HDF5 data in the same name .h5, for ParaView)");
   add("report", po::value(&o.report), "write a JSON run report (stage times, counts, memory)");
   add("preview", po::value(&o.preview), "write a ray-cast PNG picture of the fused field");
   add("normals", po::value(&o.normals)->default_value(true), "write vertex normals");

@@ -15,6 +15,7 @@
 #include "rangefuse/fuse/StreamedField.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPartPly.h"
+#include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
@@ -139,7 +140,9 @@ namespace {
 
 bool writeOutputs(const FuseOptions& o, MPI_Comm comm, const FusedField& field, MeshPart& mesh) {
   if (o.normals) addPartNormals(mesh, comm);
-  if (!io::writeMeshPartPly(o.out, mesh, comm)) return false;
+  const bool written = io::isXdmfPath(o.out) ? io::writeMeshPartXdmf(o.out, mesh, comm)
+                                             : io::writeMeshPartPly(o.out, mesh, comm);
+  if (!written) return false;
   if (o.preview.empty()) return true;
   const Image picture = renderDistributed(*field.store, o.minWeight, ViewSettings{}, 0, comm);
   return collectively(comm, [&] {

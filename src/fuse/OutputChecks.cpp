@@ -4,16 +4,16 @@
 #include <map>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/OutputCheck.h"
 
 namespace rangefuse {
 
 void checkOutputs(const FuseOptions& o, int rank) {
-  const std::vector<std::pair<std::string, std::string>> outputs = {{"mesh", o.out},
-                                                                    {"checkpoint", o.checkpoint},
-                                                                    {"report", o.report},
-                                                                    {"preview", o.preview},
-                                                                    {"poses", o.posesOut}};
+  const std::string meshData = io::isXdmfPath(o.out) ? io::xdmfDataPath(o.out) : "";
+  const std::vector<std::pair<std::string, std::string>> outputs = {
+      {"mesh", o.out},      {"mesh data", meshData}, {"checkpoint", o.checkpoint},
+      {"report", o.report}, {"preview", o.preview},  {"poses", o.posesOut}};
   std::map<std::string, std::string> seen;
   for (const auto& [what, path] : outputs) {
     if (path.empty()) continue;
@@ -21,7 +21,8 @@ void checkOutputs(const FuseOptions& o, int rank) {
     if (seen.count(key))
       throw InputError(path + ": given as both the " + seen[key] + " and the " + what);
     seen[key] = what;
-    if (rank == 0 || what == "mesh" || what == "checkpoint") io::checkWritable(path, what);
+    if (rank == 0 || what == "mesh" || what == "mesh data" || what == "checkpoint")
+      io::checkWritable(path, what);
   }
 }
 

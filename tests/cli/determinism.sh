@@ -48,3 +48,16 @@ mpirun --oversubscribe -np 1 "$bin" fuse --scans "$data/bunny/bun.conf" --voxel 
   --threads 1 --out "$tmp/bunny1.ply" >"$tmp/log_bunny1"
 cmp "$tmp/bunny1.ply" "$tmp/bunny3.ply"
 echo "registration and fusion with 3 threads a rank give the same poses and meshes as with 1"
+# The XDMF/HDF5 mesh: the same bytes on 1, 2 and 3 ranks, and the PLY mesh's counts.
+for n in 1 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$data/bunny/bun.conf" --voxel 0.0015 \
+    --out "$tmp/x$n.xdmf" >"$tmp/logx$n"
+done
+cmp "$tmp/x1.h5" "$tmp/x2.h5"
+cmp "$tmp/x1.h5" "$tmp/x3.h5"
+cmp <(sed 's/x1\.h5/X.h5/' "$tmp/x1.xdmf") <(sed 's/x3\.h5/X.h5/' "$tmp/x3.xdmf")
+vertices=$(grep -a -m1 "^element vertex" "$tmp/bunny1.ply" | cut -d' ' -f3)
+faces=$(grep -a -m1 "^element face" "$tmp/bunny1.ply" | cut -d' ' -f3)
+grep -q "Dimensions=\"$vertices 3\"" "$tmp/x1.xdmf"
+grep -q "NumberOfElements=\"$faces\"" "$tmp/x1.xdmf"
+echo "XDMF mesh: 1, 2 and 3 ranks give identical files, with the PLY mesh's $vertices vertices and $faces faces"

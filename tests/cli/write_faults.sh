@@ -59,4 +59,22 @@ for n in 1 2 3; do
   cmp -s "$good/mesh.ply" "$resumed/mesh.ply" || fail "$n ranks: the resumed mesh differs"
 done
 
+# The XDMF mesh: a failed write of any of its datasets (geometry, topology, normals), on the
+# first or the last rank, leaves neither the .xdmf nor the .h5 nor a temporary.
+for n in 1 2; do
+  for nth in 1 2 3; do
+    for r in 0 $((n - 1)); do
+      case=$tmp/xdmf-$n-$nth-$r
+      mkdir -p "$case"
+      RANGEFUSE_FAULT="write:throw@$r#$nth" timeout 60 mpirun -np "$n" "$bin" fuse \
+        --scans "$data/bun.conf" --voxel 0.002 --out "$case/mesh.xdmf" >/dev/null 2>"$case/stderr"
+      code=$?
+      name="xdmf write $nth on rank $r of $n"
+      ((code != 0 && code != 124)) || fail "$name: exit $code"
+      [[ $(grep -c "rangefuse: error:" "$case/stderr") -eq 1 ]] || fail "$name: not one message"
+      [[ -z $(ls "$case" | grep -v stderr) ]] || fail "$name: left $(ls "$case" | grep -v stderr)"
+    done
+  done
+done
+
 [[ $failures -eq 0 ]] && echo "all write-fault cases passed" || { echo "$failures case(s) failed"; exit 1; }

@@ -1,5 +1,6 @@
 // GoogleTest main for tests that run on several MPI ranks; fails if any rank fails.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <mpi.h>
 
 #include <cstdlib>
@@ -8,6 +9,7 @@ int main(int argc, char** argv) {
   setenv("OMPI_MCA_sharedfp", "^sm", 0);  // as the rangefuse executable does
   int provided = 0;                       // worker threads never call MPI
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // as the executable: errors become messages
   ::testing::InitGoogleTest(&argc, argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
