@@ -128,6 +128,39 @@ json poseReport(const EvalOptions& o) {
           {"point_displacement_mean", summary(disp)}};
 }
 
+/// Per pair of scans that overlap (kMinPartners or more vertices with a partner, both ways
+/// together): partners, the share of both scans' measured vertices they are, and their RMS.
+/// Poses that slide scans along each other keep the RMS but lose partners and pairs.
+json pairOverlap(const io::ConfFile& conf, const std::vector<ScanConsistency>& c,
+                 const EvalOptions& o) {
+  constexpr size_t kMinPartners = 10;
+  json out = json::array();
+  if (!o.json)
+    std::printf("%-24s %-24s %10s %9s %14s\n", "scan", "scan", "partners", "overlap", "rms (vox)");
+  for (size_t i = 0; i < c.size(); ++i)
+    for (size_t j = i + 1; j < c.size(); ++j) {
+      const size_t n = c[i].pairsWith[j] + c[j].pairsWith[i];
+      if (n < kMinPartners) continue;
+      const double share =
+          static_cast<double>(n) / static_cast<double>(c[i].sampled + c[j].sampled);
+      const double squares = c[i].rmsWith[j] * c[i].rmsWith[j] * c[i].pairsWith[j] +
+                             c[j].rmsWith[i] * c[j].rmsWith[i] * c[j].pairsWith[i];
+      const double rms = std::sqrt(squares / static_cast<double>(n));
+      out.push_back({{"a", conf.scans[i].name},
+                     {"b", conf.scans[j].name},
+                     {"partners", n},
+                     {"overlap", share},
+                     {"rms", rms}});
+      if (!o.json)
+        std::printf("%-24s %-24s %10zu %9.4f %14.4f\n", conf.scans[i].name.c_str(),
+                    conf.scans[j].name.c_str(), n, share, rms / o.voxel);
+    }
+  if (!o.json)
+    std::printf("overlapping scan pairs %zu of %zu (%zu or more partners)\n", out.size(),
+                c.size() * (c.size() - 1) / 2, kMinPartners);
+  return out;
+}
+
 /// The scans of --poses, in the world, agreeing with one another (no reference needed).
 json consistencyReport(const EvalOptions& o) {
   const io::ConfFile conf = io::readConf(o.poses);
@@ -152,7 +185,14 @@ json consistencyReport(const EvalOptions& o) {
   if (!o.json)
     std::printf("point-to-plane rms between scans %.5g (%.4f voxels) over %zu pairs\n", rms,
                 rms / o.voxel, pairs);
-  return {{"poses", o.poses}, {"voxel", o.voxel}, {"scans", scans}, {"rms", rms}, {"pairs", pairs}};
+  const json overlap = pairOverlap(conf, c, o);
+  return {{"poses", o.poses},
+          {"voxel", o.voxel},
+          {"scans", scans},
+          {"rms", rms},
+          {"pairs", pairs},
+          {"scan_pairs", overlap},
+          {"overlapping_scan_pairs", overlap.size()}};
 }
 
 int run(const EvalOptions& o) {

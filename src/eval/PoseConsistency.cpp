@@ -36,14 +36,25 @@ std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& wor
     clouds[j].pts = world[j].points;
     trees.push_back(buildKdTree(clouds[j]));
   }
+  auto rms = [](double sum, size_t pairs) {
+    return pairs > 0 ? std::sqrt(sum / static_cast<double>(pairs)) : 0.0;
+  };
   std::vector<ScanConsistency> out(world.size());
   for (size_t i = 0; i < world.size(); ++i) {
+    ScanConsistency& c = out[i];
+    c.sampled = (world[i].points.size() + s.stride - 1) / s.stride;
+    c.pairsWith.assign(world.size(), 0);
+    c.rmsWith.assign(world.size(), 0.0);
     double sum = 0;
-    size_t pairs = 0;
-    for (size_t j = 0; j < world.size(); ++j)
-      if (j != i && !world[j].points.empty())
-        residualsAgainst(world[i], world[j], *trees[j], s, sum, pairs);
-    out[i] = {pairs > 0 ? std::sqrt(sum / static_cast<double>(pairs)) : 0.0, pairs};
+    for (size_t j = 0; j < world.size(); ++j) {
+      if (j == i || world[j].points.empty()) continue;
+      double sumWith = 0;
+      residualsAgainst(world[i], world[j], *trees[j], s, sumWith, c.pairsWith[j]);
+      c.rmsWith[j] = rms(sumWith, c.pairsWith[j]);
+      sum += sumWith;
+      c.pairs += c.pairsWith[j];
+    }
+    c.rms = rms(sum, c.pairs);
   }
   return out;
 }

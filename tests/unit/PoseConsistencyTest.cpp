@@ -51,6 +51,26 @@ TEST(PoseConsistency, TurningWithinThePlaneCostsNothing) {
   EXPECT_NEAR(c[0].rms, 0, 1e-12);
 }
 
+TEST(PoseConsistency, SlidingAlongThePlaneKeepsTheRmsButLosesPartners) {
+  // Point-to-plane RMS cannot see a scan slide along a flat surface; the partners each pair
+  // keeps can: sliding by half the patch halves them.
+  Eigen::Isometry3d slide = Eigen::Isometry3d::Identity();
+  slide.translation() = Eigen::Vector3d(0.95, 0.0, 0.0);  // 19 spacings of 0.1: half of 1.9
+  const auto still = poseConsistency({plane(20), plane(20)}, settings());
+  const auto slid = poseConsistency({plane(20), plane(20, slide)}, settings());
+  ASSERT_EQ(still[0].pairsWith.size(), 2u);
+  EXPECT_EQ(still[0].pairsWith[1], 400u);
+  EXPECT_EQ(still[0].sampled, 400u);
+  EXPECT_NEAR(slid[0].rmsWith[1], 0, 1e-12);
+  EXPECT_NEAR(slid[1].rmsWith[0], 0, 1e-12);
+  for (int k : {0, 1}) {
+    const size_t kept = slid[k].pairsWith[1 - k];
+    EXPECT_GE(kept, 180u) << k;
+    EXPECT_LE(kept, 220u) << k;  // about half of 400
+    EXPECT_EQ(slid[k].pairs, kept);
+  }
+}
+
 TEST(PoseConsistency, OppositeFacesAndFarScansAreNotOverlap) {
   Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
   flip.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();

@@ -15,10 +15,15 @@ struct ConsistencySettings {
   size_t stride = 4;         ///< every k-th vertex of a scan is measured
 };
 
-/// One scan's agreement with all the others.
+/// One scan's agreement with all the others, and with each.
 struct ScanConsistency {
-  double rms = 0;    ///< RMS point-to-plane distance over its overlap pairs
-  size_t pairs = 0;  ///< vertices with an overlapping vertex in another scan, over all others
+  double rms = 0;      ///< RMS point-to-plane distance over its overlap pairs
+  size_t pairs = 0;    ///< vertices with an overlapping vertex in another scan, over all others
+  size_t sampled = 0;  ///< vertices measured (every stride-th)
+  /// Per other scan j: vertices of this scan with a partner in j, and their RMS. Poses that
+  /// slide scans along their surfaces leave point-to-plane RMS as it was but lose partners.
+  std::vector<size_t> pairsWith;
+  std::vector<double> rmsWith;
 };
 
 /// Per scan (already in the world), the RMS of n_j . (p - q) over its vertices p and, in each
