@@ -20,6 +20,9 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
   add("envelope", po::value(&o.envelope)->default_value(3.0), "prism half-thickness, voxels");
   add("quorum", po::value(&o.quorum)->default_value(-1),
       "consensus: summed confidence a consensus surface needs (-1: 2.25 x views / 48)");
+  add("min-views", po::value(&o.minViews)->default_value(2),
+      "consensus: views a consensus surface needs besides the quorum, so that one view alone "
+      "never passes where few views make the quorum small (1: the quorum alone)");
   add("edge-angle", po::value(&o.edgeAngle)->default_value(78),
       "consensus: a point whose offset from its surface point is more than this many degrees "
       "from the normal lies beside an open edge and stays unobserved (90: off)");

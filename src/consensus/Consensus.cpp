@@ -125,7 +125,7 @@ int chooseConsensus(std::vector<Seed>& seeds, const RegionViews& views,
     SurfaceObservation c = consensusSurface(s.o.point, s.o.normal, views, params);
     c.distance = (x - c.point).norm();
     const int v = s.view;
-    if (c.confidence >= params.quorum) {  // C_set: the closest (ties: lower view)
+    if (c.confidence >= params.quorum && c.views >= params.minViews) {  // C_set: the closest
       if (viewC < 0 || c.distance < bestC.distance || (c.distance == bestC.distance && v < viewC))
         bestC = c, viewC = v;
     } else if (viewO < 0 || c.confidence > bestO.confidence ||

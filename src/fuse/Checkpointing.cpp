@@ -20,6 +20,7 @@ const std::map<std::string, std::string> kOptionOf = {{"method", "method"},
                                                       {"max_edge", "max-edge"},
                                                       {"min_cosine", "min-cosine"},
                                                       {"quorum", "quorum"},
+                                                      {"min_views", "min-views"},
                                                       {"same_distance_voxels", "same-distance"},
                                                       {"same_angle_deg", "same-angle"},
                                                       {"edge_angle_deg", "edge-angle"},
@@ -57,6 +58,8 @@ void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
     o.surface.minCosine = v.get<double>();
   else if (key == "quorum")
     o.quorum = v.get<double>();
+  else if (key == "min_views")
+    o.minViews = v.get<int>();
   else if (key == "same_distance_voxels")
     o.sameDistance = v.get<double>();
   else if (key == "same_angle_deg")
@@ -130,6 +133,8 @@ void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
   std::vector<std::string> differ;
   // Checkpoints from before --merge-cells were written from unmerged grids.
   if (!meta.parameters.contains("merge_cells_voxels") && !given(o, "merge-cells")) o.mergeCells = 0;
+  // ... and before --min-views, with the quorum alone.
+  if (!meta.parameters.contains("min_views") && !given(o, "min-views")) o.minViews = 1;
   for (const auto& [key, option] : kOptionOf) {
     if (!meta.parameters.contains(key)) continue;
     const nlohmann::json& theirs = meta.parameters[key];

@@ -77,6 +77,7 @@ void validateFuseOptions(const FuseOptions& o) {
     throw InputError("--checkpoint-every must be a finite number of seconds >= 0");
   if (!std::isfinite(o.quorum) || (!(o.quorum >= 0) && o.quorum != -1))
     throw InputError("--quorum must not be negative (or -1: scaled to the number of views)");
+  if (o.minViews < 1) throw InputError("--min-views must be at least 1");
   if (!(o.edgeAngle >= 0 && o.edgeAngle <= 90))
     throw InputError("--edge-angle must be in [0, 90] degrees");
   if (!(o.sameDistance > 0) || !(o.sameDistance <= 1000))
@@ -117,11 +118,12 @@ double routeReach(const FuseOptions& o) {
   return closestSurfaceMargin(o) + (0.5 * std::sqrt(3.0) * (o.brick - 1) + 1) * o.voxel;
 }
 
-EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& field) {
+EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& field, int minViews) {
   std::vector<ViewIndex> views;
   for (const auto& s : field.scans) views.emplace_back(s.surface);
   ConsensusParams params;
   params.quorum = o.quorum >= 0 ? o.quorum : autoQuorum(field.scans.size());
+  params.minViews = minViews;
   params.sameDistance = o.sameDistance * o.voxel;
   params.sameCosine = std::cos(o.sameAngle * M_PI / 180);
   params.edgeCosine = std::cos(o.edgeAngle * M_PI / 180);
@@ -174,6 +176,7 @@ nlohmann::json resultParameters(const FuseOptions& o) {
           {"max_edge", o.surface.maxEdgeFactor},
           {"min_cosine", o.surface.minCosine},
           {"quorum", o.quorum},
+          {"min_views", o.minViews},
           {"same_distance_voxels", o.sameDistance},
           {"same_angle_deg", o.sameAngle},
           {"edge_angle_deg", o.edgeAngle},
@@ -270,7 +273,7 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
     }
     return true;
   }
-  const EvaluationStats st = evaluateClosestSurfaceField(o, field);
+  const EvaluationStats st = evaluateClosestSurfaceField(o, field, o.minViews);
   counters.evaluatedPoints = st.points;
   counters.voxelUpdates = st.voxels;
   return true;
@@ -336,7 +339,7 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   if (!buildStreamedField(streamOptions(o, comm), conf, comm, progress, field, counters))
     return false;
   if (o.method != "prism" && !collectively(comm, [&] {
-        const EvaluationStats st = evaluateClosestSurfaceField(o, field);
+        const EvaluationStats st = evaluateClosestSurfaceField(o, field, o.minViews);
         counters.evaluatedPoints = st.points;
         counters.voxelUpdates = st.voxels;
         field.scans = {};

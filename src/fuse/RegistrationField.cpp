@@ -239,7 +239,7 @@ class RebuiltField : public RegistrationField {
     routePlaced(scans_, which, poses, field_.layout, routeReach(o_), comm_,
                 [&](size_t k, PrismScan& part) { field_.scans[k] = std::move(part); });
     collectivelyOrThrow(comm_, [&] {
-      evaluateClosestSurfaceField(o_, field_);
+      evaluateClosestSurfaceField(o_, field_, 1);
       field_.scans = {};
     });
     return *field_.store;

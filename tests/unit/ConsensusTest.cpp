@@ -117,6 +117,25 @@ TEST(Consensus, FloatingPatchIgnoredByConsensusKeptByNaive) {
   EXPECT_GT(c.d, 4);  // consensus: none
 }
 
+TEST(Consensus, WithFewViewsOneViewPassesTheQuorumButNotTwoViews) {
+  // Few views give a small quorum (2.25 x 3 / 48 = 0.14): one view's confidence (0.9) passes it
+  // and the floating patch stays. Asking for two views removes the patch and keeps the plane.
+  const auto surfaces = planeWithPatch();
+  const auto views = indexAll(surfaces);
+  const RegionViews all(views);
+  ConsensusParams one = params(2.25 * 3 / 48), two = one;
+  two.minViews = 2;
+  const Eigen::Vector3d belowPatch(0.5, 0.3, 4.6);
+  SignedDistance c;
+  ASSERT_TRUE(consensusSignedDistance(belowPatch, all, one, c));
+  EXPECT_NEAR(c.d, -0.4, 1e-12);  // the patch, one view
+  ASSERT_TRUE(consensusSignedDistance(belowPatch, all, two, c));
+  EXPECT_GT(c.d, 4);  // the plane, three views
+  const Eigen::Vector3d nearPlane(0.5, 0.3, 0.6);
+  ASSERT_TRUE(consensusSignedDistance(nearPlane, all, two, c));
+  EXPECT_NEAR(c.d, 0.6 - 0.01, 0.011);
+}
+
 TEST(Consensus, VoxelMidwayInAThinWall) {
   // A wall 2 thick: its top faces +z at z = 1, its bottom faces -z at z = -1, each side seen
   // by two views. Normals disagree, so the two sides never average into one surface.

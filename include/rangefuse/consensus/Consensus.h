@@ -10,6 +10,7 @@ namespace rangefuse {
 
 struct ConsensusParams {
   double quorum = 1.5;         ///< theta_quorum: summed confidence a consensus needs
+  int minViews = 1;            ///< ... and the views it needs (Wheeler: 1, the quorum alone)
   double sameDistance = 2.0;   ///< delta_d, world units
   double sameCosine = 0.7071;  ///< cos(theta_n)
   double reach = INFINITY;     ///< closest-surface queries look no farther, world units

@@ -30,6 +30,7 @@ struct FuseOptions {
   SurfaceOptions surface;        ///< mergeTarget is set from mergeCells: see surfaceOptions
   double mergeCells = 1;         ///< merge grid cells up to this many voxels (0: never)
   double quorum = -1;            ///< consensus: summed confidence needed; -1: autoQuorum
+  int minViews = 2;              ///< consensus: views a consensus needs (1: the quorum alone)
   double edgeAngle = 78;         ///< consensus: beyond this angle from the normal, beside an edge
   double sameDistance = 2.0;     ///< consensus: delta_d, voxels
   double sameAngle = 45.0;       ///< consensus: theta_n, degrees
@@ -96,8 +97,10 @@ bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_
 double routeReach(const FuseOptions& options);
 
 /// Consensus or naive distances near the surface of every local brick, from field.scans (all
-/// scans, or the triangles routed to this rank within routeReach of its bricks).
-EvaluationStats evaluateClosestSurfaceField(const FuseOptions& options, FusedField& field);
+/// scans, or the triangles routed to this rank within routeReach of its bricks). Registration
+/// fields pass minViews 1: a scan is registered against what any placed view saw.
+EvaluationStats evaluateClosestSurfaceField(const FuseOptions& options, FusedField& field,
+                                            int minViews);
 
 /// True when the field can be built from streamed scans (no rank holds them all): any method
 /// at the .conf poses.
