@@ -166,7 +166,10 @@ void PrismIntegrator::cutSlabs() {
       std::nth_element(mids.begin(), at, mids.end());
       cut = std::max(from, *at);
     }
-    slabs_[k].zLo = from, slabs_[k].zHi = cut - 1;
+    if (cut > from)
+      slabs_[k].zLo = from, slabs_[k].zHi = cut - 1;
+    else
+      slabs_[k].zLo = 0, slabs_[k].zHi = -1;  // empty (no prisms here, or a repeated quantile)
     from = cut;
   }
   slabs_.back().zLo = from, slabs_.back().zHi = std::numeric_limits<int>::max();

@@ -2,6 +2,7 @@
 // force over every triangle and every brick; reader assignment by file size.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <set>
 
 #include "rangefuse/fuse/ScanLoader.h"
@@ -40,6 +41,38 @@ std::set<int> ownersOf(const Prism& p, const BrickLayout& layout) {
         if (at >= 0) owners.insert(layout.ownerOf(at));
       }
   return owners;
+}
+
+TEST(PrismIntegrator, ThreadsGiveTheSingleThreadSumsEvenWithNothingToAdd) {
+  // Rank 1 of 3 owns a third of the bricks; the scan is added twice (two images), then a scan
+  // far from every brick (no prism reaches the rank: every slab but one is empty).
+  const PrismScan scan = wavyScan();
+  const std::vector<PrismScan> one{scan};
+  const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 3);
+  PrismScan far = scan;
+  for (auto& p : far.surface.points) p.z() += 1000;
+  std::vector<VoxelSums> want;
+  IntegrationStats wantStats;
+  for (int threads : {1, 3, 8}) {
+    BrickStore store(layout, 1);
+    PrismIntegrator integrator(store, threads);
+    IntegrationStats total;
+    for (const PrismScan* s : std::vector<const PrismScan*>{&scan, &scan, &far}) {
+      const IntegrationStats st = integrator.addScan(*s);
+      total.prisms += st.prisms;
+      total.voxelUpdates += st.voxelUpdates;
+    }
+    const std::vector<VoxelSums> got(store.sums().begin(), store.sums().end());
+    if (threads == 1) {
+      want = got, wantStats = total;
+      continue;
+    }
+    ASSERT_EQ(got.size(), want.size());
+    EXPECT_EQ(std::memcmp(got.data(), want.data(), got.size() * sizeof(VoxelSums)), 0) << threads;
+    EXPECT_EQ(total.prisms, wantStats.prisms) << threads;
+    EXPECT_EQ(total.voxelUpdates, wantStats.voxelUpdates) << threads;
+  }
+  EXPECT_GT(wantStats.voxelUpdates, 0u);
 }
 
 TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
