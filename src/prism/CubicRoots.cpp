@@ -13,8 +13,14 @@ double evalSlope(const double c[4], double x) {
   return (3 * c[3] * x + 2 * c[2]) * x + c[1];
 }
 
+double evalCurvature(const double c[4], double x) {
+  return 6 * c[3] * x + 2 * c[2];
+}
+
 /// Root of a function monotonic on [a, b] with a sign change: Newton kept inside the
-/// bracket, bisection when it would leave it.
+/// bracket, bisection when it would leave it. Newton stops once the step it would take next,
+/// about f''/(2 f') times the square of this one, is below the tolerance: the same accuracy
+/// as waiting for that step, one evaluation sooner.
 double bracketedRoot(const double c[4], double a, double b, double fa, double start) {
   double x = start;
   for (int it = 0; it < 60; ++it) {
@@ -24,10 +30,14 @@ double bracketedRoot(const double c[4], double a, double b, double fa, double st
       a = x, fa = fx;
     else
       b = x;
-    double slope = evalSlope(c, x);
+    const double slope = evalSlope(c, x), tol = 1e-15 * (1 + std::abs(x));
     double nx = slope != 0 ? x - fx / slope : 0.5 * (a + b);
-    if (!(nx > a && nx < b)) nx = 0.5 * (a + b);
-    if (std::abs(nx - x) <= 1e-15 * (1 + std::abs(x))) return nx;
+    const bool newton = nx > a && nx < b;
+    if (!newton) nx = 0.5 * (a + b);
+    const double step = std::abs(nx - x);
+    if (step <= tol) return nx;
+    if (newton && std::abs(evalCurvature(c, x)) * step * step <= 2 * tol * std::abs(slope))
+      return nx;
     x = nx;
   }
   return x;
@@ -59,6 +69,16 @@ int criticalPoints(const double c[4], double lo, double hi, double out[2]) {
   return m;
 }
 
+/// True when the slope (a quadratic) has one strict sign on [lo, hi]: at both ends and at its
+/// vertex when that lies inside. Cheaper than the critical points (no root).
+bool slopeKeepsSign(const double c[4], double lo, double hi) {
+  const double sLo = evalSlope(c, lo), sHi = evalSlope(c, hi);
+  if (!(sLo * sHi > 0)) return false;
+  if (c[3] == 0) return true;
+  const double vertex = -c[2] / (3 * c[3]);
+  return !(vertex > lo && vertex < hi) || evalSlope(c, vertex) * sLo > 0;
+}
+
 /// The root in [lo, hi] of a cubic known to be monotonic there, if any.
 int monotonicRoot(const double c[4], double lo, double hi, double roots[3]) {
   const double fa = evalCubic(c, lo), fb = evalCubic(c, hi);
@@ -82,6 +102,7 @@ int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) 
   const double r = std::max(std::abs(lo), std::abs(hi));
   if (std::abs(c[1]) > 1.01 * (2 * std::abs(c[2]) * r + 3 * std::abs(c[3]) * r * r))
     return monotonicRoot(c, lo, hi, roots);
+  if (slopeKeepsSign(c, lo, hi)) return monotonicRoot(c, lo, hi, roots);
   double knots[4] = {lo};
   int nk = 1 + criticalPoints(c, lo, hi, knots + 1);
   knots[nk++] = hi;
@@ -95,7 +116,7 @@ int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) 
     else if (fb == 0)
       r = b;
     else if ((fa < 0) != (fb < 0))
-      r = bracketedRoot(c, a, b, fa, 0.5 * (a + b));
+      r = bracketedRoot(c, a, b, fa, a - fa * (b - a) / (fb - fa));  // secant start
     else
       continue;
     if (nr == 0 || r != roots[nr - 1]) roots[nr++] = r;

@@ -50,6 +50,7 @@ PrismRows::PrismRows(const Prism& prism, const VoxelGrid& grid) {
     s.lo -= margin, s.hi += margin;
     s.atRow0 = m.dot(fromP0);
     s.perStep = grid.voxel * m[along];
+    s.perStepInv = s.perStep != 0 ? 1 / s.perStep : 0;
     s.perB = grid.voxel * m[b];
     s.perC = grid.voxel * m[c];
   }
@@ -64,10 +65,11 @@ bool PrismRows::span(int vb, int vc, int& a0, int& a1) const {
       if (at < s.lo || at > s.hi) return false;
       continue;
     }
-    double t0 = (s.lo - at) / s.perStep, t1 = (s.hi - at) / s.perStep;
+    double t0 = (s.lo - at) * s.perStepInv, t1 = (s.hi - at) * s.perStepInv;
     if (t0 > t1) std::swap(t0, t1);
     from = std::max(from, t0);
     to = std::min(to, t1);
+    if (from > to) return false;
   }
   if (!(from <= to)) return false;
   const double pad = 1e-6;  // lattice units: rounding never cuts a voxel the solve would keep

@@ -73,9 +73,10 @@ class PrismRows {
   VoxelIndex lo, hi;            ///< voxels of the prism's box
 
  private:
-  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along).
+  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along);
+  /// perStepInv is 1 / perStep (0 when perStep is), as a product is cheaper than a division.
   struct Slab {
-    double lo, hi, atRow0, perB, perC, perStep;
+    double lo, hi, atRow0, perB, perC, perStep, perStepInv;
   };
   static constexpr int kSlabs = 5;
   Slab slabs_[kSlabs];
