@@ -223,17 +223,14 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   std::vector<size_t> mine;
   for (size_t i = 0; i < conf.scans.size(); ++i)
     if (scans.holds(i)) mine.push_back(i);
-  const size_t batch = static_cast<size_t>(std::max(1, o.threads));
   if (!collectively(comm, [&] {
-        for (size_t first = 0; first < mine.size(); first += batch) {
-          const std::vector<size_t> which(mine.begin() + first,
-                                          mine.begin() + std::min(mine.size(), first + batch));
+        forEachBatch(mine, o.threads, [&](const std::vector<size_t>& which) {
           const auto read = scans.held->readAndOffer(which, o.threads);
           for (size_t k = 0; k < which.size(); ++k) {
             triangles += read[k]->surface.triangles.size();
             if (read[k]->surface.triangles.empty()) empty.push_back(conf.scans[which[k]].path);
           }
-        }
+        });
       }))
     return false;
   if (progress.isRoot())

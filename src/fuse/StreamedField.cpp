@@ -10,6 +10,7 @@
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
 
 namespace rangefuse {
 namespace {
@@ -117,9 +118,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
         for (size_t i = 0; i < conf.scans.size(); ++i)
           if (share.reads(i)) mine.push_back(i);
         // As many scans at a time as the rank has threads: one each.
-        for (size_t first = 0; first < mine.size(); first += threads) {
-          const std::vector<size_t> batch(mine.begin() + first,
-                                          mine.begin() + std::min(mine.size(), first + threads));
+        forEachBatch(mine, threads, [&](const std::vector<size_t>& batch) {
           std::vector<PrismScan> scans = share.read(batch);
           for (size_t k = 0; k < batch.size(); ++k) {
             const size_t i = batch[k];
@@ -130,7 +129,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
             triangles += s.surface.triangles.size();
             share.offer(i, std::move(s));
           }
-        }
+        });
       }))
     return false;
   printWarnings(warnings, comm);

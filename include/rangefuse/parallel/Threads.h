@@ -4,6 +4,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -39,6 +40,15 @@ void parallelFor(size_t n, int threads, Fn&& fn) {
   work();
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
+}
+
+/// Calls fn(batch) for consecutive runs of up to `size` of `items`, in order: work shared by
+/// `size` threads a batch at a time, so that only one batch of results is held at once.
+template <class T, class Fn>
+void forEachBatch(const std::vector<T>& items, size_t size, Fn&& fn) {
+  size = std::max<size_t>(1, size);
+  for (size_t first = 0; first < items.size(); first += size)
+    fn(std::vector<T>(items.begin() + first, items.begin() + std::min(items.size(), first + size)));
 }
 
 }  // namespace rangefuse
