@@ -16,20 +16,21 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
   add("scans", po::value(&o.scans), "scan list (.conf, Stanford bmesh lines)");
   add("voxel", po::value(&o.voxel), "voxel size, in the scans' units");
   add("method", po::value(&o.method)->default_value("prism"),
-      "field: prism (Tubic et al.), consensus (Wheeler et al.) or naive (closest surface)");
+      "field: prism (Tubic et al.), robust (prism samples kept by agreement or free space: "
+      "docs/robust.md), consensus (Wheeler et al.) or naive (closest surface)");
   add("envelope", po::value(&o.envelope)->default_value(3.0), "prism half-thickness, voxels");
   add("quorum", po::value(&o.quorum)->default_value(-1),
       "consensus: summed confidence a consensus surface needs (-1: 2.25 x views / 48)");
   add("min-views", po::value(&o.minViews)->default_value(2),
-      "consensus: views a consensus surface needs besides the quorum, so that one view alone "
+      "consensus and robust: views a surface needs besides the quorum, so that one view alone "
       "never passes where few views make the quorum small (1: the quorum alone)");
   add("edge-angle", po::value(&o.edgeAngle)->default_value(78),
       "consensus: a point whose offset from its surface point is more than this many degrees "
       "from the normal lies beside an open edge and stays unobserved (90: off)");
   add("same-distance", po::value(&o.sameDistance)->default_value(2.0),
-      "consensus: observations within this many voxels may be the same surface");
+      "consensus and robust: observations within this many voxels may be the same surface");
   add("same-angle", po::value(&o.sameAngle)->default_value(45.0),
-      "consensus: ... if their normals differ by at most this many degrees");
+      "consensus and robust: ... if their normals differ by at most this many degrees");
   add("brick", po::value(&o.brick)->default_value(8), "voxels per brick edge");
   add("min-weight", po::value(&o.minWeight)->default_value(0.0f),
       "voxels whose summed confidence is not above this are unobserved");

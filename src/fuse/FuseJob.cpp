@@ -63,8 +63,14 @@ void validateFuseOptions(const FuseOptions& o) {
   if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
   if (!(o.mergeCells >= 0) || !std::isfinite(o.mergeCells))
     throw InputError("--merge-cells must be a number of voxels >= 0 (0: never merge)");
-  if (o.method != "prism" && o.method != "consensus" && o.method != "naive")
-    throw InputError("--method must be prism, consensus or naive, not '" + o.method + "'");
+  if (o.method != "prism" && o.method != "robust" && o.method != "consensus" &&
+      o.method != "naive")
+    throw InputError("--method must be prism, robust, consensus or naive, not '" + o.method +
+                     "'");
+  if (o.method == "robust" && o.registration != "none")
+    throw InputError(
+        "--method robust does not run with --register yet: register with --method prism and "
+        "--poses-out, then fuse those poses with --method robust");
   if (!std::isfinite(o.minWeight)) throw InputError("--min-weight must be finite");
   if (!(o.surface.maxEdgeFactor > 0) || !std::isfinite(o.surface.maxEdgeFactor))
     throw InputError("--max-edge must be positive and finite");
@@ -109,6 +115,7 @@ double closestSurfaceMargin(const FuseOptions& o) {
 SurfaceOptions surfaceOptions(const FuseOptions& o) {
   SurfaceOptions s = o.surface;
   s.mergeTarget = o.mergeCells * o.voxel;
+  s.sightMap = o.method == "robust";
   return s;
 }
 
@@ -276,6 +283,13 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   return true;
 }
 
+namespace {
+/// Consensus and naive: fields from closest-surface queries over routed triangles.
+bool closestSurface(const FuseOptions& o) {
+  return o.method == "consensus" || o.method == "naive";
+}
+}  // namespace
+
 bool streams(const FuseOptions& o) {
   return o.registration == "none";
 }
@@ -287,6 +301,12 @@ std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& fie
   std::string line = o.method + ": " + std::to_string(field.layout.codes.size()) +
                      " bricks, per rank " + perRank(comm, counters.bricks) +
                      "; voxels updated per rank " + perRank(comm, counters.voxelUpdates);
+  if (o.method == "robust") {
+    uint64_t r[3] = {counters.robust.agreed, counters.robust.unopposed, counters.robust.removed};
+    MPI_Allreduce(MPI_IN_PLACE, r, 3, MPI_UINT64_T, MPI_SUM, comm);
+    line += "; voxels agreed " + std::to_string(r[0]) + ", seen by fewer views and unopposed " +
+            std::to_string(r[1]) + ", removed (looked through) " + std::to_string(r[2]);
+  }
   if (field.routedCopies > 0) {
     char routed[160];
     std::snprintf(routed, sizeof routed,
@@ -308,7 +328,10 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.limits = o.limits;
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
   s.threads = o.threads;
-  if (o.method != "prism") s.routeReach = routeReach(o);
+  if (closestSurface(o)) s.routeReach = routeReach(o);
+  if (o.method == "robust")
+    s.robust = HypothesisParams{o.sameDistance * o.voxel, std::cos(o.sameAngle * M_PI / 180),
+                                o.minViews, o.envelope * o.voxel};
   return s;
 }
 
@@ -335,7 +358,7 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   }
   if (!buildStreamedField(streamOptions(o, comm), conf, comm, progress, field, counters))
     return false;
-  if (o.method != "prism" && !collectively(comm, [&] {
+  if (closestSurface(o) && !collectively(comm, [&] {
         const EvaluationStats st = evaluateClosestSurfaceField(o, field, o.minViews);
         counters.evaluatedPoints = st.points;
         counters.voxelUpdates = st.voxels;

@@ -6,6 +6,7 @@
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/surface/GridMerging.h"
 
 namespace rangefuse {
 namespace {
@@ -75,11 +76,24 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
 
 namespace {
 
+/// What the scan saw, on cells of about the merged grid's (the voxel's) scale.
+SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const SurfaceOptions& o) {
+  const double spacing = lateralSpacing(grid);
+  if (grid.pinhole) {
+    const int shortSide = std::min(grid.cols, grid.rows);
+    return SightMap::fromPinholeGrid(
+        grid, o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1);
+  }
+  return SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
+}
+
 PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
                       const InputLimits& limits, double eps) {
   PrismScan s;
-  s.surface = buildScanSurface(io::readRangeGridPly(c.path, limits), Pose{}, options);
+  const RangeGrid grid = io::readRangeGridPly(c.path, limits);
+  s.surface = buildScanSurface(grid, Pose{}, options);
   s.limits = computePrismLimits(s.surface, eps);
+  if (options.sightMap) s.sight = std::make_shared<SightMap>(sightMapOf(grid, s.surface, options));
   return s;
 }
 
@@ -187,6 +201,10 @@ namespace rangefuse {
 PrismScan placeScan(PrismScan s, const Pose& pose) {
   for (auto& p : s.surface.points) p = pose.apply(p);
   for (auto& n : s.surface.normals) n = pose.rotate(n);
+  if (s.sight) {
+    s.sight = std::make_shared<SightMap>(*s.sight);  // copies of the scan may sit elsewhere
+    s.sight->place(pose);
+  }
   return s;
 }
 

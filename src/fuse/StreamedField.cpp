@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iterator>
 #include <map>
+#include <optional>
 
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/FaultInjection.h"
@@ -108,9 +109,33 @@ void printWarnings(const std::map<size_t, std::string>& mine, MPI_Comm comm) {
   for (const auto& [i, w] : sorted) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
 }
 
+/// The sight maps of robust fusion: this rank's, then every scan's once shared.
+struct SightMaps {
+  std::map<size_t, SightMap> mine;
+  std::vector<SightMap> all;
+
+  /// Collective: every rank's maps, in scan order, into all.
+  void share(size_t scans, MPI_Comm comm) {
+    std::vector<char> bytes;
+    for (const auto& [i, m] : mine) {
+      const uint64_t index = i;
+      mpi::pack(bytes, &index, 1);
+      m.pack(bytes);
+    }
+    mine.clear();
+    all.assign(scans, SightMap{});
+    for (const auto& part : mpi::allgatherBytes(bytes, comm))
+      for (size_t pos = 0; pos < part.size();) {
+        uint64_t index;
+        mpi::unpack(part, pos, &index, 1);
+        all[index] = SightMap::unpack(part, pos);
+      }
+  }
+};
+
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
 bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
-               Eigen::AlignedBox3d& box, uint64_t& triangles) {
+               Eigen::AlignedBox3d& box, uint64_t& triangles, SightMaps* sights) {
   std::map<size_t, std::string> warnings;
   triangles = 0;
   if (!collectively(comm, [&] {
@@ -127,6 +152,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
               warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
             box.extend(pointBounds(s));
             triangles += s.surface.triangles.size();
+            if (sights && s.sight) sights->mine.emplace(i, *s.sight);
             share.offer(i, std::move(s));
           }
         });
@@ -157,12 +183,12 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
 bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, int threads,
-                    MPI_Comm comm, Progress& progress, FusedField& field, RankCounters& counters,
-                    RoutingStats& routing) {
+                    SurfaceHypotheses* hypotheses, MPI_Comm comm, Progress& progress,
+                    FusedField& field, RankCounters& counters, RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(conf.scans.size());
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
-  PrismIntegrator integrator(store, threads);
+  PrismIntegrator integrator(store, threads, hypotheses);
   routing.bytes.assign(ranks, 0);
   // One rank owns every brick: its scans go to the integrator whole, and the copies it would
   // have routed are the prisms the integrator finds reaching a brick.
@@ -231,7 +257,12 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   ScanShare share(o, conf, assignReaders(fileSizes(conf), ranks), me);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
-  if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles)) return false;
+  std::optional<SightMaps> sights;
+  if (o.robust) sights.emplace();
+  if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles,
+                 sights ? &*sights : nullptr))
+    return false;
+  if (sights) sights->share(conf.scans.size(), comm);
   malloc_trim(0);  // what reading freed goes back to the system before the field is allocated
   progress.stage("read", std::to_string(conf.scans.size()) + " scans, " +
                              std::to_string(triangles) + " triangles; scans kept per rank " +
@@ -247,8 +278,14 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
   RoutingStats routing;
-  if (!integrateShare(conf, share, o.routeReach, o.threads, comm, progress, field, counters,
-                      routing))
+  std::optional<SurfaceHypotheses> hypotheses;
+  if (o.robust) hypotheses.emplace(field.store->sums().size(), *o.robust);
+  if (!integrateShare(conf, share, o.routeReach, o.threads, hypotheses ? &*hypotheses : nullptr,
+                      comm, progress, field, counters, routing))
+    return false;
+  if (hypotheses && !collectively(comm, [&] {
+        counters.robust = hypotheses->resolve(*field.store, sights->all, o.threads);
+      }))
     return false;
   uint64_t sent = 0;
   for (int r = 0; r < ranks; ++r) sent += r == me ? 0 : routing.bytes[r];

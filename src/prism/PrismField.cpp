@@ -79,7 +79,11 @@ BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& gri
 }
 
 PrismIntegrator::PrismIntegrator(BrickStore& store, int threads)
+    : PrismIntegrator(store, threads, nullptr) {}
+
+PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypotheses* hypotheses)
     : store_(store),
+      hypotheses_(hypotheses),
       scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}),
       slabs_(std::max(1, threads)) {}
 
@@ -144,6 +148,11 @@ void PrismIntegrator::accumulate(Slab& slab) {
   auto& sums = store_.sums();
   for (size_t off : slab.touched) {
     Sample& s = scratch_[off];
+    if (hypotheses_) {
+      hypotheses_->add(off, s.d, s.w, s.f);
+      s.d = kEmpty;
+      continue;
+    }
     VoxelSums& acc = sums[off];
     acc.wd += s.w * s.d;
     acc.w += s.w;

@@ -82,6 +82,7 @@ struct RankCounters {
   uint64_t bricks = 0, prisms = 0, voxelUpdates = 0, haloBricks = 0, triangles = 0;
   uint64_t evaluatedPoints = 0;  ///< consensus and naive: distance evaluations
   uint64_t routedBytes = 0;      ///< streamed: scan bytes this rank sent to other ranks
+  HypothesisStats robust;        ///< robust: how this rank's voxels were decided
 };
 
 /// Collective: reads the scans (each rank a share, then shared). False when any rank failed

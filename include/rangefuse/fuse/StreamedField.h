@@ -6,9 +6,11 @@
 #include <mpi.h>
 
 #include <functional>
+#include <optional>
 
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/robust/SurfaceHypotheses.h"
 
 namespace rangefuse {
 
@@ -18,12 +20,14 @@ struct StreamOptions {
   int brick = 8;
   SurfaceOptions surface;
   InputLimits limits;
-  uint64_t keepBytes = 0;
-  int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)  ///<
-                    ///< prepared scans a rank keeps between passes; the rest are re-read
+  uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes; the rest are re-read
+  int threads = 1;         ///< threads of this rank (reading scans, adding them to the field)
   /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
   /// scan's triangles within this reach of a local brick kept in FusedField::scans.
   double routeReach = 0;
+  /// Set: robust fusion. Each reader also maps what its scans saw (SightMap), every rank gets
+  /// every map, and images' samples become hypotheses resolved once all are in.
+  std::optional<HypothesisParams> robust;
   /// Called on every rank once the bricks are planned, before the field pass (may be null).
   std::function<void(const BrickLayout&)> planned;
 };

@@ -2,10 +2,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/prism/Prism.h"
+#include "rangefuse/robust/SightMap.h"
+#include "rangefuse/robust/SurfaceHypotheses.h"
 #include "rangefuse/surface/ScanSurface.h"
 #include "rangefuse/volume/BrickPlanning.h"
 #include "rangefuse/volume/BrickStore.h"
@@ -21,6 +24,7 @@ PrismLimits computePrismLimits(const ScanSurface& scan, double eps);
 struct PrismScan {
   ScanSurface surface;
   PrismLimits limits;
+  std::shared_ptr<SightMap> sight;  ///< what the scan saw (robust fusion; else null)
 };
 
 /// The prism of triangle `t` of a scan.
@@ -62,6 +66,8 @@ struct IntegrationStats {
 class PrismIntegrator {
  public:
   explicit PrismIntegrator(BrickStore& store, int threads = 1);
+  /// Images' samples go to `hypotheses` (robust fusion) instead of the store's sums.
+  PrismIntegrator(BrickStore& store, int threads, SurfaceHypotheses* hypotheses);
   IntegrationStats addScan(const PrismScan& scan);
 
  private:
@@ -85,6 +91,7 @@ class PrismIntegrator {
   void accumulate(Slab& slab);
 
   BrickStore& store_;
+  SurfaceHypotheses* hypotheses_ = nullptr;
   std::vector<Sample, HugePageAllocator<Sample>> scratch_;
   std::vector<Slab> slabs_;
   std::vector<Reach> reach_;  ///< per triangle of the scan being added

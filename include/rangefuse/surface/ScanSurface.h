@@ -17,6 +17,7 @@ struct SurfaceOptions {
   /// Merge blocks of k x k grid cells while k cells span no more than this (world units; 0:
   /// never), so that dense grids reach the field at about the voxel's scale.
   double mergeTarget = 0;
+  bool sightMap = false;  ///< also map what the scan saw along its lines of sight (robust)
 };
 
 /// One scan as a triangle surface in world coordinates. Normals are unit, point toward

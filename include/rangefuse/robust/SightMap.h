@@ -1,0 +1,60 @@
+// What a scan saw along its lines of sight: the depth of what it hit on a raster, so that any
+// point can be asked whether the scan looked through it (free-space evidence).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "rangefuse/core/Pose.h"
+#include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+namespace rangefuse {
+
+/// A scan's surface depth along its lines of sight: rays through a pinhole at the scan frame's
+/// origin looking toward -z, or parallel to -z (near-orthographic range grids). Depth is -z,
+/// the nearest per cell.
+class SightMap {
+ public:
+  SightMap() = default;
+
+  /// A pinhole grid's own pixels, in blocks of k x k (scan frame): a block where the scanner
+  /// got no return saw through everything (free to infinity); outside the frame: unknown.
+  static SightMap fromPinholeGrid(const RangeGrid& grid, int k);
+  /// A near-orthographic scan's triangles (scan frame) on cells `cell` wide: cells no
+  /// triangle covers are unknown (such grids do not say where their frame ends).
+  static SightMap fromSurface(const ScanSurface& surface, double cell);
+
+  /// The same map for the scan placed at `pose` (scan to world).
+  void place(const Pose& pose);
+
+  /// How far p (world) lies in front of what the scan saw along its line of sight, against the
+  /// nearest depth of the 3 x 3 cells around p's ray (so only clear evidence counts): +inf
+  /// where they all saw nothing, NaN where any is unknown.
+  double clearance(const Eigen::Vector3d& p) const;
+
+  /// Serialised form, for sending to other ranks.
+  void pack(std::vector<char>& out) const;
+  static SightMap unpack(const std::vector<char>& in, size_t& pos);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  /// Raster coordinates (cells) and depth of a point in the scan frame.
+  Eigen::Vector3d project(const Eigen::Vector3d& q) const;
+  void rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+  void allocate(int width, int height, float fill);
+  float& depthAt(int x, int y) { return depth_[static_cast<size_t>(y) * width_ + x]; }
+  float depthAt(int x, int y) const { return depth_[static_cast<size_t>(y) * width_ + x]; }
+
+  Pose toScan_;  ///< world -> scan frame
+  bool pinhole_ = false;
+  /// Cell coordinates: (au X + bu, av Y + bv), X, Y = x, y (orthographic) or x, y / depth.
+  double au_ = 1, bu_ = 0, av_ = 1, bv_ = 0;
+  int width_ = 0, height_ = 0;
+  std::vector<float> depth_;  ///< NaN: unknown; +inf: saw nothing
+};
+
+}  // namespace rangefuse

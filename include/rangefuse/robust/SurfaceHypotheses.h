@@ -1,0 +1,59 @@
+// Robust fusion at prism cost: per voxel, a few surface hypotheses built from the images'
+// prism samples in scan order; a hypothesis stays if enough images agree on it, or if no other
+// image looked through it (docs/robust.md).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rangefuse/core/HugePages.h"
+#include "rangefuse/robust/SightMap.h"
+#include "rangefuse/volume/BrickStore.h"
+
+namespace rangefuse {
+
+struct HypothesisParams {
+  double sameDistance = 0;   ///< samples this close in d (world units) are one surface ...
+  double sameCosine = 0.7;   ///< ... when their gradients agree to this cosine
+  int minViews = 2;          ///< images that make a hypothesis stand on agreement alone
+  double freeMargin = 0;     ///< an image looked through a point this far before its surface
+};
+
+/// What resolving decided, over this rank's voxels.
+struct HypothesisStats {
+  uint64_t agreed = 0;      ///< voxels with a hypothesis minViews images or more agree on
+  uint64_t unopposed = 0;   ///< voxels with none, but one that no other image looked through
+  uint64_t removed = 0;     ///< voxels left empty: every hypothesis was looked through
+};
+
+/// Up to kSlots hypotheses per voxel of a brick store, each a weighted sum like VoxelSums.
+class SurfaceHypotheses {
+ public:
+  static constexpr int kSlots = 3;
+
+  SurfaceHypotheses(size_t voxels, const HypothesisParams& params);
+
+  /// One image's sample at voxel `at` (images come in scan order): joins the hypothesis it
+  /// agrees with, or opens one; with every slot taken it replaces the lightest hypothesis if it
+  /// weighs more. Samples of weight 0 carry no evidence and are skipped.
+  void add(size_t at, float d, float w, const float f[3]);
+
+  /// Writes into the store's sums, per voxel, the sum of the hypotheses that stand: those
+  /// minViews images agree on, and those fewer saw but no other image looked through. Sums
+  /// stay empty where none stands. `sights`: every image's map.
+  /// Bricks are shared among `threads`.
+  HypothesisStats resolve(BrickStore& store, const std::vector<SightMap>& sights,
+                          int threads = 1) const;
+
+ private:
+  HypothesisStats resolveBrick(BrickStore& store, size_t b,
+                               const std::vector<SightMap>& sights) const;
+  /// True when no image looked through the hypothesis' surface point (free space).
+  bool unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
+                 const std::vector<SightMap>& sights) const;
+
+  HypothesisParams params_;
+  std::vector<VoxelSums, HugePageAllocator<VoxelSums>> slots_;  ///< kSlots per voxel
+};
+
+}  // namespace rangefuse

@@ -1,0 +1,140 @@
+#include "rangefuse/robust/SightMap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNothing = std::numeric_limits<float>::infinity();
+constexpr int kMaxSide = 8192;  // cells along a raster side; a coarser cell beyond that
+
+Pose inverse(const Pose& p) {
+  Pose inv;
+  inv.R = p.R.transpose();
+  inv.t = -(inv.R * p.t);
+  return inv;
+}
+
+}  // namespace
+
+void SightMap::allocate(int width, int height, float fill) {
+  width_ = width, height_ = height;
+  depth_.assign(static_cast<size_t>(width) * height, fill);
+}
+
+Eigen::Vector3d SightMap::project(const Eigen::Vector3d& q) const {
+  const double depth = -q.z();
+  const double X = pinhole_ ? q.x() / depth : q.x(), Y = pinhole_ ? q.y() / depth : q.y();
+  return {au_ * X + bu_, av_ * Y + bv_, depth};
+}
+
+SightMap SightMap::fromPinholeGrid(const RangeGrid& grid, int k) {
+  SightMap m;
+  m.pinhole_ = true;
+  k = std::max(1, k);
+  // Pixel c = cx + fx x / depth has its centre at integer c; block C holds [k C, k C + k).
+  const Pinhole& p = *grid.pinhole;
+  m.au_ = p.fx / k, m.bu_ = (p.cx + 0.5) / k;
+  m.av_ = p.fy / k, m.bv_ = (p.cy + 0.5) / k;
+  m.allocate((grid.cols + k - 1) / k, (grid.rows + k - 1) / k, kNothing);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const int32_t i = grid.at(r, c);
+      if (i < 0) continue;
+      float& d = m.depthAt(c / k, r / k);
+      d = std::min(d, static_cast<float>(-grid.points[i].z()));
+    }
+  return m;
+}
+
+SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
+  SightMap m;
+  if (surface.points.empty() || !(cell > 0)) return m;
+  Eigen::AlignedBox2d box;
+  for (const auto& q : surface.points) box.extend(q.head<2>());
+  cell = std::max(cell, box.sizes().maxCoeff() / (kMaxSide - 4));
+  m.au_ = m.av_ = 1 / cell;
+  m.bu_ = 2 - box.min().x() / cell, m.bv_ = 2 - box.min().y() / cell;
+  m.allocate(static_cast<int>(std::ceil(box.sizes().x() / cell)) + 4,
+             static_cast<int>(std::ceil(box.sizes().y() / cell)) + 4, kUnknown);
+  const auto& v = surface.points;
+  for (const Triangle& t : surface.triangles)
+    m.rasterize(m.project(v[t[0]]), m.project(v[t[1]]), m.project(v[t[2]]));
+  return m;
+}
+
+void SightMap::place(const Pose& pose) { toScan_ = inverse(pose); }
+
+void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         const Eigen::Vector3d& c) {
+  auto keepNearest = [&](int x, int y, double depth) {
+    float& d = depthAt(x, y);
+    if (!(d <= depth)) d = static_cast<float>(depth);  // NaN (unknown) or farther
+  };
+  // Each corner marks its own cell, so that triangles smaller than a cell leave no gaps.
+  for (const auto* p : {&a, &b, &c})
+    keepNearest(static_cast<int>(p->x()), static_cast<int>(p->y()), p->z());
+  const double area = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+  if (!(std::abs(area) > 0)) return;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
+  const int x1 = std::min(width_ - 1, static_cast<int>(std::max({a.x(), b.x(), c.x()})));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
+  const int y1 = std::min(height_ - 1, static_cast<int>(std::max({a.y(), b.y(), c.y()})));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const double px = x + 0.5, py = y + 0.5;  // the cell's centre
+      const double wa = ((b.x() - px) * (c.y() - py) - (c.x() - px) * (b.y() - py)) / area;
+      const double wb = ((c.x() - px) * (a.y() - py) - (a.x() - px) * (c.y() - py)) / area;
+      const double wc = 1 - wa - wb;
+      if (wa < 0 || wb < 0 || wc < 0) continue;
+      keepNearest(x, y, wa * a.z() + wb * b.z() + wc * c.z());
+    }
+}
+
+double SightMap::clearance(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d q = toScan_.apply(p);
+  if (pinhole_ && !(q.z() < 0)) return NAN;  // behind the sensor
+  const Eigen::Vector3d r = project(q);
+  if (!(r.x() >= 1 && r.y() >= 1 && r.x() < width_ - 1 && r.y() < height_ - 1)) return NAN;
+  const int x = static_cast<int>(r.x()), y = static_cast<int>(r.y());
+  float nearest = kNothing;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const float d = depthAt(x + dx, y + dy);
+      if (std::isnan(d)) return NAN;
+      nearest = std::min(nearest, d);
+    }
+  return nearest - r.z();
+}
+
+void SightMap::pack(std::vector<char>& out) const {
+  double head[17] = {pinhole_ ? 1.0 : 0.0, au_, bu_, av_, bv_};
+  for (int i = 0; i < 9; ++i) head[5 + i] = toScan_.R(i / 3, i % 3);
+  for (int i = 0; i < 3; ++i) head[14 + i] = toScan_.t[i];
+  const int32_t size[2] = {width_, height_};
+  mpi::pack(out, head, 17);
+  mpi::pack(out, size, 2);
+  mpi::pack(out, depth_.data(), depth_.size());
+}
+
+SightMap SightMap::unpack(const std::vector<char>& in, size_t& pos) {
+  double head[17];
+  int32_t size[2];
+  mpi::unpack(in, pos, head, 17);
+  mpi::unpack(in, pos, size, 2);
+  SightMap m;
+  m.pinhole_ = head[0] != 0;
+  m.au_ = head[1], m.bu_ = head[2], m.av_ = head[3], m.bv_ = head[4];
+  for (int i = 0; i < 9; ++i) m.toScan_.R(i / 3, i % 3) = head[5 + i];
+  for (int i = 0; i < 3; ++i) m.toScan_.t[i] = head[14 + i];
+  m.allocate(size[0], size[1], kUnknown);
+  mpi::unpack(in, pos, m.depth_.data(), m.depth_.size());
+  return m;
+}
+
+}  // namespace rangefuse

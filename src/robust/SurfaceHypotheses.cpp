@@ -1,0 +1,116 @@
+#include "rangefuse/robust/SurfaceHypotheses.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rangefuse/parallel/Threads.h"
+#include "rangefuse/volume/BrickLayout.h"
+
+namespace rangefuse {
+namespace {
+
+bool agrees(const VoxelSums& h, float d, const float f[3], const HypothesisParams& p) {
+  if (std::abs(h.wd / h.w - d) > p.sameDistance) return false;
+  const double dot = h.wf[0] * f[0] + h.wf[1] * f[1] + h.wf[2] * f[2];
+  const double norm = std::sqrt(h.wf[0] * h.wf[0] + h.wf[1] * h.wf[1] + h.wf[2] * h.wf[2]);
+  return dot >= p.sameCosine * norm;  // f is unit
+}
+
+/// The same sums, in the same order, as the prism integrator's accumulate.
+void addTo(VoxelSums& h, float d, float w, const float f[3]) {
+  h.wd += w * d;
+  h.w += w;
+  for (int k = 0; k < 3; ++k) h.wf[k] += w * f[k];
+  h.images += 1;
+}
+
+}  // namespace
+
+SurfaceHypotheses::SurfaceHypotheses(size_t voxels, const HypothesisParams& params)
+    : params_(params), slots_(voxels * kSlots) {}
+
+void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3]) {
+  if (!(w > 0)) return;
+  VoxelSums* h = &slots_[at * kSlots];
+  int lightest = 0;
+  for (int k = 0; k < kSlots; ++k) {
+    if (h[k].images == 0) {
+      addTo(h[k], d, w, f);
+      return;
+    }
+    if (agrees(h[k], d, f, params_)) {
+      addTo(h[k], d, w, f);
+      return;
+    }
+    if (h[k].w < h[lightest].w) lightest = k;
+  }
+  if (w > h[lightest].w) {
+    h[lightest] = VoxelSums{};
+    addTo(h[lightest], d, w, f);
+  }
+}
+
+bool SurfaceHypotheses::unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
+                                  const std::vector<SightMap>& sights) const {
+  const Eigen::Vector3d f(h.wf[0], h.wf[1], h.wf[2]);
+  const Eigen::Vector3d surface = centre - static_cast<double>(h.wd / h.w) * f.normalized();
+  for (const SightMap& s : sights)
+    if (s.clearance(surface) > params_.freeMargin) return false;
+  return true;
+}
+
+HypothesisStats SurfaceHypotheses::resolveBrick(BrickStore& store, size_t b,
+                                                const std::vector<SightMap>& sights) const {
+  HypothesisStats stats;
+  const VoxelGrid& grid = store.grid();
+  const int B = grid.brick;
+  const size_t perBrick = store.voxelsPerBrick();
+  const BrickCoord brick = mortonDecode(store.code(b));
+  for (size_t l = 0; l < perBrick; ++l) {
+    const size_t at = b * perBrick + l;
+    const VoxelSums* h = &slots_[at * kSlots];
+    if (h[0].images == 0) continue;
+    const VoxelIndex v = brick * B + VoxelIndex(static_cast<int>(l % B), static_cast<int>(l / B % B),
+                                                static_cast<int>(l / B / B));
+    // Every observation that stands is kept, summed as the prism field sums them.
+    VoxelSums kept;
+    bool agreed = false, any = false;
+    for (int k = 0; k < kSlots && h[k].images > 0; ++k) {
+      const bool enough = h[k].images >= params_.minViews;
+      if (!enough && !unopposed(h[k], grid.centre(v), sights)) continue;
+      agreed |= enough, any = true;
+      if (k == 0) {
+        kept = h[0];
+        continue;
+      }
+      kept.wd += h[k].wd, kept.w += h[k].w, kept.images += h[k].images;
+      for (int a = 0; a < 3; ++a) kept.wf[a] += h[k].wf[a];
+    }
+    if (!any) {
+      ++stats.removed;
+      continue;
+    }
+    ++(agreed ? stats.agreed : stats.unopposed);
+    store.sums()[at] = kept;
+  }
+  return stats;
+}
+
+HypothesisStats SurfaceHypotheses::resolve(BrickStore& store, const std::vector<SightMap>& sights,
+                                           int threads) const {
+  const size_t bricks = store.brickCount();
+  const size_t parts = std::min<size_t>(bricks, 16 * std::max(1, threads));
+  std::vector<HypothesisStats> part(parts);
+  parallelFor(parts, threads, [&](size_t k) {
+    for (size_t b = bricks * k / parts; b < bricks * (k + 1) / parts; ++b) {
+      const HypothesisStats s = resolveBrick(store, b, sights);
+      part[k].agreed += s.agreed, part[k].unopposed += s.unopposed, part[k].removed += s.removed;
+    }
+  });
+  HypothesisStats stats;
+  for (const auto& s : part)
+    stats.agreed += s.agreed, stats.unopposed += s.unopposed, stats.removed += s.removed;
+  return stats;
+}
+
+}  // namespace rangefuse
