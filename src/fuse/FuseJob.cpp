@@ -63,10 +63,8 @@ void validateFuseOptions(const FuseOptions& o) {
   if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
   if (!(o.mergeCells >= 0) || !std::isfinite(o.mergeCells))
     throw InputError("--merge-cells must be a number of voxels >= 0 (0: never merge)");
-  if (o.method != "prism" && o.method != "robust" && o.method != "consensus" &&
-      o.method != "naive")
-    throw InputError("--method must be prism, robust, consensus or naive, not '" + o.method +
-                     "'");
+  if (o.method != "prism" && o.method != "robust" && o.method != "consensus" && o.method != "naive")
+    throw InputError("--method must be prism, robust, consensus or naive, not '" + o.method + "'");
   if (o.method == "robust" && o.registration != "none")
     throw InputError(
         "--method robust does not run with --register yet: register with --method prism and "

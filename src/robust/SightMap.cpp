@@ -68,7 +68,9 @@ SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
   return m;
 }
 
-void SightMap::place(const Pose& pose) { toScan_ = inverse(pose); }
+void SightMap::place(const Pose& pose) {
+  toScan_ = inverse(pose);
+}
 
 void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                          const Eigen::Vector3d& c) {

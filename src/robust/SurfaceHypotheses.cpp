@@ -70,8 +70,9 @@ HypothesisStats SurfaceHypotheses::resolveBrick(BrickStore& store, size_t b,
     const size_t at = b * perBrick + l;
     const VoxelSums* h = &slots_[at * kSlots];
     if (h[0].images == 0) continue;
-    const VoxelIndex v = brick * B + VoxelIndex(static_cast<int>(l % B), static_cast<int>(l / B % B),
-                                                static_cast<int>(l / B / B));
+    const VoxelIndex v =
+        brick * B + VoxelIndex(static_cast<int>(l % B), static_cast<int>(l / B % B),
+                               static_cast<int>(l / B / B));
     // Every observation that stands is kept, summed as the prism field sums them.
     VoxelSums kept;
     bool agreed = false, any = false;

@@ -4,7 +4,7 @@ set -euo pipefail
 bin=$1 data=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-for method in prism consensus; do
+for method in prism robust consensus; do
   voxel=0.0015
   [[ $method == consensus ]] && voxel=0.0025
   for n in 1 2 3; do
@@ -15,6 +15,16 @@ for method in prism consensus; do
   cmp "$tmp/mesh1.ply" "$tmp/mesh3.ply"
   echo "$method: 1, 2 and 3 ranks give identical meshes ($(stat -c %s "$tmp/mesh1.ply") bytes)"
 done
+# Robust fusion of pinhole scans with a patch and outliers (free space from the sight maps).
+"$bin" scan --shape composite --views 6 --width 120 --height 90 --voxel 1 --noise 0.5 \
+  --outliers 0.01 --patches 1 --out "$tmp/patchy" >/dev/null
+for n in 1 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/patchy/truth.conf" --voxel 1 \
+    --method robust --threads 2 --out "$tmp/robust$n.ply" >"$tmp/log$n"
+done
+cmp "$tmp/robust1.ply" "$tmp/robust2.ply"
+cmp "$tmp/robust1.ply" "$tmp/robust3.ply"
+echo "robust (pinhole, patch): 1, 2 and 3 ranks give identical meshes"
 # Registration: identical poses and meshes too.
 "$bin" scan --shape composite --views 6 --width 120 --height 90 --voxel 1 --rot-deg 2 \
   --trans-vox 2 --out "$tmp/synth" >/dev/null

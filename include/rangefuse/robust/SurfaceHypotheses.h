@@ -13,17 +13,17 @@
 namespace rangefuse {
 
 struct HypothesisParams {
-  double sameDistance = 0;   ///< samples this close in d (world units) are one surface ...
-  double sameCosine = 0.7;   ///< ... when their gradients agree to this cosine
-  int minViews = 2;          ///< images that make a hypothesis stand on agreement alone
-  double freeMargin = 0;     ///< an image looked through a point this far before its surface
+  double sameDistance = 0;  ///< samples this close in d (world units) are one surface ...
+  double sameCosine = 0.7;  ///< ... when their gradients agree to this cosine
+  int minViews = 2;         ///< images that make a hypothesis stand on agreement alone
+  double freeMargin = 0;    ///< an image looked through a point this far before its surface
 };
 
 /// What resolving decided, over this rank's voxels.
 struct HypothesisStats {
-  uint64_t agreed = 0;      ///< voxels with a hypothesis minViews images or more agree on
-  uint64_t unopposed = 0;   ///< voxels with none, but one that no other image looked through
-  uint64_t removed = 0;     ///< voxels left empty: every hypothesis was looked through
+  uint64_t agreed = 0;     ///< voxels with a hypothesis minViews images or more agree on
+  uint64_t unopposed = 0;  ///< voxels with none, but one that no other image looked through
+  uint64_t removed = 0;    ///< voxels left empty: every hypothesis was looked through
 };
 
 /// Up to kSlots hypotheses per voxel of a brick store, each a weighted sum like VoxelSums.

@@ -1,0 +1,122 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rangefuse/robust/SightMap.h"
+#include "rangefuse/robust/SurfaceHypotheses.h"
+
+namespace rangefuse {
+namespace {
+
+/// A pinhole grid seeing the plane z = -10 except in the pixels with c >= holeFrom.
+RangeGrid planeGrid(int holeFrom) {
+  RangeGrid g;
+  g.cols = 40, g.rows = 30;
+  g.pinhole = Pinhole{20, 20, 19.5, 14.5};
+  g.cell.assign(g.cols * g.rows, -1);
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < holeFrom; ++c) {
+      const double x = (c - 19.5) / 20, y = (r - 14.5) / 20;
+      g.cell[r * g.cols + c] = static_cast<int32_t>(g.points.size());
+      g.points.emplace_back(10 * x, 10 * y, -10);
+    }
+  return g;
+}
+
+TEST(SightMap, PinholeClearanceIsTheDepthInFrontOfThePlane) {
+  for (int k : {1, 2}) {
+    SightMap m = SightMap::fromPinholeGrid(planeGrid(40), k);
+    Pose pose;
+    pose.t = Eigen::Vector3d(5, -3, 2);  // placed: queries are in the world
+    m.place(pose);
+    const Eigen::Vector3d ray(0.1, -0.05, -1);
+    EXPECT_NEAR(m.clearance(pose.t + 4 * ray), 6, 1e-5);
+    EXPECT_NEAR(m.clearance(pose.t + 12 * ray), -2, 1e-5);
+    EXPECT_TRUE(std::isnan(m.clearance(pose.t + 4 * Eigen::Vector3d(3, 0, -1))));  // off frame
+    EXPECT_TRUE(std::isnan(m.clearance(pose.t + Eigen::Vector3d(0, 0, 4))));       // behind
+  }
+}
+
+TEST(SightMap, NoReturnSawThroughEverything) {
+  const SightMap m = SightMap::fromPinholeGrid(planeGrid(20), 1);
+  EXPECT_EQ(m.clearance(Eigen::Vector3d(0.25 * 5, 0, -5)), INFINITY);    // column 24: no return
+  EXPECT_NEAR(m.clearance(Eigen::Vector3d(-0.25 * 5, 0, -5)), 5, 1e-5);  // column 14: plane
+  // Beside the edge of what was seen the nearest return counts: no free-space claim.
+  EXPECT_LT(m.clearance(Eigen::Vector3d(0.0125 * 5, 0, -5)), 6);
+}
+
+TEST(SightMap, OrthographicSurfaceAndUnknownOutsideIt) {
+  ScanSurface s;  // the square [0, 10]^2 at z = 2, seen from +z
+  s.points = {{0, 0, 2}, {10, 0, 2}, {10, 10, 2}, {0, 10, 2}};
+  s.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const SightMap m = SightMap::fromSurface(s, 0.5);
+  EXPECT_NEAR(m.clearance(Eigen::Vector3d(5, 5, 6)), 4, 1e-6);
+  EXPECT_NEAR(m.clearance(Eigen::Vector3d(3, 7, 1)), -1, 1e-6);
+  EXPECT_TRUE(std::isnan(m.clearance(Eigen::Vector3d(20, 5, 6))));
+}
+
+TEST(SightMap, PackUnpackRoundTrip) {
+  SightMap m = SightMap::fromPinholeGrid(planeGrid(30), 2);
+  Pose pose;
+  pose.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  m.place(pose);
+  std::vector<char> bytes;
+  m.pack(bytes);
+  size_t pos = 0;
+  const SightMap back = SightMap::unpack(bytes, pos);
+  EXPECT_EQ(pos, bytes.size());
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1, 0, -4), Eigen::Vector3d(-2, 1, -7)})
+    EXPECT_EQ(back.clearance(pose.apply(p)), m.clearance(pose.apply(p)));
+}
+
+/// One brick of 2^3 voxels at the origin, voxel 1: centres are their indices.
+BrickStore tinyStore() {
+  BrickLayout layout;
+  layout.grid.voxel = 1, layout.grid.brick = 2;
+  layout.codes = {mortonEncode(BrickCoord(0, 0, 0))};
+  layout.work = {1};
+  layout.rankStart = {0, 1};
+  return BrickStore(layout, 0);
+}
+
+TEST(SurfaceHypotheses, AgreementStandsAndALoneSurfaceGoesOnlyWhereSomeoneLookedThrough) {
+  const float up[3] = {0, 0, 1}, down[3] = {0, 0, -1};
+  SurfaceHypotheses h(8, HypothesisParams{2, 0.7, 2, 3});
+  // Voxel 0 (centre 0): three images agree, summed as the prism field sums them; one image
+  // saw an opposite surface, at z = -1.5. Voxel 1 (centre (1, 0, 0)): one image, at z = -0.3.
+  VoxelSums agreed;
+  for (float d : {0.25f, 0.5f, 0.75f}) {
+    h.add(0, d, 0.5f, up);
+    agreed.wd += 0.5f * d, agreed.w += 0.5f, agreed.wf[2] += 0.5f * up[2], agreed.images += 1;
+  }
+  h.add(0, -1.5f, 0.9f, down);
+  h.add(1, 0.3f, 0.8f, up);
+  h.add(3, 0.3f, 0.0f, up);  // no weight: no evidence, the voxel stays empty
+
+  BrickStore alone = tinyStore();  // no other image: everything stands
+  HypothesisStats s = h.resolve(alone, {});
+  EXPECT_EQ(s.agreed, 1u);
+  EXPECT_EQ(s.unopposed, 1u);
+  EXPECT_EQ(s.removed, 0u);
+  EXPECT_EQ(alone.sums()[0].wd, agreed.wd + 0.9f * -1.5f);
+  EXPECT_EQ(alone.sums()[0].images, 4);
+  EXPECT_EQ(alone.sums()[3].images, 0);
+
+  // A sensor 5 above, looking down at its plane 10 away (z = -5): it looked 3.5 past the lone
+  // surface of voxel 0 and 4.7 past voxel 1's, more than the margin of 3.
+  SightMap sight = SightMap::fromPinholeGrid(planeGrid(40), 1);
+  Pose above;
+  above.t = Eigen::Vector3d(0, 0, 5);
+  sight.place(above);
+  BrickStore seen = tinyStore();
+  s = h.resolve(seen, {sight});
+  EXPECT_EQ(s.agreed, 1u);
+  EXPECT_EQ(s.removed, 1u);
+  EXPECT_EQ(seen.sums()[0].wd, agreed.wd);
+  EXPECT_EQ(seen.sums()[0].w, agreed.w);
+  EXPECT_EQ(seen.sums()[0].images, 3);
+  EXPECT_EQ(seen.sums()[1].images, 0);
+}
+
+}  // namespace
+}  // namespace rangefuse
