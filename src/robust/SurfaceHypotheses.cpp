@@ -16,6 +16,10 @@ bool agrees(const VoxelSums& h, float d, const float f[3], const HypothesisParam
   return dot >= p.sameCosine * norm;  // f is unit
 }
 
+float norm(const float v[3]) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
 /// The same sums, in the same order, as the prism integrator's accumulate.
 void addTo(VoxelSums& h, float d, float w, const float f[3]) {
   h.wd += w * d;
@@ -59,6 +63,42 @@ bool SurfaceHypotheses::unopposed(const VoxelSums& h, const Eigen::Vector3d& cen
   return true;
 }
 
+bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
+                              const std::vector<SightMap>& sights, VoxelSums& kept,
+                              bool& agreed) const {
+  bool stands[kSlots] = {};
+  int nearest = -1;
+  for (int k = 0; k < kSlots && h[k].images > 0; ++k) {
+    const bool enough = h[k].images >= params_.minViews;
+    stands[k] = enough || unopposed(h[k], centre, sights);
+    if (!stands[k]) continue;
+    agreed |= enough;
+    if (nearest < 0 || std::abs(h[k].wd / h[k].w) < std::abs(h[nearest].wd / h[nearest].w))
+      nearest = k;
+  }
+  if (nearest < 0) return false;
+  // What stands is summed in slot order, as the prism field sums it, except a surface facing
+  // the other way that lies apart from the nearest (the far side of a wall thicker than
+  // sameDistance): it is left to its own voxels, where it is the nearer. Facing the other way
+  // on the same sheet (a shell seen from both sides), it is summed like the rest.
+  const float* n = h[nearest].wf;
+  const float dn = h[nearest].wd / h[nearest].w;
+  bool first = true;
+  for (int k = 0; k < kSlots && h[k].images > 0; ++k) {
+    if (!stands[k]) continue;
+    const float facing = h[k].wf[0] * n[0] + h[k].wf[1] * n[1] + h[k].wf[2] * n[2];
+    const bool apart = std::abs(dn + h[k].wd / h[k].w) > params_.sameDistance;
+    if (k != nearest && facing < -0.5f * norm(h[k].wf) * norm(n) && apart) continue;
+    if (first) {
+      kept = h[k], first = false;
+      continue;
+    }
+    kept.wd += h[k].wd, kept.w += h[k].w, kept.images += h[k].images;
+    for (int a = 0; a < 3; ++a) kept.wf[a] += h[k].wf[a];
+  }
+  return true;
+}
+
 HypothesisStats SurfaceHypotheses::resolveBrick(BrickStore& store, size_t b,
                                                 const std::vector<SightMap>& sights) const {
   HypothesisStats stats;
@@ -73,21 +113,9 @@ HypothesisStats SurfaceHypotheses::resolveBrick(BrickStore& store, size_t b,
     const VoxelIndex v =
         brick * B + VoxelIndex(static_cast<int>(l % B), static_cast<int>(l / B % B),
                                static_cast<int>(l / B / B));
-    // Every observation that stands is kept, summed as the prism field sums them.
     VoxelSums kept;
-    bool agreed = false, any = false;
-    for (int k = 0; k < kSlots && h[k].images > 0; ++k) {
-      const bool enough = h[k].images >= params_.minViews;
-      if (!enough && !unopposed(h[k], grid.centre(v), sights)) continue;
-      agreed |= enough, any = true;
-      if (k == 0) {
-        kept = h[0];
-        continue;
-      }
-      kept.wd += h[k].wd, kept.w += h[k].w, kept.images += h[k].images;
-      for (int a = 0; a < 3; ++a) kept.wf[a] += h[k].wf[a];
-    }
-    if (!any) {
+    bool agreed = false;
+    if (!merge(h, grid.centre(v), sights, kept, agreed)) {
       ++stats.removed;
       continue;
     }

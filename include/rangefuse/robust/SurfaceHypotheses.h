@@ -38,10 +38,10 @@ class SurfaceHypotheses {
   /// weighs more. Samples of weight 0 carry no evidence and are skipped.
   void add(size_t at, float d, float w, const float f[3]);
 
-  /// Writes into the store's sums, per voxel, the sum of the hypotheses that stand: those
-  /// minViews images agree on, and those fewer saw but no other image looked through. Sums
-  /// stay empty where none stands. `sights`: every image's map.
-  /// Bricks are shared among `threads`.
+  /// Writes into the store's sums, per voxel, the sum of the hypotheses that stand (those
+  /// minViews images agree on, and those fewer saw but no other image looked through) and
+  /// face the same way as the nearest of them. Sums stay empty where none stands. `sights`: every
+  /// image's map. Bricks are shared among `threads`.
   HypothesisStats resolve(BrickStore& store, const std::vector<SightMap>& sights,
                           int threads = 1) const;
 
@@ -51,6 +51,10 @@ class SurfaceHypotheses {
   /// True when no image looked through the hypothesis' surface point (free space).
   bool unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
                  const std::vector<SightMap>& sights) const;
+
+  /// The sums a voxel keeps (false: none stands); `agreed` when an agreed hypothesis is in.
+  bool merge(const VoxelSums* h, const Eigen::Vector3d& centre, const std::vector<SightMap>& sights,
+             VoxelSums& kept, bool& agreed) const;
 
   HypothesisParams params_;
   std::vector<VoxelSums, HugePageAllocator<VoxelSums>> slots_;  ///< kSlots per voxel
