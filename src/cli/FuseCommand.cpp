@@ -31,6 +31,10 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
       "consensus and robust: observations within this many voxels may be the same surface");
   add("same-angle", po::value(&o.sameAngle)->default_value(45.0),
       "consensus and robust: ... if their normals differ by at most this many degrees");
+  add("free-margin", po::value(&o.freeMargin)->default_value(-1),
+      "robust: an image looked through a point lying more than this many voxels before what it "
+      "saw along its line of sight (-1: the envelope; inf: free space off, so a surface fewer than "
+      "--min-views images saw never stands)");
   add("brick", po::value(&o.brick)->default_value(8), "voxels per brick edge");
   add("min-weight", po::value(&o.minWeight)->default_value(0.0f),
       "voxels whose summed confidence is not above this are unobserved");

@@ -86,6 +86,8 @@ void validateFuseOptions(const FuseOptions& o) {
     throw InputError("--edge-angle must be in [0, 90] degrees");
   if (!(o.sameDistance > 0) || !(o.sameDistance <= 1000))
     throw InputError("--same-distance must be in (0, 1000] voxels");
+  if (!(o.freeMargin >= 0 || o.freeMargin == -1))
+    throw InputError("--free-margin must be a number of voxels >= 0 (-1: the envelope; inf: off)");
   if (!(o.sameAngle > 0 && o.sameAngle <= 180))
     throw InputError("--same-angle must be in (0, 180] degrees");
   const std::string& r = o.registration;
@@ -184,6 +186,7 @@ nlohmann::json resultParameters(const FuseOptions& o) {
           {"min_views", o.minViews},
           {"same_distance_voxels", o.sameDistance},
           {"same_angle_deg", o.sameAngle},
+          {"free_margin_voxels", o.freeMargin},
           {"edge_angle_deg", o.edgeAngle},
           {"register", o.registration},
           {"anchor", o.anchor},
@@ -328,8 +331,9 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.threads = o.threads;
   if (closestSurface(o)) s.routeReach = routeReach(o);
   if (o.method == "robust")
-    s.robust = HypothesisParams{o.sameDistance * o.voxel, std::cos(o.sameAngle * M_PI / 180),
-                                o.minViews, o.envelope * o.voxel};
+    s.robust =
+        HypothesisParams{o.sameDistance * o.voxel, std::cos(o.sameAngle * M_PI / 180), o.minViews,
+                         (o.freeMargin == -1 ? o.envelope : o.freeMargin) * o.voxel};
   return s;
 }
 

@@ -56,6 +56,7 @@ void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3]) {
 
 bool SurfaceHypotheses::unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
                                   const std::vector<SightMap>& sights) const {
+  if (!std::isfinite(params_.freeMargin)) return false;  // free space off: agreement alone
   const Eigen::Vector3d f(h.wf[0], h.wf[1], h.wf[2]);
   const Eigen::Vector3d surface = centre - static_cast<double>(h.wd / h.w) * f.normalized();
   for (const SightMap& s : sights)

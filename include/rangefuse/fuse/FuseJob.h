@@ -34,6 +34,7 @@ struct FuseOptions {
   double edgeAngle = 78;         ///< consensus: beyond this angle from the normal, beside an edge
   double sameDistance = 2.0;     ///< consensus: delta_d, voxels
   double sameAngle = 45.0;       ///< consensus: theta_n, degrees
+  double freeMargin = -1;        ///< robust: looked-through depth, voxels (-1: the envelope)
   std::string registration = "none";   ///< none, incremental, simultaneous or both
   std::string anchor;                  ///< scan name that fixes the frame (default: the first)
   int controlStride = 1;               ///< registration: every k-th vertex is a control point
