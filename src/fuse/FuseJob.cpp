@@ -306,7 +306,7 @@ std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& fie
     uint64_t r[3] = {counters.robust.agreed, counters.robust.unopposed, counters.robust.removed};
     MPI_Allreduce(MPI_IN_PLACE, r, 3, MPI_UINT64_T, MPI_SUM, comm);
     line += "; voxels agreed " + std::to_string(r[0]) + ", seen by fewer views and unopposed " +
-            std::to_string(r[1]) + ", removed (looked through) " + std::to_string(r[2]);
+            std::to_string(r[1]) + ", removed " + std::to_string(r[2]);
   }
   if (field.routedCopies > 0) {
     char routed[160];

@@ -17,6 +17,7 @@ struct HypothesisParams {
   double sameCosine = 0.7;  ///< ... when their gradients agree to this cosine
   int minViews = 2;         ///< images that make a hypothesis stand on agreement alone
   double freeMargin = 0;    ///< an image looked through a point this far before its surface
+                            ///< (infinite: free space off, minViews alone decides)
 };
 
 /// What resolving decided, over this rank's voxels.
