@@ -24,7 +24,7 @@ struct HypothesisParams {
 struct HypothesisStats {
   uint64_t agreed = 0;     ///< voxels with a hypothesis minViews images or more agree on
   uint64_t unopposed = 0;  ///< voxels with none, but one that no other image looked through
-  uint64_t removed = 0;    ///< voxels left empty: every hypothesis was looked through
+  uint64_t removed = 0;    ///< voxels left empty: no hypothesis stood
 };
 
 /// Up to kSlots hypotheses per voxel of a brick store, each a weighted sum like VoxelSums.
