@@ -4,84 +4,14 @@
 #include <set>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {
 namespace {
 
-/// Option name on the command line for each key of resultParameters.
-const std::map<std::string, std::string> kOptionOf = {{"method", "method"},
-                                                      {"voxel", "voxel"},
-                                                      {"envelope_voxels", "envelope"},
-                                                      {"brick", "brick"},
-                                                      {"min_weight", "min-weight"},
-                                                      {"merge_cells_voxels", "merge-cells"},
-                                                      {"normal_passes", "normal-passes"},
-                                                      {"max_edge", "max-edge"},
-                                                      {"min_cosine", "min-cosine"},
-                                                      {"quorum", "quorum"},
-                                                      {"min_views", "min-views"},
-                                                      {"same_distance_voxels", "same-distance"},
-                                                      {"same_angle_deg", "same-angle"},
-                                                      {"edge_angle_deg", "edge-angle"},
-                                                      {"register", "register"},
-                                                      {"anchor", "anchor"},
-                                                      {"control_stride", "control-stride"},
-                                                      {"max_iterations", "max-iterations"},
-                                                      {"max_rounds", "max-rounds"},
-                                                      {"round_tolerance_voxels", "round-tolerance"},
-                                                      {"register_field", "register-field"},
-                                                      {"scans", "scans"}};
-
 bool given(const FuseOptions& o, const std::string& option) {
   return std::find(o.givenOptions.begin(), o.givenOptions.end(), option) != o.givenOptions.end();
-}
-
-void assign(FuseOptions& o, const std::string& key, const nlohmann::json& v) {
-  if (key == "method")
-    o.method = v.get<std::string>();
-  else if (key == "voxel")
-    o.voxel = v.get<double>();
-  else if (key == "envelope_voxels")
-    o.envelope = v.get<double>();
-  else if (key == "brick")
-    o.brick = v.get<int>();
-  else if (key == "min_weight")
-    o.minWeight = v.get<float>();
-  else if (key == "merge_cells_voxels")
-    o.mergeCells = v.get<double>();
-  else if (key == "normal_passes")
-    o.surface.normalPasses = v.get<int>();
-  else if (key == "max_edge")
-    o.surface.maxEdgeFactor = v.get<double>();
-  else if (key == "min_cosine")
-    o.surface.minCosine = v.get<double>();
-  else if (key == "quorum")
-    o.quorum = v.get<double>();
-  else if (key == "min_views")
-    o.minViews = v.get<int>();
-  else if (key == "same_distance_voxels")
-    o.sameDistance = v.get<double>();
-  else if (key == "same_angle_deg")
-    o.sameAngle = v.get<double>();
-  else if (key == "edge_angle_deg")
-    o.edgeAngle = v.get<double>();
-  else if (key == "register")
-    o.registration = v.get<std::string>();
-  else if (key == "anchor")
-    o.anchor = v.get<std::string>();
-  else if (key == "control_stride")
-    o.controlStride = v.get<int>();
-  else if (key == "max_iterations")
-    o.maxIterations = v.get<int>();
-  else if (key == "max_rounds")
-    o.maxRounds = v.get<int>();
-  else if (key == "round_tolerance_voxels")
-    o.roundTolerance = v.get<double>();
-  else if (key == "register_field")
-    o.registerField = v.get<std::string>();
-  else if (key == "scans")
-    o.scans = v.get<std::string>();
 }
 
 }  // namespace
@@ -118,7 +48,8 @@ io::CheckpointMeta checkpointMeta(const FuseOptions& o, const LoadedScans& scans
                                   const nlohmann::json& progress, const FusedField* field) {
   io::CheckpointMeta m;
   m.parameters = resultParameters(o);
-  m.parameters["scans"] = o.scans;
+  for (const FuseParameter& p : fuseParameters())
+    if (p.recorded == Recorded::CheckpointOnly) m.parameters[p.key] = parameterJson(p, o);
   m.scanNames = scans.names;
   m.scanHashes = hashes;
   m.poses = scans.poses;
@@ -135,14 +66,14 @@ void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
   if (!meta.parameters.contains("merge_cells_voxels") && !given(o, "merge-cells")) o.mergeCells = 0;
   // ... and before --min-views, with the quorum alone.
   if (!meta.parameters.contains("min_views") && !given(o, "min-views")) o.minViews = 1;
-  for (const auto& [key, option] : kOptionOf) {
-    if (!meta.parameters.contains(key)) continue;
-    const nlohmann::json& theirs = meta.parameters[key];
-    if (!given(o, option)) {
-      assign(o, key, theirs);
-    } else if (key != "scans" && mine.contains(key) && mine[key] != theirs) {
-      differ.push_back("--" + option + " " + mine[key].dump() + " (checkpoint: " + theirs.dump() +
-                       ")");
+  for (const FuseParameter& p : fuseParameters()) {
+    if (p.recorded == Recorded::No || !meta.parameters.contains(p.key)) continue;
+    const nlohmann::json& theirs = meta.parameters[p.key];
+    if (!given(o, p.option)) {
+      setParameter(p, o, theirs);
+    } else if (p.recorded == Recorded::Result && mine[p.key] != theirs) {
+      differ.push_back("--" + p.option + " " + mine[p.key].dump() +
+                       " (checkpoint: " + theirs.dump() + ")");
     }
   }
   if (differ.empty()) return;

@@ -8,6 +8,7 @@
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/fuse/OutputChecks.h"
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/RunReport.h"
@@ -29,6 +30,11 @@ namespace rangefuse {
 namespace {
 
 using mpi::collectively;
+
+/// Consensus and naive: fields from closest-surface queries over routed triangles.
+bool closestSurface(const FuseOptions& o) {
+  return methodInfo(o.method).closestSurface;
+}
 
 size_t countTriangles(const std::vector<PrismScan>& scans) {
   size_t n = 0;
@@ -54,52 +60,15 @@ void warnStorage(const FuseOptions& o, const BrickLayout& layout, MPI_Comm comm)
 }  // namespace
 
 void validateFuseOptions(const FuseOptions& o) {
-  if (o.scans.empty()) throw InputError("--scans is required (a .conf file)");
-  if (!(o.voxel > 0) || !std::isfinite(o.voxel))
-    throw InputError("--voxel must be positive and finite (in the scans' units)");
-  if (!(o.envelope > 0) || !(o.envelope <= 1000))
-    throw InputError("--envelope must be in (0, 1000] voxels");
-  if (o.brick < 2 || o.brick > 64) throw InputError("--brick must be between 2 and 64");
-  if (o.surface.normalPasses < 0) throw InputError("--normal-passes must be >= 0");
-  if (!(o.mergeCells >= 0) || !std::isfinite(o.mergeCells))
-    throw InputError("--merge-cells must be a number of voxels >= 0 (0: never merge)");
-  if (o.method != "prism" && o.method != "robust" && o.method != "consensus" && o.method != "naive")
-    throw InputError("--method must be prism, robust, consensus or naive, not '" + o.method + "'");
-  if (o.method == "robust" && o.registration != "none")
-    throw InputError(
-        "--method robust does not run with --register yet: register with --method prism and "
-        "--poses-out, then fuse those poses with --method robust");
-  if (!std::isfinite(o.minWeight)) throw InputError("--min-weight must be finite");
-  if (!(o.surface.maxEdgeFactor > 0) || !std::isfinite(o.surface.maxEdgeFactor))
-    throw InputError("--max-edge must be positive and finite");
-  if (!(o.surface.minCosine >= -1 && o.surface.minCosine <= 1))
-    throw InputError("--min-cosine must be in [-1, 1]");
-  if (!(o.scanMemory >= 0) || !std::isfinite(o.scanMemory))
-    throw InputError("--scan-memory must be a finite number of MiB >= 0");
-  if (o.threads < 0) throw InputError("--threads must be >= 0 (0: the rank's share of its CPUs)");
-  if (!(o.checkpointEvery >= 0) || !std::isfinite(o.checkpointEvery))
-    throw InputError("--checkpoint-every must be a finite number of seconds >= 0");
-  if (!std::isfinite(o.quorum) || (!(o.quorum >= 0) && o.quorum != -1))
-    throw InputError("--quorum must not be negative (or -1: scaled to the number of views)");
-  if (o.minViews < 1) throw InputError("--min-views must be at least 1");
-  if (!(o.edgeAngle >= 0 && o.edgeAngle <= 90))
-    throw InputError("--edge-angle must be in [0, 90] degrees");
-  if (!(o.sameDistance > 0) || !(o.sameDistance <= 1000))
-    throw InputError("--same-distance must be in (0, 1000] voxels");
-  if (!(o.freeMargin >= 0 || o.freeMargin == -1))
-    throw InputError("--free-margin must be a number of voxels >= 0 (-1: the envelope; inf: off)");
-  if (!(o.sameAngle > 0 && o.sameAngle <= 180))
-    throw InputError("--same-angle must be in (0, 180] degrees");
-  const std::string& r = o.registration;
-  if (r != "none" && r != "incremental" && r != "simultaneous" && r != "both")
-    throw InputError("--register must be none, incremental, simultaneous or both, not '" + r + "'");
-  if (o.controlStride < 1) throw InputError("--control-stride must be at least 1");
-  if (o.maxIterations < 1 || o.maxRounds < 1)
-    throw InputError("--max-iterations and --max-rounds must be at least 1");
-  if (!(o.roundTolerance >= 0) || !(o.roundTolerance <= 1000))
-    throw InputError("--round-tolerance must be in [0, 1000] voxels");
-  if (o.registerField != "grow" && o.registerField != "rebuild")
-    throw InputError("--register-field must be grow or rebuild, not '" + o.registerField + "'");
+  for (const FuseParameter& p : fuseParameters()) {
+    const std::string wrong = p.check ? p.check(o) : "";
+    if (!wrong.empty()) throw InputError("--" + p.option + " " + wrong);
+  }
+  if (!methodInfo(o.method).registers && o.registration != RegistrationMode::None)
+    throw InputError(std::string("--method ") + toString(o.method) +
+                     " does not run with --register yet: register with --method prism and "
+                     "--poses-out, then fuse those poses with --method " +
+                     toString(o.method));
 }
 
 namespace {
@@ -115,7 +84,7 @@ double closestSurfaceMargin(const FuseOptions& o) {
 SurfaceOptions surfaceOptions(const FuseOptions& o) {
   SurfaceOptions s = o.surface;
   s.mergeTarget = o.mergeCells * o.voxel;
-  s.sightMap = o.method == "robust";
+  s.sightMap = methodInfo(o.method).hypotheses;
   return s;
 }
 
@@ -140,7 +109,8 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   params.memberSlack = 0.05 * o.voxel;
   // Routed or not, a voxel's value depends only on the triangles within the margin of its
   // brick, so that it is the same on any number of ranks (docs/consensus.md).
-  ConsensusSampler sampler(views, params, o.method == "naive", closestSurfaceMargin(o), false);
+  ConsensusSampler sampler(views, params, o.method == FieldMethod::Naive, closestSurfaceMargin(o),
+                           false);
   faultPoint("field");
   return evaluateNearSurface(*field.store, sampler);
 }
@@ -173,28 +143,10 @@ bool writePoses(const FuseOptions& o, MPI_Comm comm, const LoadedScans& scans) {
 }  // namespace
 
 nlohmann::json resultParameters(const FuseOptions& o) {
-  return {{"method", o.method},
-          {"voxel", o.voxel},
-          {"envelope_voxels", o.envelope},
-          {"brick", o.brick},
-          {"min_weight", o.minWeight},
-          {"merge_cells_voxels", o.mergeCells},
-          {"normal_passes", o.surface.normalPasses},
-          {"max_edge", o.surface.maxEdgeFactor},
-          {"min_cosine", o.surface.minCosine},
-          {"quorum", o.quorum},
-          {"min_views", o.minViews},
-          {"same_distance_voxels", o.sameDistance},
-          {"same_angle_deg", o.sameAngle},
-          {"free_margin_voxels", o.freeMargin},
-          {"edge_angle_deg", o.edgeAngle},
-          {"register", o.registration},
-          {"anchor", o.anchor},
-          {"control_stride", o.controlStride},
-          {"max_iterations", o.maxIterations},
-          {"max_rounds", o.maxRounds},
-          {"round_tolerance_voxels", o.roundTolerance},
-          {"register_field", o.registerField}};
+  nlohmann::json out = nlohmann::json::object();
+  for (const FuseParameter& p : fuseParameters())
+    if (p.recorded == Recorded::Result) out[p.key] = parameterJson(p, o);
+  return out;
 }
 
 double autoQuorum(size_t views) {
@@ -268,7 +220,7 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   field.store = std::make_unique<BrickStore>(field.layout, mpi::rank(comm));
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
-  if (o.method == "prism") {
+  if (!closestSurface(o)) {
     PrismIntegrator integrator(*field.store);
     for (const auto& s : field.scans) {
       faultPoint("field");
@@ -284,25 +236,19 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   return true;
 }
 
-namespace {
-/// Consensus and naive: fields from closest-surface queries over routed triangles.
-bool closestSurface(const FuseOptions& o) {
-  return o.method == "consensus" || o.method == "naive";
-}
-}  // namespace
-
 bool streams(const FuseOptions& o) {
-  return o.registration == "none";
+  return o.registration == RegistrationMode::None;
 }
 
 namespace {
 
 std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
                       const RankCounters& counters) {
-  std::string line = o.method + ": " + std::to_string(field.layout.codes.size()) +
-                     " bricks, per rank " + perRank(comm, counters.bricks) +
-                     "; voxels updated per rank " + perRank(comm, counters.voxelUpdates);
-  if (o.method == "robust") {
+  std::string line = std::string(toString(o.method)) + ": " +
+                     std::to_string(field.layout.codes.size()) + " bricks, per rank " +
+                     perRank(comm, counters.bricks) + "; voxels updated per rank " +
+                     perRank(comm, counters.voxelUpdates);
+  if (methodInfo(o.method).hypotheses) {
     uint64_t r[3] = {counters.robust.agreed, counters.robust.unopposed, counters.robust.removed};
     MPI_Allreduce(MPI_IN_PLACE, r, 3, MPI_UINT64_T, MPI_SUM, comm);
     line += "; voxels agreed " + std::to_string(r[0]) + ", seen by fewer views and unopposed " +
@@ -330,7 +276,7 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
   s.threads = o.threads;
   if (closestSurface(o)) s.routeReach = routeReach(o);
-  if (o.method == "robust")
+  if (methodInfo(o.method).hypotheses)
     s.robust =
         HypothesisParams{o.sameDistance * o.voxel, std::cos(o.sameAngle * M_PI / 180), o.minViews,
                          (o.freeMargin == -1 ? o.envelope : o.freeMargin) * o.voxel};

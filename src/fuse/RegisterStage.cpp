@@ -131,7 +131,7 @@ class RegistrationCheckpointer {
 
 bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
                    RegistrationProgress& state, std::vector<RegistrationStep>& steps) {
-  if (o.registration == "none") return true;
+  if (o.registration == RegistrationMode::None) return true;
   RegistrationOptions r;
   if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
   const std::unique_ptr<RegistrationField> grown = makeRegistrationField(o, scans, comm);
@@ -157,8 +157,8 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   char times[96];
   std::snprintf(times, sizeof times, "; fields %.2f s, fits %.2f s (%.2f ms a fit)", fields, fits,
                 steps.empty() ? 0.0 : 1e3 * fits / static_cast<double>(steps.size()));
-  progress.stage("register",
-                 o.registration + ": " + std::to_string(steps.size()) + " fits" + times);
+  progress.stage("register", std::string(toString(o.registration)) + ": " +
+                                 std::to_string(steps.size()) + " fits" + times);
   return checkpointer.ok();
 }
 

@@ -229,7 +229,7 @@ class RebuiltField : public RegistrationField {
     field_ = FusedField{};
     field_.layout = planPlaced(scans_, which, poses, o_, comm_);
     field_.store = std::make_unique<BrickStore>(field_.layout, mpi::rank(comm_));
-    if (o_.method == "prism") {
+    if (!methodInfo(o_.method).closestSurface) {
       PrismIntegrator integrator(*field_.store, o_.threads);
       routePlaced(scans_, which, poses, field_.layout, 0, comm_,
                   [&](size_t, const PrismScan& part) { integrator.addScan(part); });
@@ -265,7 +265,7 @@ class RebuiltField : public RegistrationField {
 
 std::unique_ptr<RegistrationField> makeRegistrationField(const FuseOptions& o,
                                                          const LoadedScans& scans, MPI_Comm comm) {
-  if (o.method == "prism" && o.registerField == "grow")
+  if (!methodInfo(o.method).closestSurface && o.registerField == RegistrationFieldMode::Grow)
     return std::make_unique<GrowingPrismField>(o, scans, comm);
   return std::make_unique<RebuiltField>(o, scans, comm);
 }

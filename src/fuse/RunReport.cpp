@@ -37,7 +37,7 @@ json registrationJson(const FuseOptions& o, const std::vector<RegistrationStep>&
                     {"rotation_deg", s.rotationDeg},
                     {"translation", s.translation},
                     {"applied", s.applied}});
-  return {{"mode", o.registration}, {"fits", fits}};
+  return {{"mode", toString(o.registration)}, {"fits", fits}};
 }
 
 }  // namespace

@@ -227,8 +227,8 @@ void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const Regi
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& p, const BoundaryCallback& onBoundary) {
   p.latticeOrigin = field.fixLattice(p.latticeOrigin, poses);
-  const bool first = o.mode == "incremental" || o.mode == "both";
-  const bool second = o.mode == "simultaneous" || o.mode == "both";
+  const bool first = o.mode == RegistrationMode::Incremental || o.mode == RegistrationMode::Both;
+  const bool second = o.mode == RegistrationMode::Simultaneous || o.mode == RegistrationMode::Both;
   if (p.phase == "start") p.phase = first ? "incremental" : "simultaneous";
   if (p.phase == "simultaneous" && p.roundPoses.empty()) startRound(p, poses);
   ControlRouting control(scans, o.controlStride, comm);

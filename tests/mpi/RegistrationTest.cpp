@@ -82,7 +82,7 @@ FuseOptions options(const ScanSet& set, const std::string& conf, const std::stri
   FuseOptions o;
   o.scans = conf;
   o.voxel = kVoxel;
-  o.registration = mode;
+  o.registration = parseRegistrationMode("register", mode);
   o.out = set.dir + "/mesh.ply";
   o.posesOut = set.dir + "/out.conf";
   return o;
@@ -226,7 +226,7 @@ TEST(Registration, ConsensusFieldsRegisterToo) {
   if (mpi::rank() == 0) io::writeConf(set.dir + "/moved.conf", moved);
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o = options(set, set.dir + "/moved.conf", "incremental");
-  o.method = "consensus";
+  o.method = FieldMethod::Consensus;
   o.voxel = 0.003;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;

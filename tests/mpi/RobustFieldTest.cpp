@@ -51,7 +51,7 @@ FusedField field(const std::string& dir, const std::string& method) {
   FuseOptions o;
   o.scans = dir + "/truth.conf";
   o.voxel = 1;
-  o.method = method;
+  o.method = parseFieldMethod("method", method);
   Progress progress(MPI_COMM_WORLD);
   FusedField f;
   RankCounters counters;
@@ -123,7 +123,7 @@ TEST(RobustField, RemovesASpikeOneScanSawAndKeepsAThinWallSeenFromBothSides) {
     FuseOptions o;
     o.scans = dir + "/truth.conf";
     o.voxel = 1;
-    o.method = method;
+    o.method = parseFieldMethod("method", method);
     o.out = dir + "/" + method + ".ply";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;

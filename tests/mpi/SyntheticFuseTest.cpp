@@ -132,8 +132,8 @@ TEST(SyntheticFuse, ConsensusDropsExtraneousPatchesNaiveKeepsThem) {
   o.quorum = 1.2;  // 12 views: above one view's confidence, so one view alone is no quorum
   double kept[2][2];
   for (int m = 0; m < 2; ++m) {
-    o.method = m == 0 ? "consensus" : "naive";
-    o.out = dir + "/" + o.method + ".ply";
+    o.method = m == 0 ? FieldMethod::Consensus : FieldMethod::Naive;
+    o.out = dir + "/" + toString(o.method) + ".ply";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
     const TriangleMesh mesh = io::readMeshPly(o.out);
@@ -169,8 +169,8 @@ TEST(SyntheticFuse, RobustRemovesOneScanPatchesThePrismFieldKeeps) {
     o.voxel = 1;
     double kept[2][2], chamfer[2];
     for (int m = 0; m < 2; ++m) {
-      o.method = m == 0 ? "robust" : "prism";
-      o.out = dir + "/" + o.method + ".ply";
+      o.method = m == 0 ? FieldMethod::Robust : FieldMethod::Prism;
+      o.out = dir + "/" + toString(o.method) + ".ply";
       ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
       if (mpi::rank() != 0) continue;
       const TriangleMesh mesh = io::readMeshPly(o.out);

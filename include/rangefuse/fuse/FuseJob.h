@@ -9,6 +9,7 @@
 
 #include "rangefuse/consensus/NearSurface.h"
 #include "rangefuse/core/Limits.h"
+#include "rangefuse/fuse/FieldMethod.h"
 #include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/fuse/Progress.h"
 #include "rangefuse/prism/PrismField.h"
@@ -17,38 +18,38 @@
 namespace rangefuse {
 
 struct FuseOptions {
-  std::string scans;             ///< .conf file
-  std::string out;               ///< mesh .ply
-  std::string report;            ///< run report .json (optional)
-  std::string preview;           ///< rendered picture .png (optional)
-  std::string method = "prism";  ///< prism, consensus or naive
-  double voxel = 0;              ///< in the scans' units
-  double envelope = 3.0;         ///< prism half-thickness, in voxels
-  int brick = 8;                 ///< voxels per brick edge
-  float minWeight = 0.0f;        ///< voxels with summed weight not above this are unobserved
-  bool normals = true;           ///< write vertex normals
-  SurfaceOptions surface;        ///< mergeTarget is set from mergeCells: see surfaceOptions
-  double mergeCells = 1;         ///< merge grid cells up to this many voxels (0: never)
-  double quorum = -1;            ///< consensus: summed confidence needed; -1: autoQuorum
-  int minViews = 2;              ///< consensus: views a consensus needs (1: the quorum alone)
-  double edgeAngle = 78;         ///< consensus: beyond this angle from the normal, beside an edge
-  double sameDistance = 2.0;     ///< consensus: delta_d, voxels
-  double sameAngle = 45.0;       ///< consensus: theta_n, degrees
-  double freeMargin = -1;        ///< robust: looked-through depth, voxels (-1: the envelope)
-  std::string registration = "none";   ///< none, incremental, simultaneous or both
-  std::string anchor;                  ///< scan name that fixes the frame (default: the first)
-  int controlStride = 1;               ///< registration: every k-th vertex is a control point
-  int maxIterations = 100;             ///< registration: fits per scan (per round in Alg. 2)
-  int maxRounds = 8;                   ///< registration: field rebuilds in Algorithm 2
-  double roundTolerance = 0.1;         ///< registration: Algorithm 2 ends below this, voxels
-  std::string registerField = "grow";  ///< registration: grow the field, or rebuild it each time
-  std::string posesOut;                ///< refined poses .conf (optional)
-  std::string checkpoint;              ///< HDF5 checkpoint to write (optional)
-  std::string resume;                  ///< HDF5 checkpoint to continue from (optional)
-  double checkpointEvery = 0;          ///< seconds between registration checkpoints (0: each)
-  InputLimits limits;                  ///< refuse input that would need more memory than this
-  double scanMemory = 1024;            ///< MiB of prepared scans a rank keeps between passes
-  int threads = 0;                     ///< threads per rank (0: its CPUs shared on the node)
+  std::string scans;    ///< .conf file
+  std::string out;      ///< mesh .ply
+  std::string report;   ///< run report .json (optional)
+  std::string preview;  ///< rendered picture .png (optional)
+  FieldMethod method = FieldMethod::Prism;
+  double voxel = 0;           ///< in the scans' units
+  double envelope = 3.0;      ///< prism half-thickness, in voxels
+  int brick = 8;              ///< voxels per brick edge
+  float minWeight = 0.0f;     ///< voxels with summed weight not above this are unobserved
+  bool normals = true;        ///< write vertex normals
+  SurfaceOptions surface;     ///< mergeTarget is set from mergeCells: see surfaceOptions
+  double mergeCells = 1;      ///< merge grid cells up to this many voxels (0: never)
+  double quorum = -1;         ///< consensus: summed confidence needed; -1: autoQuorum
+  int minViews = 2;           ///< consensus: views a consensus needs (1: the quorum alone)
+  double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge
+  double sameDistance = 2.0;  ///< consensus: delta_d, voxels
+  double sameAngle = 45.0;    ///< consensus: theta_n, degrees
+  double freeMargin = -1;     ///< robust: looked-through depth, voxels (-1: the envelope)
+  RegistrationMode registration = RegistrationMode::None;
+  std::string anchor;           ///< scan name that fixes the frame (default: the first)
+  int controlStride = 1;        ///< registration: every k-th vertex is a control point
+  int maxIterations = 100;      ///< registration: fits per scan (per round in Alg. 2)
+  int maxRounds = 8;            ///< registration: field rebuilds in Algorithm 2
+  double roundTolerance = 0.1;  ///< registration: Algorithm 2 ends below this, voxels
+  RegistrationFieldMode registerField = RegistrationFieldMode::Grow;  ///< registration
+  std::string posesOut;        ///< refined poses .conf (optional)
+  std::string checkpoint;      ///< HDF5 checkpoint to write (optional)
+  std::string resume;          ///< HDF5 checkpoint to continue from (optional)
+  double checkpointEvery = 0;  ///< seconds between registration checkpoints (0: each)
+  InputLimits limits;          ///< refuse input that would need more memory than this
+  double scanMemory = 1024;    ///< MiB of prepared scans a rank keeps between passes
+  int threads = 0;             ///< threads per rank (0: its CPUs shared on the node)
   std::vector<std::string>
       givenOptions;  ///< options the user set (the rest may come from a checkpoint)
 };

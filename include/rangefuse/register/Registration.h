@@ -12,12 +12,13 @@
 
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/register/Correspondences.h"
+#include "rangefuse/register/RegistrationMode.h"
 #include "rangefuse/register/ScanSource.h"
 
 namespace rangefuse {
 
 struct RegistrationOptions {
-  std::string mode = "none";        ///< none, incremental, simultaneous or both
+  RegistrationMode mode = RegistrationMode::None;
   size_t anchor = 0;                ///< the scan that fixes the frame
   int controlStride = 1;            ///< every k-th vertex is a control point
   int maxIterations = 100;          ///< fits per scan (Algorithm 1) or per round (Algorithm 2)

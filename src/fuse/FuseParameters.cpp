@@ -1,0 +1,294 @@
+#include "rangefuse/fuse/FuseParameters.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "rangefuse/core/Error.h"
+
+namespace rangefuse {
+namespace {
+
+template <class T>
+std::function<OptionValue(FuseOptions&)> at(T FuseOptions::*member) {
+  return [member](FuseOptions& o) -> OptionValue { return &(o.*member); };
+}
+
+/// A check from a condition on the option's own value and the message when it fails.
+template <class T>
+std::function<std::string(const FuseOptions&)> must(T FuseOptions::*member, bool (*ok)(T),
+                                                    const char* what) {
+  return [member, ok, what](const FuseOptions& o) { return ok(o.*member) ? "" : what; };
+}
+
+bool finite(double v) {
+  return std::isfinite(v);
+}
+
+std::string shortest(double v) {
+  char text[64];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, v);
+    if (std::strtod(text, nullptr) == v) break;
+  }
+  return text;
+}
+
+double number(const FuseParameter& p, const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno == ERANGE)
+    throw InputError("--" + p.option + ": '" + text + "' is not a number");
+  return v;
+}
+
+int integer(const FuseParameter& p, const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
+    throw InputError("--" + p.option + ": '" + text + "' is not a whole number");
+  return static_cast<int>(v);
+}
+
+bool truth(const FuseParameter& p, const std::string& text) {
+  for (const char* yes : {"true", "1", "yes", "on"})
+    if (text == yes) return true;
+  for (const char* no : {"false", "0", "no", "off"})
+    if (text == no) return false;
+  throw InputError("--" + p.option + ": '" + text + "' is not true or false");
+}
+
+template <class... F>
+struct Visit : F... {
+  using F::operator()...;
+};
+template <class... F>
+Visit(F...) -> Visit<F...>;
+
+/// Every registered method with its summary.
+std::string methodHelp() {
+  std::string help = "field:";
+  for (const MethodInfo& m : methodRegistry())
+    help += std::string(" ") + m.name + ": " + m.summary + ";";
+  help.back() = '.';
+  return help;
+}
+
+std::vector<FuseParameter> makeTable() {
+  using R = Recorded;
+  return {
+      {"scans", "scans", R::CheckpointOnly, true, "scan list (.conf, Stanford bmesh lines)",
+       at(&FuseOptions::scans),
+       [](const FuseOptions& o) { return o.scans.empty() ? "is required (a .conf file)" : ""; }},
+      {"voxel", "voxel", R::Result, true, "voxel size, in the scans' units",
+       at(&FuseOptions::voxel),
+       must<double>(
+           &FuseOptions::voxel, [](double v) { return v > 0 && std::isfinite(v); },
+           "must be positive and finite (in the scans' units)")},
+      {"method", "method", R::Result, false, methodHelp(), at(&FuseOptions::method), nullptr},
+      {"envelope", "envelope_voxels", R::Result, false, "prism half-thickness, voxels",
+       at(&FuseOptions::envelope),
+       must<double>(
+           &FuseOptions::envelope, [](double v) { return v > 0 && v <= 1000; },
+           "must be in (0, 1000] voxels")},
+      {"quorum", "quorum", R::Result, false,
+       "consensus: summed confidence a consensus surface needs (-1: 2.25 x views / 48)",
+       at(&FuseOptions::quorum),
+       must<double>(
+           &FuseOptions::quorum, [](double v) { return std::isfinite(v) && (v >= 0 || v == -1); },
+           "must not be negative (or -1: scaled to the number of views)")},
+      {"min-views", "min_views", R::Result, false,
+       "consensus and robust: views a surface needs besides the quorum, so that one view alone "
+       "never passes where few views make the quorum small (1: the quorum alone)",
+       at(&FuseOptions::minViews),
+       must<int>(
+           &FuseOptions::minViews, [](int v) { return v >= 1; }, "must be at least 1")},
+      {"edge-angle", "edge_angle_deg", R::Result, false,
+       "consensus: a point whose offset from its surface point is more than this many degrees "
+       "from the normal lies beside an open edge and stays unobserved (90: off)",
+       at(&FuseOptions::edgeAngle),
+       must<double>(
+           &FuseOptions::edgeAngle, [](double v) { return v >= 0 && v <= 90; },
+           "must be in [0, 90] degrees")},
+      {"same-distance", "same_distance_voxels", R::Result, false,
+       "consensus and robust: observations within this many voxels may be the same surface",
+       at(&FuseOptions::sameDistance),
+       must<double>(
+           &FuseOptions::sameDistance, [](double v) { return v > 0 && v <= 1000; },
+           "must be in (0, 1000] voxels")},
+      {"same-angle", "same_angle_deg", R::Result, false,
+       "consensus and robust: ... if their normals differ by at most this many degrees",
+       at(&FuseOptions::sameAngle),
+       must<double>(
+           &FuseOptions::sameAngle, [](double v) { return v > 0 && v <= 180; },
+           "must be in (0, 180] degrees")},
+      {"free-margin", "free_margin_voxels", R::Result, false,
+       "robust: an image looked through a point lying more than this many voxels before what it "
+       "saw along its line of sight (-1: the envelope; inf: free space off, so a surface fewer "
+       "than --min-views images saw never stands)",
+       at(&FuseOptions::freeMargin),
+       must<double>(
+           &FuseOptions::freeMargin, [](double v) { return v >= 0 || v == -1; },
+           "must be a number of voxels >= 0 (-1: the envelope; inf: off)")},
+      {"brick", "brick", R::Result, false, "voxels per brick edge", at(&FuseOptions::brick),
+       must<int>(
+           &FuseOptions::brick, [](int v) { return v >= 2 && v <= 64; },
+           "must be between 2 and 64")},
+      {"min-weight", "min_weight", R::Result, false,
+       "voxels whose summed confidence is not above this are unobserved",
+       at(&FuseOptions::minWeight),
+       must<float>(
+           &FuseOptions::minWeight, [](float v) { return std::isfinite(v); }, "must be finite")},
+      {"merge-cells", "merge_cells_voxels", R::Result, false,
+       "merge blocks of k x k range-grid cells while k cells span at most this many voxels, so "
+       "dense scans cost what the voxels need (0: never merge)",
+       at(&FuseOptions::mergeCells),
+       must<double>(
+           &FuseOptions::mergeCells, [](double v) { return v >= 0 && finite(v); },
+           "must be a number of voxels >= 0 (0: never merge)")},
+      {"normal-passes", "normal_passes", R::Result, false,
+       "neighbour-averaging passes over vertex normals",
+       [](FuseOptions& o) -> OptionValue { return &o.surface.normalPasses; },
+       [](const FuseOptions& o) { return o.surface.normalPasses >= 0 ? "" : "must be >= 0"; }},
+      {"max-edge", "max_edge", R::Result, false,
+       "drop scan triangles with an edge longer than this x grid spacing",
+       [](FuseOptions& o) -> OptionValue { return &o.surface.maxEdgeFactor; },
+       [](const FuseOptions& o) {
+         const double v = o.surface.maxEdgeFactor;
+         return v > 0 && std::isfinite(v) ? "" : "must be positive and finite";
+       }},
+      {"min-cosine", "min_cosine", R::Result, false,
+       "drop scan triangles whose normal makes a cosine below this with the view ray",
+       [](FuseOptions& o) -> OptionValue { return &o.surface.minCosine; },
+       [](const FuseOptions& o) {
+         const double v = o.surface.minCosine;
+         return v >= -1 && v <= 1 ? "" : "must be in [-1, 1]";
+       }},
+      {"scan-memory", "", R::No, false,
+       "MiB of prepared scans a rank keeps between reading and fusing; scans past it are read "
+       "again (prism fields without registration stream their scans)",
+       at(&FuseOptions::scanMemory),
+       must<double>(
+           &FuseOptions::scanMemory, [](double v) { return v >= 0 && finite(v); },
+           "must be a finite number of MiB >= 0")},
+      {"threads", "", R::No, false,
+       "threads per rank for reading scans and adding them to the field (0: the CPUs the rank "
+       "may run on, shared among the ranks on its node); any count gives the same bits",
+       at(&FuseOptions::threads),
+       must<int>(
+           &FuseOptions::threads, [](int v) { return v >= 0; },
+           "must be >= 0 (0: the rank's share of its CPUs)")},
+      {"out", "", R::No, false,
+       "output mesh: .ply (binary), or .xdmf (HDF5 data in the same name .h5, for ParaView)",
+       at(&FuseOptions::out), nullptr},
+      {"report", "", R::No, false, "write a JSON run report (stage times, counts, memory)",
+       at(&FuseOptions::report), nullptr},
+      {"preview", "", R::No, false, "write a ray-cast PNG picture of the fused field",
+       at(&FuseOptions::preview), nullptr},
+      {"normals", "", R::No, false, "write vertex normals", at(&FuseOptions::normals), nullptr},
+      {"register", "register", R::Result, false,
+       "refine poses against the field: none, incremental (Algorithm 1), simultaneous "
+       "(Algorithm 2) or both (1 then 2)",
+       at(&FuseOptions::registration), nullptr},
+      {"anchor", "anchor", R::Result, false,
+       "registration: scan name that stays fixed (default: first)", at(&FuseOptions::anchor),
+       nullptr},
+      {"control-stride", "control_stride", R::Result, false,
+       "registration: every k-th scan vertex is a control point", at(&FuseOptions::controlStride),
+       must<int>(
+           &FuseOptions::controlStride, [](int v) { return v >= 1; }, "must be at least 1")},
+      {"max-iterations", "max_iterations", R::Result, false,
+       "registration: fits per scan (Algorithm 1) or per field rebuild (Algorithm 2)",
+       at(&FuseOptions::maxIterations),
+       must<int>(
+           &FuseOptions::maxIterations, [](int v) { return v >= 1; }, "must be at least 1")},
+      {"max-rounds", "max_rounds", R::Result, false, "registration: field rebuilds in Algorithm 2",
+       at(&FuseOptions::maxRounds),
+       must<int>(
+           &FuseOptions::maxRounds, [](int v) { return v >= 1; }, "must be at least 1")},
+      {"round-tolerance", "round_tolerance_voxels", R::Result, false,
+       "registration: Algorithm 2 ends after a round that moves no scan's vertices this far on "
+       "average, voxels",
+       at(&FuseOptions::roundTolerance),
+       must<double>(
+           &FuseOptions::roundTolerance, [](double v) { return v >= 0 && v <= 1000; },
+           "must be in [0, 1000] voxels")},
+      {"register-field", "register_field", R::Result, false,
+       "registration: grow (Algorithm 1 adds each scan to one field; prism only) or rebuild (a "
+       "new field for every scan: the simple method, for comparison)",
+       at(&FuseOptions::registerField), nullptr},
+      {"poses-out", "", R::No, false, "write the refined poses (.conf)", at(&FuseOptions::posesOut),
+       nullptr},
+      {"checkpoint", "", R::No, false, "write an HDF5 checkpoint of the field (.h5)",
+       at(&FuseOptions::checkpoint), nullptr},
+      {"checkpoint-every", "", R::No, false,
+       "seconds between registration checkpoints (0: after every scan / iteration)",
+       at(&FuseOptions::checkpointEvery),
+       must<double>(
+           &FuseOptions::checkpointEvery, [](double v) { return v >= 0 && finite(v); },
+           "must be a finite number of seconds >= 0")},
+      {"resume", "", R::No, false,
+       "continue from a checkpoint; options left out come from it, given ones must match",
+       at(&FuseOptions::resume), nullptr}};
+}
+
+}  // namespace
+
+const std::vector<FuseParameter>& fuseParameters() {
+  static const std::vector<FuseParameter> table = makeTable();
+  return table;
+}
+
+nlohmann::json parameterJson(const FuseParameter& p, const FuseOptions& o) {
+  FuseOptions& mutableOptions = const_cast<FuseOptions&>(o);  // read only: value() is shared
+  return std::visit(Visit{[](auto* v) -> nlohmann::json { return *v; },
+                          [](FieldMethod* v) -> nlohmann::json { return toString(*v); },
+                          [](RegistrationMode* v) -> nlohmann::json { return toString(*v); },
+                          [](RegistrationFieldMode* v) -> nlohmann::json { return toString(*v); }},
+                    p.value(mutableOptions));
+}
+
+void setParameter(const FuseParameter& p, FuseOptions& o, const nlohmann::json& value) {
+  try {
+    std::visit(
+        Visit{[&](auto* v) { *v = value.get<std::remove_pointer_t<decltype(v)>>(); },
+              [&](double* v) {  // JSON has no infinity: it is written as null
+                *v = value.is_null() ? INFINITY : value.get<double>();
+              },
+              [&](FieldMethod* v) { *v = parseFieldMethod(p.option, value.get<std::string>()); },
+              [&](RegistrationMode* v) {
+                *v = parseRegistrationMode(p.option, value.get<std::string>());
+              },
+              [&](RegistrationFieldMode* v) {
+                *v = parseRegistrationFieldMode(p.option, value.get<std::string>());
+              }},
+        p.value(o));
+  } catch (const nlohmann::json::exception&) {
+    throw InputError("--" + p.option + ": " + value.dump() + " is not a value of this option");
+  }
+}
+
+void parseParameter(const FuseParameter& p, FuseOptions& o, const std::string& text) {
+  std::visit(
+      Visit{[&](double* v) { *v = number(p, text); },
+            [&](float* v) { *v = static_cast<float>(number(p, text)); },
+            [&](int* v) { *v = integer(p, text); }, [&](bool* v) { *v = truth(p, text); },
+            [&](std::string* v) { *v = text; },
+            [&](FieldMethod* v) { *v = parseFieldMethod(p.option, text); },
+            [&](RegistrationMode* v) { *v = parseRegistrationMode(p.option, text); },
+            [&](RegistrationFieldMode* v) { *v = parseRegistrationFieldMode(p.option, text); }},
+      p.value(o));
+}
+
+std::string parameterText(const FuseParameter& p, const FuseOptions& o) {
+  const nlohmann::json j = parameterJson(p, o);
+  if (j.is_string()) return j.get<std::string>();
+  if (j.is_boolean()) return j.get<bool>() ? "true" : "false";
+  if (j.is_number_integer()) return std::to_string(j.get<long long>());
+  return shortest(j.get<double>());
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,100 @@
+// The one description of fuse's options: names and keys unique, every value round-trips
+// through the command line's text and through JSON (reports, checkpoints), and each check
+// names its option.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FuseParameters.h"
+
+namespace rangefuse {
+namespace {
+
+/// Options with every value changed from its default.
+FuseOptions changed() {
+  FuseOptions o;
+  o.scans = "a.conf", o.out = "m.ply", o.anchor = "scan_003", o.report = "r.json";
+  o.preview = "p.png", o.posesOut = "p.conf", o.checkpoint = "c.h5", o.resume = "old.h5";
+  o.method = FieldMethod::Robust, o.registration = RegistrationMode::Both;
+  o.registerField = RegistrationFieldMode::Rebuild;
+  o.voxel = 0.00125, o.envelope = 2.5, o.brick = 16, o.minWeight = 0.25f, o.normals = false;
+  o.surface.normalPasses = 3, o.surface.maxEdgeFactor = 5, o.surface.minCosine = 0.3;
+  o.mergeCells = 1.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60, o.sameDistance = 1.5;
+  o.sameAngle = 30, o.freeMargin = INFINITY, o.controlStride = 4, o.maxIterations = 7;
+  o.maxRounds = 2, o.roundTolerance = 0.05, o.checkpointEvery = 30, o.scanMemory = 0;
+  o.threads = 3;
+  return o;
+}
+
+TEST(FuseParameters, NamesAndKeysAreUnique) {
+  std::set<std::string> options, keys;
+  for (const FuseParameter& p : fuseParameters()) {
+    EXPECT_TRUE(options.insert(p.option).second) << p.option;
+    EXPECT_EQ(p.key.empty(), p.recorded == Recorded::No) << p.option;
+    if (!p.key.empty()) {
+      EXPECT_TRUE(keys.insert(p.key).second) << p.key;
+    }
+    EXPECT_FALSE(p.help.empty()) << p.option;
+  }
+}
+
+TEST(FuseParameters, EveryValueRoundTripsThroughTextAndJson) {
+  const FuseOptions from = changed();
+  for (const FuseParameter& p : fuseParameters()) {
+    FuseOptions byText, byJson;
+    parseParameter(p, byText, parameterText(p, from));
+    setParameter(p, byJson, nlohmann::json::parse(parameterJson(p, from).dump()));
+    EXPECT_EQ(parameterJson(p, byText), parameterJson(p, from)) << p.option;
+    EXPECT_EQ(parameterText(p, byJson), parameterText(p, from)) << p.option;
+    EXPECT_NE(parameterText(p, from), parameterText(p, FuseOptions{})) << p.option << " unchanged";
+  }
+}
+
+TEST(FuseParameters, TheReportHoldsExactlyTheResultParameters) {
+  const nlohmann::json report = resultParameters(changed());
+  size_t result = 0;
+  for (const FuseParameter& p : fuseParameters())
+    if (p.recorded == Recorded::Result) {
+      ++result;
+      EXPECT_TRUE(report.contains(p.key)) << p.key;
+    }
+  EXPECT_EQ(report.size(), result);
+  EXPECT_EQ(report["method"], "robust");
+  EXPECT_EQ(report["register"], "both");
+}
+
+TEST(FuseParameters, ABadValueIsRefusedNamingItsOption) {
+  const FuseParameter* brick = nullptr;
+  for (const FuseParameter& p : fuseParameters())
+    if (p.option == "brick") brick = &p;
+  ASSERT_NE(brick, nullptr);
+  FuseOptions o = changed();
+  EXPECT_THROW(parseParameter(*brick, o, "8.5"), InputError);
+  EXPECT_THROW(parseParameter(*brick, o, ""), InputError);
+  parseParameter(*brick, o, "1");
+  try {
+    validateFuseOptions(o);
+    FAIL() << "brick 1 passed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--brick"), std::string::npos) << e.what();
+  }
+  o.brick = 8;
+  o.registration = RegistrationMode::None;
+  EXPECT_NO_THROW(validateFuseOptions(o));
+  o.registration = RegistrationMode::Both;  // robust does not register
+  EXPECT_THROW(validateFuseOptions(o), InputError);
+}
+
+TEST(MethodRegistry, EveryMethodIsNamedAndParsedBack) {
+  for (const MethodInfo& m : methodRegistry()) {
+    EXPECT_EQ(parseFieldMethod("method", m.name), m.id);
+    EXPECT_EQ(&methodInfo(m.id), &m);
+  }
+  EXPECT_THROW(parseFieldMethod("method", "Prism"), InputError);
+  EXPECT_EQ(parseRegistrationMode("register", toString(RegistrationMode::Simultaneous)),
+            RegistrationMode::Simultaneous);
+}
+
+}  // namespace
+}  // namespace rangefuse
