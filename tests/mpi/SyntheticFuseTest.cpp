@@ -161,7 +161,7 @@ TEST(SyntheticFuse, ConsensusDropsExtraneousPatchesNaiveKeepsThem) {
 // Robust fusion removes a patch one scan saw (other scans looked through it) with few or many
 // views, where the prism field keeps it; and loses no accuracy doing so.
 TEST(SyntheticFuse, RobustRemovesOneScanPatchesThePrismFieldKeeps) {
-  for (int views : {6, 18}) {
+  for (int views : {6, 12, 18, 24}) {
     std::vector<SyntheticPatch> patches;
     const std::string dir = scanComposite(0.5, 0.01, 2, &patches, views);
     FuseOptions o;
