@@ -279,13 +279,12 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   counters.bricks = field.store->brickCount();
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
-  if (o.robust) hypotheses.emplace(field.store->sums().size(), *o.robust);
+  if (o.robust) hypotheses.emplace(*field.store, *o.robust);
   if (!integrateShare(conf, share, o.routeReach, o.threads, hypotheses ? &*hypotheses : nullptr,
                       comm, progress, field, counters, routing))
     return false;
-  if (hypotheses && !collectively(comm, [&] {
-        counters.robust = hypotheses->resolve(*field.store, sights->all, o.threads);
-      }))
+  if (hypotheses &&
+      !collectively(comm, [&] { counters.robust = hypotheses->resolve(sights->all, o.threads); }))
     return false;
   uint64_t sent = 0;
   for (int r = 0; r < ranks; ++r) sent += r == me ? 0 : routing.bytes[r];

@@ -30,27 +30,53 @@ void addTo(VoxelSums& h, float d, float w, const float f[3]) {
 
 }  // namespace
 
-SurfaceHypotheses::SurfaceHypotheses(size_t voxels, const HypothesisParams& params)
-    : params_(params), slots_(voxels * kSlots) {}
+SurfaceHypotheses::SurfaceHypotheses(BrickStore& store, const HypothesisParams& params)
+    : store_(store), params_(params), blocks_(store.brickCount()) {}
+
+SurfaceHypotheses::~SurfaceHypotheses() {
+  for (auto& b : blocks_) delete[] b.load();
+}
+
+uint64_t SurfaceHypotheses::extraBytes() const {
+  uint64_t n = 0;
+  for (const auto& b : blocks_) n += b.load() ? store_.voxelsPerBrick() * sizeof(Extra) : 0;
+  return n;
+}
+
+SurfaceHypotheses::Extra* SurfaceHypotheses::extras(size_t at, bool create) {
+  const size_t per = store_.voxelsPerBrick();
+  std::atomic<Extra*>& block = blocks_[at / per];
+  Extra* b = block.load();
+  if (!b && create) {
+    // Two threads may reach one brick (its voxels straddle their slabs): one block wins.
+    Extra* mine = new Extra[per]();
+    if (block.compare_exchange_strong(b, mine))
+      b = mine;
+    else
+      delete[] mine;
+  }
+  return b ? b + at % per : nullptr;
+}
 
 void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3]) {
   if (!(w > 0)) return;
-  VoxelSums* h = &slots_[at * kSlots];
-  int lightest = 0;
-  for (int k = 0; k < kSlots; ++k) {
-    if (h[k].images == 0) {
-      addTo(h[k], d, w, f);
-      return;
-    }
-    if (agrees(h[k], d, f, params_)) {
-      addTo(h[k], d, w, f);
-      return;
-    }
-    if (h[k].w < h[lightest].w) lightest = k;
+  VoxelSums& first = store_.sums()[at];
+  if (first.images == 0 || agrees(first, d, f, params_)) {
+    addTo(first, d, w, f);
+    return;
   }
-  if (w > h[lightest].w) {
-    h[lightest] = VoxelSums{};
-    addTo(h[lightest], d, w, f);
+  Extra& extra = *extras(at, true);
+  VoxelSums* lightest = &first;
+  for (VoxelSums& h : extra) {
+    if (h.images == 0 || agrees(h, d, f, params_)) {
+      addTo(h, d, w, f);
+      return;
+    }
+    if (h.w < lightest->w) lightest = &h;
+  }
+  if (w > lightest->w) {
+    *lightest = VoxelSums{};
+    addTo(*lightest, d, w, f);
   }
 }
 
@@ -100,17 +126,18 @@ bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
   return true;
 }
 
-HypothesisStats SurfaceHypotheses::resolveBrick(BrickStore& store, size_t b,
-                                                const std::vector<SightMap>& sights) const {
+HypothesisStats SurfaceHypotheses::resolveBrick(size_t b, const std::vector<SightMap>& sights) {
   HypothesisStats stats;
-  const VoxelGrid& grid = store.grid();
+  const VoxelGrid& grid = store_.grid();
   const int B = grid.brick;
-  const size_t perBrick = store.voxelsPerBrick();
-  const BrickCoord brick = mortonDecode(store.code(b));
+  const size_t perBrick = store_.voxelsPerBrick();
+  const BrickCoord brick = mortonDecode(store_.code(b));
   for (size_t l = 0; l < perBrick; ++l) {
     const size_t at = b * perBrick + l;
-    const VoxelSums* h = &slots_[at * kSlots];
-    if (h[0].images == 0) continue;
+    VoxelSums& first = store_.sums()[at];
+    if (first.images == 0) continue;
+    VoxelSums h[kSlots] = {first};
+    if (const Extra* e = extras(at, false)) std::copy(e->begin(), e->end(), h + 1);
     const VoxelIndex v =
         brick * B + VoxelIndex(static_cast<int>(l % B), static_cast<int>(l / B % B),
                                static_cast<int>(l / B / B));
@@ -118,22 +145,22 @@ HypothesisStats SurfaceHypotheses::resolveBrick(BrickStore& store, size_t b,
     bool agreed = false;
     if (!merge(h, grid.centre(v), sights, kept, agreed)) {
       ++stats.removed;
+      first = VoxelSums{};
       continue;
     }
     ++(agreed ? stats.agreed : stats.unopposed);
-    store.sums()[at] = kept;
+    first = kept;
   }
   return stats;
 }
 
-HypothesisStats SurfaceHypotheses::resolve(BrickStore& store, const std::vector<SightMap>& sights,
-                                           int threads) const {
-  const size_t bricks = store.brickCount();
+HypothesisStats SurfaceHypotheses::resolve(const std::vector<SightMap>& sights, int threads) {
+  const size_t bricks = store_.brickCount();
   const size_t parts = std::min<size_t>(bricks, 16 * std::max(1, threads));
   std::vector<HypothesisStats> part(parts);
   parallelFor(parts, threads, [&](size_t k) {
     for (size_t b = bricks * k / parts; b < bricks * (k + 1) / parts; ++b) {
-      const HypothesisStats s = resolveBrick(store, b, sights);
+      const HypothesisStats s = resolveBrick(b, sights);
       part[k].agreed += s.agreed, part[k].unopposed += s.unopposed, part[k].removed += s.removed;
     }
   });

@@ -3,6 +3,8 @@
 // image looked through it (docs/robust.md).
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -28,37 +30,48 @@ struct HypothesisStats {
 };
 
 /// Up to kSlots hypotheses per voxel of a brick store, each a weighted sum like VoxelSums.
+/// The first lives in the store's own sums (most voxels never have another); the others in
+/// blocks allocated per brick the first time one of its voxels needs them.
 class SurfaceHypotheses {
  public:
   static constexpr int kSlots = 3;
 
-  SurfaceHypotheses(size_t voxels, const HypothesisParams& params);
+  SurfaceHypotheses(BrickStore& store, const HypothesisParams& params);
+  ~SurfaceHypotheses();
+  SurfaceHypotheses(const SurfaceHypotheses&) = delete;
+  SurfaceHypotheses& operator=(const SurfaceHypotheses&) = delete;
 
   /// One image's sample at voxel `at` (images come in scan order): joins the hypothesis it
   /// agrees with, or opens one; with every slot taken it replaces the lightest hypothesis if it
-  /// weighs more. Samples of weight 0 carry no evidence and are skipped.
+  /// weighs more. Samples of weight 0 carry no evidence and are skipped. Threads may add to
+  /// different voxels at once.
   void add(size_t at, float d, float w, const float f[3]);
 
   /// Writes into the store's sums, per voxel, the sum of the hypotheses that stand (those
   /// minViews images agree on, and those fewer saw but no other image looked through) and
-  /// face the same way as the nearest of them. Sums stay empty where none stands. `sights`: every
-  /// image's map. Bricks are shared among `threads`.
-  HypothesisStats resolve(BrickStore& store, const std::vector<SightMap>& sights,
-                          int threads = 1) const;
+  /// face the same way as the nearest of them; sums are cleared where none stands. `sights`:
+  /// every image's map. Bricks are shared among `threads`.
+  HypothesisStats resolve(const std::vector<SightMap>& sights, int threads = 1);
+
+  /// Bytes held besides the store's sums (the blocks of second and third hypotheses).
+  uint64_t extraBytes() const;
 
  private:
-  HypothesisStats resolveBrick(BrickStore& store, size_t b,
-                               const std::vector<SightMap>& sights) const;
+  using Extra = std::array<VoxelSums, kSlots - 1>;
+
+  /// The extra slots of voxel `at`, allocated if `create`; null when none and !create.
+  Extra* extras(size_t at, bool create);
+  HypothesisStats resolveBrick(size_t b, const std::vector<SightMap>& sights);
   /// True when no image looked through the hypothesis' surface point (free space).
   bool unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
                  const std::vector<SightMap>& sights) const;
-
   /// The sums a voxel keeps (false: none stands); `agreed` when an agreed hypothesis is in.
   bool merge(const VoxelSums* h, const Eigen::Vector3d& centre, const std::vector<SightMap>& sights,
              VoxelSums& kept, bool& agreed) const;
 
+  BrickStore& store_;
   HypothesisParams params_;
-  std::vector<VoxelSums, HugePageAllocator<VoxelSums>> slots_;  ///< kSlots per voxel
+  std::vector<std::atomic<Extra*>> blocks_;  ///< per local brick: voxelsPerBrick Extras, or null
 };
 
 }  // namespace rangefuse
