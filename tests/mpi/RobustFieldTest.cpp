@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "ScanSetFiles.h"
 #include "SharedTemp.h"
 #include "rangefuse/eval/MeshDistance.h"
 #include "rangefuse/fuse/FuseJob.h"
@@ -30,12 +31,7 @@ std::string scanInto(const std::string& name, const TriangleMesh& mesh, const Sc
     std::filesystem::create_directories(dir);
     SyntheticSet set = scanMesh(mesh, s);
     edit(set);
-    std::vector<io::ConfScan> conf;
-    for (const auto& sc : set.scans) {
-      io::writeRangeGridPly(dir + "/" + sc.name, sc.grid, io::PlyEncoding::BinaryLittleEndian);
-      conf.push_back({sc.name, dir + "/" + sc.name, sc.truth});
-    }
-    io::writeConf(dir + "/truth.conf", conf);
+    test::writeScanSet(dir, set);
   }
   MPI_Barrier(MPI_COMM_WORLD);
   return dir;

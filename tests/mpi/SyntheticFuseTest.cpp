@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "ScanSetFiles.h"
 #include "SharedTemp.h"
 #include "rangefuse/eval/Comparison.h"
 #include "rangefuse/fuse/FuseJob.h"
@@ -38,12 +39,7 @@ std::string scanComposite(double noise, double outliers = 0, int patchCount = 0,
     s.patches = patchCount;
     const SyntheticSet set = scanMesh(makeComposite(), s);
     if (patches) *patches = set.patches;
-    std::vector<io::ConfScan> conf;
-    for (const auto& sc : set.scans) {
-      io::writeRangeGridPly(dir + "/" + sc.name, sc.grid, io::PlyEncoding::BinaryLittleEndian);
-      conf.push_back({sc.name, dir + "/" + sc.name, sc.truth});
-    }
-    io::writeConf(dir + "/truth.conf", conf);
+    test::writeScanSet(dir, set);
   }
   MPI_Barrier(MPI_COMM_WORLD);
   return dir;
