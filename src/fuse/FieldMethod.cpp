@@ -49,7 +49,9 @@ const std::vector<MethodInfo>& methodRegistry() {
       {FieldMethod::Prism, "prism", "prism fields (Tubic et al.): every observation, averaged",
        false, false, true},
       {FieldMethod::Robust, "robust",
-       "prism samples kept by agreement or free space (docs/robust.md)", false, true, false},
+       "prism samples kept by agreement or free space (docs/robust.md); registers against the "
+       "prism field",
+       false, true, true},
       {FieldMethod::Consensus, "consensus",
        "consensus surfaces (Wheeler et al.): a quorum of closest surfaces", true, false, true},
       {FieldMethod::Naive, "naive", "the closest surface of any view (baseline)", true, false,

@@ -173,7 +173,10 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
     scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
   }
-  const ScanPreparation preparation{surfaceOptions(o), o.limits, o.envelope * o.voxel};
+  // Held scans feed registration fields, which are prism or closest-surface fields: robust
+  // fusion's sight maps are made when the final field streams the scans again.
+  ScanPreparation preparation{surfaceOptions(o), o.limits, o.envelope * o.voxel};
+  preparation.surface.sightMap = false;
   scans.held = std::make_shared<HeldScans>(conf.scans, scans.readers, scans.rank, preparation,
                                            static_cast<uint64_t>(o.scanMemory * 1024 * 1024));
   // Each rank reads its scans and keeps those that fit the budget; the others are read again

@@ -22,7 +22,7 @@ struct MethodInfo {
   bool closestSurface;
   /// Prism samples kept by agreement or free space (hypotheses, sight maps).
   bool hypotheses;
-  /// Can run with --register (the registration fields are built by this method).
+  /// Can run with --register (registration fields are prism fields unless closestSurface).
   bool registers;
 };
 
