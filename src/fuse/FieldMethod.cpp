@@ -47,15 +47,14 @@ std::array<std::pair<FieldMethod, const char*>, 4> methodNames() {
 const std::vector<MethodInfo>& methodRegistry() {
   static const std::vector<MethodInfo> methods{
       {FieldMethod::Prism, "prism", "prism fields (Tubic et al.): every observation, averaged",
-       false, false, true},
+       false, false},
       {FieldMethod::Robust, "robust",
        "prism samples kept by agreement or free space (docs/robust.md); registers against the "
        "prism field",
-       false, true, true},
+       false, true},
       {FieldMethod::Consensus, "consensus",
-       "consensus surfaces (Wheeler et al.): a quorum of closest surfaces", true, false, true},
-      {FieldMethod::Naive, "naive", "the closest surface of any view (baseline)", true, false,
-       true}};
+       "consensus surfaces (Wheeler et al.): a quorum of closest surfaces", true, false},
+      {FieldMethod::Naive, "naive", "the closest surface of any view (baseline)", true, false}};
   return methods;
 }
 

@@ -64,11 +64,6 @@ void validateFuseOptions(const FuseOptions& o) {
     const std::string wrong = p.check ? p.check(o) : "";
     if (!wrong.empty()) throw InputError("--" + p.option + " " + wrong);
   }
-  if (!methodInfo(o.method).registers && o.registration != RegistrationMode::None)
-    throw InputError(std::string("--method ") + toString(o.method) +
-                     " does not run with --register yet: register with --method prism and "
-                     "--poses-out, then fuse those poses with --method " +
-                     toString(o.method));
 }
 
 namespace {

@@ -20,10 +20,9 @@ struct MethodInfo {
   const char* summary;  ///< one line for --help
   /// Distances from closest-surface queries over routed triangles (else prism integration).
   bool closestSurface;
-  /// Prism samples kept by agreement or free space (hypotheses, sight maps).
+  /// Prism samples kept by agreement or free space (hypotheses, sight maps). Registration
+  /// fields are closest-surface fields for closestSurface methods, prism fields otherwise.
   bool hypotheses;
-  /// Can run with --register (registration fields are prism fields unless closestSurface).
-  bool registers;
 };
 
 /// Every method, in the order --help lists them.
