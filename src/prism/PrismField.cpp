@@ -148,16 +148,10 @@ void PrismIntegrator::accumulate(Slab& slab) {
   auto& sums = store_.sums();
   for (size_t off : slab.touched) {
     Sample& s = scratch_[off];
-    if (hypotheses_) {
+    if (hypotheses_)
       hypotheses_->add(off, s.d, s.w, s.f);
-      s.d = kEmpty;
-      continue;
-    }
-    VoxelSums& acc = sums[off];
-    acc.wd += s.w * s.d;
-    acc.w += s.w;
-    for (int k = 0; k < 3; ++k) acc.wf[k] += s.w * s.f[k];
-    acc.images += 1;
+    else
+      sums[off].add(s.d, s.w, s.f);
     s.d = kEmpty;
   }
 }

@@ -13,13 +13,6 @@ constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
 constexpr float kNothing = std::numeric_limits<float>::infinity();
 constexpr int kMaxSide = 8192;  // cells along a raster side; a coarser cell beyond that
 
-Pose inverse(const Pose& p) {
-  Pose inv;
-  inv.R = p.R.transpose();
-  inv.t = -(inv.R * p.t);
-  return inv;
-}
-
 }  // namespace
 
 void SightMap::allocate(int width, int height, float fill) {
@@ -69,7 +62,7 @@ SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
 }
 
 void SightMap::place(const Pose& pose) {
-  toScan_ = inverse(pose);
+  toScan_ = pose.inverse();
 }
 
 void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -20,14 +20,6 @@ float norm(const float v[3]) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-/// The same sums, in the same order, as the prism integrator's accumulate.
-void addTo(VoxelSums& h, float d, float w, const float f[3]) {
-  h.wd += w * d;
-  h.w += w;
-  for (int k = 0; k < 3; ++k) h.wf[k] += w * f[k];
-  h.images += 1;
-}
-
 }  // namespace
 
 SurfaceHypotheses::SurfaceHypotheses(BrickStore& store, const HypothesisParams& params)
@@ -62,21 +54,21 @@ void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3]) {
   if (!(w > 0)) return;
   VoxelSums& first = store_.sums()[at];
   if (first.images == 0 || agrees(first, d, f, params_)) {
-    addTo(first, d, w, f);
+    first.add(d, w, f);
     return;
   }
   Extra& extra = *extras(at, true);
   VoxelSums* lightest = &first;
   for (VoxelSums& h : extra) {
     if (h.images == 0 || agrees(h, d, f, params_)) {
-      addTo(h, d, w, f);
+      h.add(d, w, f);
       return;
     }
     if (h.w < lightest->w) lightest = &h;
   }
   if (w > lightest->w) {
     *lightest = VoxelSums{};
-    addTo(*lightest, d, w, f);
+    lightest->add(d, w, f);
   }
 }
 
@@ -120,8 +112,7 @@ bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
       kept = h[k], first = false;
       continue;
     }
-    kept.wd += h[k].wd, kept.w += h[k].w, kept.images += h[k].images;
-    for (int a = 0; a < 3; ++a) kept.wf[a] += h[k].wf[a];
+    kept += h[k];
   }
   return true;
 }

@@ -13,6 +13,13 @@ struct Pose {
 
   Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return R * p + t; }
   Eigen::Vector3d rotate(const Eigen::Vector3d& v) const { return R * v; }
+  /// The world-to-scan transform.
+  Pose inverse() const {
+    Pose inv;
+    inv.R = R.transpose();
+    inv.t = -(inv.R * t);
+    return inv;
+  }
 };
 
 }  // namespace rangefuse

@@ -16,6 +16,20 @@ struct VoxelSums {
   float w = 0;
   float wf[3] = {0, 0, 0};
   float images = 0;  ///< images that contributed (registration asks for overlap)
+
+  /// Adds one image's sample: distance d, weight c (its confidence), unit gradient f.
+  void add(float d, float c, const float f[3]) {
+    wd += c * d;
+    w += c;
+    for (int k = 0; k < 3; ++k) wf[k] += c * f[k];
+    images += 1;
+  }
+  /// Adds the sums of other images.
+  VoxelSums& operator+=(const VoxelSums& o) {
+    wd += o.wd, w += o.w, images += o.images;
+    for (int k = 0; k < 3; ++k) wf[k] += o.wf[k];
+    return *this;
+  }
 };
 
 class BrickStore {
