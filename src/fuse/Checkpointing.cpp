@@ -66,6 +66,9 @@ void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
   if (!meta.parameters.contains("merge_cells_voxels") && !given(o, "merge-cells")) o.mergeCells = 0;
   // ... and before --min-views, with the quorum alone.
   if (!meta.parameters.contains("min_views") && !given(o, "min-views")) o.minViews = 1;
+  // ... and before the joint solve, with per-scan fits.
+  if (!meta.parameters.contains("register_solve") && !given(o, "register-solve"))
+    o.registerSolve = RegistrationSolve::PerScan;
   for (const FuseParameter& p : fuseParameters()) {
     if (p.recorded == Recorded::No || !meta.parameters.contains(p.key)) continue;
     const nlohmann::json& theirs = meta.parameters[p.key];

@@ -35,6 +35,9 @@ const std::array<std::pair<RegistrationMode, const char*>, 4> kRegistrationModes
 const std::array<std::pair<RegistrationFieldMode, const char*>, 2> kFieldModes{
     {{RegistrationFieldMode::Grow, "grow"}, {RegistrationFieldMode::Rebuild, "rebuild"}}};
 
+const std::array<std::pair<RegistrationSolve, const char*>, 2> kSolves{
+    {{RegistrationSolve::Joint, "joint"}, {RegistrationSolve::PerScan, "per-scan"}}};
+
 std::array<std::pair<FieldMethod, const char*>, 4> methodNames() {
   std::array<std::pair<FieldMethod, const char*>, 4> names;
   for (size_t i = 0; i < names.size(); ++i)
@@ -73,6 +76,9 @@ const char* toString(RegistrationMode mode) {
 const char* toString(RegistrationFieldMode mode) {
   return nameOf(kFieldModes, mode);
 }
+const char* toString(RegistrationSolve solve) {
+  return nameOf(kSolves, solve);
+}
 
 FieldMethod parseFieldMethod(const std::string& option, const std::string& text) {
   return parse(methodNames(), option, text);
@@ -85,6 +91,10 @@ RegistrationMode parseRegistrationMode(const std::string& option, const std::str
 RegistrationFieldMode parseRegistrationFieldMode(const std::string& option,
                                                  const std::string& text) {
   return parse(kFieldModes, option, text);
+}
+
+RegistrationSolve parseRegistrationSolve(const std::string& option, const std::string& text) {
+  return parse(kSolves, option, text);
 }
 
 }  // namespace rangefuse

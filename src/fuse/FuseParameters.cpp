@@ -220,6 +220,10 @@ std::vector<FuseParameter> makeTable() {
        "registration: grow (Algorithm 1 adds each scan to one field; prism only) or rebuild (a "
        "new field for every scan: the simple method, for comparison)",
        at(&FuseOptions::registerField), nullptr},
+      {"register-solve", "register_solve", R::Result, false,
+       "registration: joint (Algorithm 2 solves all poses at once, the anchor fixing the frame) "
+       "or per-scan (each scan fitted to the field on its own, as in the paper)",
+       at(&FuseOptions::registerSolve), nullptr},
       {"poses-out", "", R::No, false, "write the refined poses (.conf)", at(&FuseOptions::posesOut),
        nullptr},
       {"checkpoint", "", R::No, false, "write an HDF5 checkpoint of the field (.h5)",
@@ -247,7 +251,8 @@ nlohmann::json parameterJson(const FuseParameter& p, const FuseOptions& o) {
   return std::visit(Visit{[](auto* v) -> nlohmann::json { return *v; },
                           [](FieldMethod* v) -> nlohmann::json { return toString(*v); },
                           [](RegistrationMode* v) -> nlohmann::json { return toString(*v); },
-                          [](RegistrationFieldMode* v) -> nlohmann::json { return toString(*v); }},
+                          [](RegistrationFieldMode* v) -> nlohmann::json { return toString(*v); },
+                          [](RegistrationSolve* v) -> nlohmann::json { return toString(*v); }},
                     p.value(mutableOptions));
 }
 
@@ -264,6 +269,9 @@ void setParameter(const FuseParameter& p, FuseOptions& o, const nlohmann::json& 
               },
               [&](RegistrationFieldMode* v) {
                 *v = parseRegistrationFieldMode(p.option, value.get<std::string>());
+              },
+              [&](RegistrationSolve* v) {
+                *v = parseRegistrationSolve(p.option, value.get<std::string>());
               }},
         p.value(o));
   } catch (const nlohmann::json::exception&) {
@@ -279,7 +287,8 @@ void parseParameter(const FuseParameter& p, FuseOptions& o, const std::string& t
             [&](std::string* v) { *v = text; },
             [&](FieldMethod* v) { *v = parseFieldMethod(p.option, text); },
             [&](RegistrationMode* v) { *v = parseRegistrationMode(p.option, text); },
-            [&](RegistrationFieldMode* v) { *v = parseRegistrationFieldMode(p.option, text); }},
+            [&](RegistrationFieldMode* v) { *v = parseRegistrationFieldMode(p.option, text); },
+            [&](RegistrationSolve* v) { *v = parseRegistrationSolve(p.option, text); }},
       p.value(o));
 }
 

@@ -26,7 +26,9 @@ RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans&
   r.controlStride = o.controlStride;
   r.maxIterations = o.maxIterations;
   r.maxRounds = o.maxRounds;
+  r.solve = o.registerSolve;
   r.translationTol = 1e-3 * o.voxel;
+  r.jointTranslationTol = 0.01 * o.voxel;
   r.correspondences.maxDistance = o.envelope * o.voxel;
   r.roundTolerance = o.roundTolerance * o.voxel;
   r.maxExtrapolation = o.voxel;  // well inside the envelope the correspondences come from

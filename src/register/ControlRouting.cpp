@@ -42,19 +42,38 @@ Eigen::Vector4d sphereOf(const PrismScan& scan, int stride) {
   return sphere;
 }
 
+/// A sensor as 7 numbers (a flag, point, direction), for sharing by summation.
+void packSensor(const Sensor& s, double* out) {
+  out[0] = s.isPoint ? 1 : 0;
+  for (int k = 0; k < 3; ++k) out[1 + k] = s.point[k], out[4 + k] = s.direction[k];
+}
+
+Sensor unpackSensor(const double* in) {
+  return Sensor{in[0] > 0.5, Eigen::Vector3d(in[1], in[2], in[3]),
+                Eigen::Vector3d(in[4], in[5], in[6])};
+}
+
 }  // namespace
 
 ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm)
     : scans_(scans), stride_(stride), comm_(comm), held_(scans.size()) {
-  // Each scan is held by one rank, which alone fills its sphere: a sum shares them.
+  // Each scan is held by one rank, which alone fills its sphere and sensor: a sum shares them.
   spheres_.assign(scans.size(), Eigen::Vector4d::Zero());
+  std::vector<double> sensors(7 * scans.size(), 0.0);
   // A scan read again may fail on one rank: every rank then throws here.
   mpi::collectivelyOrThrow(comm_, [&] {
-    for (size_t i = 0; i < scans.size(); ++i)
-      if (scans.holds(i)) spheres_[i] = sphereOf(*scans.get(i), stride_);
+    for (size_t i = 0; i < scans.size(); ++i) {
+      if (!scans.holds(i)) continue;
+      const std::shared_ptr<const PrismScan> scan = scans.get(i);
+      spheres_[i] = sphereOf(*scan, stride_);
+      packSensor(scan->surface.sensor, &sensors[7 * i]);
+    }
   });
   MPI_Allreduce(MPI_IN_PLACE, spheres_.data(), static_cast<int>(4 * spheres_.size()), MPI_DOUBLE,
                 MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, sensors.data(), static_cast<int>(sensors.size()), MPI_DOUBLE, MPI_SUM,
+                comm_);
+  for (size_t i = 0; i < scans.size(); ++i) sensors_.push_back(unpackSensor(&sensors[7 * i]));
 }
 
 double ControlRouting::motionBound(size_t i, const Pose& from, const Pose& to) const {
@@ -134,6 +153,7 @@ ControlPoints ControlRouting::at(size_t i, const Pose& pose, const BrickStore& s
   }
   const Held& h = held_[i];
   ControlPoints c;
+  c.sensor = sensors_[i].placed(pose);
   auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n, double w) {
     c.points.push_back(pose.apply(p));
     c.normals.push_back(pose.rotate(n));

@@ -7,8 +7,8 @@
 
 namespace rangefuse {
 
-bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    const CorrespondenceSettings& s, Correspondence& out, BrickCache* cache) {
+bool sampleField(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                 const CorrespondenceSettings& s, FieldSample& out, BrickCache* cache) {
   const VoxelGrid& g = store.grid();
   const VoxelIndex v = g.nearest(p);  // Eq. 15
   if ((v.array() < 0).any()) return false;
@@ -17,18 +17,32 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
   const int64_t b = cache && cache->code == code ? cache->local : store.localBrick(code);
   if (cache) *cache = BrickCache{code, b};
   if (b < 0) return false;
-  const VoxelSums& sums = store.sums()[store.offset(b, bc, v)];
+  const size_t offset = store.offset(b, bc, v);
+  const VoxelSums& sums = store.sums()[offset];
   if (!(sums.w > s.minWeight) || sums.images < s.minImages) return false;
   const double d = sums.wd / sums.w;
   Eigen::Vector3d f(sums.wf[0], sums.wf[1], sums.wf[2]);
   if (std::abs(d) > s.maxDistance || !(f.norm() > 0)) return false;
   f.normalize();
   if (f.dot(n) < s.minCosine) return false;
-  // Eq. 14 with the gradient of the signed field: step back along it by the distance,
-  // corrected to first order for p's offset from the voxel centre.
-  out.q = p - f * (d + f.dot(p - g.centre(v)));
   out.brick = static_cast<size_t>(b);
-  out.weight = s.weightByImages ? sums.images / (sums.images + 1.0) : 1.0;
+  out.voxel = offset;
+  out.f = f;
+  // The gradient of the signed field, corrected to first order for p's offset from the voxel
+  // centre.
+  out.distance = d + f.dot(p - g.centre(v));
+  out.images = sums.images;
+  return true;
+}
+
+bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                    const CorrespondenceSettings& s, Correspondence& out, BrickCache* cache) {
+  FieldSample sample;
+  if (!sampleField(store, p, n, s, sample, cache)) return false;
+  // Eq. 14: step back along the gradient by the distance.
+  out.q = p - sample.f * sample.distance;
+  out.brick = sample.brick;
+  out.weight = s.weightByImages ? sample.images / (sample.images + 1.0) : 1.0;
   return true;
 }
 

@@ -6,6 +6,7 @@
 
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ControlRouting.h"
+#include "rangefuse/register/JointRegistration.h"
 
 namespace rangefuse {
 namespace {
@@ -78,7 +79,10 @@ RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlR
 }
 
 bool converged(const RegistrationStep& s, const RegistrationOptions& o) {
-  return !s.applied || (s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol);
+  if (!s.applied) return true;
+  if (s.algorithm == "joint")  // Gauss-Newton: later steps only follow the noise
+    return s.rotationDeg < o.jointRotationTolDeg && s.translation < o.jointTranslationTol;
+  return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
 }
 
 std::vector<size_t> allOf(size_t n) {
@@ -168,6 +172,26 @@ void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
   p.history.assign(poses.size(), FitHistory{});
 }
 
+/// One iteration of Algorithm 2's fits: every scan's, jointly or one by one.
+std::vector<RegistrationStep> fitAll(std::vector<Pose>& poses, const BrickStore& store,
+                                     ControlRouting& control, const RegistrationOptions& o,
+                                     MPI_Comm comm, std::vector<FitHistory>& history) {
+  if (o.solve == RegistrationSolve::Joint) {
+    const JointStepSettings settings{o.anchor, o.minCorrespondences, o.maxExtrapolation,
+                                     o.correspondences};
+    std::vector<RegistrationStep> steps = jointStep(poses, store, control, settings, comm);
+    for (RegistrationStep& step : steps) step.algorithm = "joint";
+    return steps;
+  }
+  std::vector<RegistrationStep> steps;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    steps.push_back(fitOnce(i, poses[i], store, control, o, comm, history[i]));
+    steps.back().algorithm = "simultaneous";
+    steps.back().scan = i;
+  }
+  return steps;
+}
+
 void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, RegistrationOptions o,
                   RegistrationField& field, ControlRouting& control, MPI_Comm comm,
                   const std::function<void(const RegistrationStep&)>& onStep,
@@ -185,12 +209,9 @@ void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, Registratio
       control.route(all, poses, store);
       while (p.iteration < o.maxIterations && p.lastMoved) {
         bool moved = false;
-        for (size_t i = 0; i < scans.size(); ++i) {
-          RegistrationStep step = fitOnce(i, poses[i], store, control, o, comm, p.history[i]);
-          step.algorithm = "simultaneous";
+        for (RegistrationStep& step : fitAll(poses, store, control, o, comm, p.history)) {
           step.round = p.round;
           step.iteration = p.iteration + 1;
-          step.scan = i;
           onStep(step);
           moved |= !converged(step, o);
         }

@@ -22,6 +22,7 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
   std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
   ScanSurface s;
   s.triangles = std::move(mesh.faces);
+  s.sensor = grid.sensor().placed(pose);
   s.points.reserve(mesh.vertices.size());
   s.normals.reserve(mesh.vertices.size());
   s.confidence.reserve(mesh.vertices.size());

@@ -7,6 +7,8 @@
 #include <optional>
 #include <vector>
 
+#include "rangefuse/core/Sensor.h"
+
 namespace rangefuse {
 
 /// Pinhole intrinsics in pixels (obj_info pinhole_fx/fy/cx/cy). The sensor sits at
@@ -25,11 +27,11 @@ struct RangeGrid {
 
   int32_t at(int r, int c) const { return cell[static_cast<size_t>(r) * cols + c]; }
 
+  /// The sensor in the scan frame: a pinhole at the origin, else looking along -z.
+  Sensor sensor() const { return Sensor{pinhole.has_value()}; }
+
   /// Unit direction from point p toward the sensor.
-  Eigen::Vector3d towardSensor(const Eigen::Vector3d& p) const {
-    if (!pinhole) return Eigen::Vector3d::UnitZ();
-    return (-p).normalized();
-  }
+  Eigen::Vector3d towardSensor(const Eigen::Vector3d& p) const { return sensor().toward(p); }
 };
 
 }  // namespace rangefuse

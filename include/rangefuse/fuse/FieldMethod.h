@@ -34,11 +34,13 @@ const MethodInfo& methodInfo(FieldMethod method);
 const char* toString(FieldMethod method);
 const char* toString(RegistrationMode mode);
 const char* toString(RegistrationFieldMode mode);
+const char* toString(RegistrationSolve solve);
 
 /// The enum named `text`; throws InputError naming `option` and the valid names.
 FieldMethod parseFieldMethod(const std::string& option, const std::string& text);
 RegistrationMode parseRegistrationMode(const std::string& option, const std::string& text);
 RegistrationFieldMode parseRegistrationFieldMode(const std::string& option,
                                                  const std::string& text);
+RegistrationSolve parseRegistrationSolve(const std::string& option, const std::string& text);
 
 }  // namespace rangefuse

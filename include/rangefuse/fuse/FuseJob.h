@@ -43,6 +43,7 @@ struct FuseOptions {
   int maxRounds = 8;            ///< registration: field rebuilds in Algorithm 2
   double roundTolerance = 0.1;  ///< registration: Algorithm 2 ends below this, voxels
   RegistrationFieldMode registerField = RegistrationFieldMode::Grow;  ///< registration
+  RegistrationSolve registerSolve = RegistrationSolve::Joint;         ///< registration
   std::string posesOut;        ///< refined poses .conf (optional)
   std::string checkpoint;      ///< HDF5 checkpoint to write (optional)
   std::string resume;          ///< HDF5 checkpoint to continue from (optional)

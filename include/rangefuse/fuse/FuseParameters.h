@@ -16,7 +16,7 @@ namespace rangefuse {
 
 /// Where an option's value lives in FuseOptions.
 using OptionValue = std::variant<double*, float*, int*, bool*, std::string*, FieldMethod*,
-                                 RegistrationMode*, RegistrationFieldMode*>;
+                                 RegistrationMode*, RegistrationFieldMode*, RegistrationSolve*>;
 
 /// Whether an option decides the result: kept in reports and checkpoints, and compared on
 /// resume; kept in checkpoints only (the scan list, checked by hashes instead); or neither

@@ -15,10 +15,12 @@
 
 namespace rangefuse {
 
-/// Control points in world coordinates, with their normals and weights.
+/// Control points in world coordinates, with their normals and weights, and the scan's sensor
+/// (their lines of sight) at the same pose.
 struct ControlPoints {
   std::vector<Eigen::Vector3d> points, normals;
   std::vector<double> weights;
+  Sensor sensor;
 };
 
 /// Every scan's control points (every stride-th vertex with a positive confidence), each kept on
@@ -70,6 +72,7 @@ class ControlRouting {
   int stride_;
   MPI_Comm comm_;
   std::vector<Eigen::Vector4d> spheres_;  ///< per scan: centre and radius of its control points
+  std::vector<Sensor> sensors_;           ///< per scan, in its frame
   std::vector<Held> held_;
   size_t reroutes_ = 0;
 };

@@ -35,6 +35,24 @@ struct Correspondence {
   double weight = 1;
 };
 
+/// What the field says at a control point p: from the voxel nearest to p, its unit gradient f
+/// and the signed distance of p along it, d + f.(p - p_v) (Tubic Eq. 14 to first order).
+struct FieldSample {
+  size_t brick = 0;  ///< the local brick of the voxel
+  size_t voxel = 0;  ///< the voxel's offset into the store's sums
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  double distance = 0;
+  float images = 0;  ///< the images that contributed to the voxel
+};
+
+/// The field at control point p (normal n). False when the nearest voxel is not local,
+/// unobserved, too light, seen by too few images, outside the envelope, or faces away from n
+/// (the other side of a thin part). `cache`, when given, saves looking up the same brick twice
+/// in a row.
+bool sampleField(const BrickStore& store, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                 const CorrespondenceSettings& settings, FieldSample& out,
+                 BrickCache* cache = nullptr);
+
 /// The corresponding point of p (normal n) from the voxel nearest to it: p - f [d + f.(p - p_v)],
 /// with f the unit gradient. False when that voxel is not local, unobserved, too light, seen by
 /// too few images, outside the envelope, or faces away from n (the other side of a thin part).

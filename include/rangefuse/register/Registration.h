@@ -19,16 +19,19 @@ namespace rangefuse {
 
 struct RegistrationOptions {
   RegistrationMode mode = RegistrationMode::None;
-  size_t anchor = 0;                ///< the scan that fixes the frame
-  int controlStride = 1;            ///< every k-th vertex is a control point
-  int maxIterations = 100;          ///< fits per scan (Algorithm 1) or per round (Algorithm 2)
-  int maxRounds = 8;                ///< Algorithm 2: field rebuilds
-  double rotationTolDeg = 1e-3;     ///< converged when a fit turns less than this ...
-  double translationTol = 0;        ///< ... and moves less than this (world units)
-  size_t minCorrespondences = 50;   ///< fewer: the scan is reported and left where it is
-  bool accelerate = true;           ///< extrapolate steadily converging fits
-  double maxExtrapolation = 1e300;  ///< ... to at most this motion (world units at the radius)
-  double roundTolerance = 0;        ///< Algorithm 2 stops when a round moves no scan this far
+  size_t anchor = 0;        ///< the scan that fixes the frame
+  int controlStride = 1;    ///< every k-th vertex is a control point
+  int maxIterations = 100;  ///< fits per scan (Algorithm 1) or per round (Algorithm 2)
+  int maxRounds = 8;        ///< Algorithm 2: field rebuilds
+  RegistrationSolve solve = RegistrationSolve::Joint;  ///< Algorithm 2's fits
+  double rotationTolDeg = 1e-3;       ///< converged when a fit turns less than this ...
+  double translationTol = 0;          ///< ... and moves less than this (world units)
+  double jointRotationTolDeg = 0.01;  ///< a joint step converged below this ...
+  double jointTranslationTol = 0;     ///< ... and this (world units)
+  size_t minCorrespondences = 50;     ///< fewer: the scan is reported and left where it is
+  bool accelerate = true;             ///< extrapolate steadily converging fits
+  double maxExtrapolation = 1e300;    ///< ... to at most this motion (world units at the radius)
+  double roundTolerance = 0;          ///< Algorithm 2 stops when a round moves no scan this far
   CorrespondenceSettings correspondences;
 };
 

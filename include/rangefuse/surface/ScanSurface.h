@@ -27,6 +27,7 @@ struct ScanSurface {
   std::vector<Eigen::Vector3d> normals;
   std::vector<double> confidence;
   std::vector<Triangle> triangles;
+  Sensor sensor;  ///< where the lines of sight come from, in the same frame
 };
 
 /// Median distance between grid neighbours (the lateral sampling step), or 0 if none.

@@ -1,0 +1,227 @@
+#include "rangefuse/register/JointRegistration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse {
+namespace {
+
+/// Fixed point for the sums of a share: parts of one share made on different ranks then add
+/// exactly, in any order. Weights are at most 1 a point, residuals at most `maxResidual`; 2^40
+/// units each leave room for 2^22 points in one voxel.
+constexpr double kShareScale = 0x1p40;
+
+/// One scan's control points whose foot points fall into one voxel, summed in fixed point.
+struct ExactShare {
+  uint64_t voxel = 0;  ///< position in the layout's bricks times voxels a brick, plus offset
+  uint32_t scan = 0, points = 0;
+  int64_t weight = 0, offset[3] = {};  ///< Σ w, Σ w (p − the voxel's centre)
+};
+
+/// Where a share goes: the voxel nearest to the control point's foot point on the field's
+/// surface. Grouping by the point's own voxel would compare only points that lie in the same
+/// cell along the normal, which hides how far apart the scans are.
+struct FootVoxel {
+  uint64_t voxel = 0;
+  int owner = -1;  ///< -1: the foot point lies outside the field's bricks
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+};
+
+FootVoxel footVoxel(const BrickLayout& layout, const Eigen::Vector3d& q, size_t perBrick) {
+  const VoxelGrid& g = layout.grid;
+  const VoxelIndex v = g.nearest(q);
+  FootVoxel foot;
+  if ((v.array() < 0).any()) return foot;
+  const BrickCoord bc = brickOf(v, g.brick);
+  const int64_t b = layout.find(mortonEncode(bc));
+  if (b < 0) return foot;
+  const VoxelIndex l = v - bc * g.brick;
+  const size_t B = static_cast<size_t>(g.brick);
+  foot.voxel = static_cast<uint64_t>(b) * perBrick + (static_cast<size_t>(l.z()) * B + l.y()) * B +
+               static_cast<size_t>(l.x());
+  foot.owner = layout.ownerOf(static_cast<size_t>(b));
+  foot.centre = g.centre(v);
+  return foot;
+}
+
+/// Where control point p's line of sight (unit u toward the sensor) meets the plane the field
+/// gives at p: with range noise along the rays this is where the point would be without it, so
+/// which voxel a point joins does not depend on its noise. (Stepping back along the gradient
+/// instead leaves the noise's tangential part, which, where the scan samples the surface more
+/// densely on one side, sorts points by their noise: 0.25 voxel of bias at 1 voxel of noise.)
+/// Along the gradient for grazing rays.
+Eigen::Vector3d footPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& u,
+                          const FieldSample& f) {
+  const double cosine = u.dot(f.f);
+  if (cosine > 0.3) return p - u * (f.distance / cosine);
+  return p - f.f * f.distance;
+}
+
+using ShareMap = std::map<std::pair<uint64_t, uint32_t>, ExactShare>;
+
+/// Adds control point p of scan `scan` to its foot voxel's share.
+void addPoint(ShareMap& shares, const FootVoxel& foot, uint32_t scan, const Eigen::Vector3d& p,
+              double w, double maxResidual) {
+  ExactShare& e = shares[{foot.voxel, scan}];
+  e.voxel = foot.voxel;
+  e.scan = scan;
+  e.points += 1;
+  e.weight += std::llround(w * kShareScale);
+  for (int k = 0; k < 3; ++k)
+    e.offset[k] += std::llround(w * (p[k] - foot.centre[k]) / maxResidual * kShareScale);
+}
+
+/// This rank's and the received parts of the shares of the voxels this rank owns.
+ShareMap exactShares(const std::vector<Pose>& poses, const BrickStore& store,
+                     ControlRouting& control, const CorrespondenceSettings& settings,
+                     double maxResidual, MPI_Comm comm) {
+  const int me = mpi::rank(comm);
+  std::vector<ShareMap> parts(static_cast<size_t>(mpi::size(comm)));
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const ControlPoints c = control.at(i, poses[i], store);
+    BrickCache cache;
+    for (size_t k = 0; k < c.points.size(); ++k) {
+      FieldSample f;
+      if (!(c.weights[k] > 0) ||
+          !sampleField(store, c.points[k], c.normals[k], settings, f, &cache))
+        continue;
+      const Eigen::Vector3d q = footPoint(c.points[k], c.sensor.toward(c.points[k]), f);
+      const FootVoxel foot = footVoxel(store.layout(), q, store.voxelsPerBrick());
+      if (foot.owner < 0) continue;
+      addPoint(parts[foot.owner], foot, static_cast<uint32_t>(i), c.points[k],
+               std::min(1.0, c.weights[k]), maxResidual);
+    }
+  }
+  std::vector<std::vector<char>> out(parts.size());
+  for (size_t r = 0; r < parts.size(); ++r)
+    if (static_cast<int>(r) != me)
+      for (const auto& [key, e] : parts[r]) mpi::pack(out[r], &e, 1);
+  ShareMap mine = std::move(parts[me]);
+  for (const auto& buf : mpi::exchangeBytes(std::move(out), comm))
+    for (size_t at = 0; at < buf.size();) {
+      ExactShare e;
+      mpi::unpack(buf, at, &e, 1);
+      ExactShare& to = mine[{e.voxel, e.scan}];
+      to.voxel = e.voxel;
+      to.scan = e.scan;
+      to.points += e.points;
+      to.weight += e.weight;
+      for (int k = 0; k < 3; ++k) to.offset[k] += e.offset[k];
+    }
+  return mine;
+}
+
+/// The field at voxel `voxel` (a layout position, in this rank's bricks): its centre, unit
+/// gradient and distance; false when the field is too light there.
+bool voxelPlane(const BrickStore& store, uint64_t voxel, float minWeight, Eigen::Vector3d& centre,
+                Eigen::Vector3d& f, double& d) {
+  const size_t perBrick = store.voxelsPerBrick(), global = voxel / perBrick;
+  const size_t local = global - store.globalIndex(0), inBrick = voxel % perBrick;
+  const VoxelSums& sums = store.sums()[local * perBrick + inBrick];
+  f = Eigen::Vector3d(sums.wf[0], sums.wf[1], sums.wf[2]);
+  if (!(sums.w > minWeight) || !(f.norm() > 0)) return false;
+  f.normalize();
+  d = sums.wd / sums.w;
+  const VoxelGrid& g = store.grid();
+  const int B = g.brick;
+  const VoxelIndex l(static_cast<int>(inBrick % B), static_cast<int>(inBrick / B % B),
+                     static_cast<int>(inBrick / B / B));
+  centre = g.centre(mortonDecode(store.code(local)) * B + l);
+  return true;
+}
+
+/// The shares per voxel in scan order (the map's order), as doubles. A share's residual is the
+/// distance of its points' centroid along the voxel's own gradient, from the voxel's own plane,
+/// and every share of a voxel moves with the Jacobian of the voxel's surface point: the control
+/// points' noise along their rays would otherwise correlate with the residuals and bias the
+/// poses (errors in variables), and voxels far from the surface hold a less linear field.
+std::vector<std::vector<VoxelShare>> voxelShares(const ShareMap& exact, const BrickStore& store,
+                                                 const MotionFrame& frame, float minWeight,
+                                                 double maxResidual) {
+  std::vector<std::vector<VoxelShare>> voxels;
+  uint64_t last = ~uint64_t{0};
+  Vector6d a = Vector6d::Zero();
+  Eigen::Vector3d centre, f;
+  double d = 0;
+  bool usable = false;
+  for (const auto& [key, e] : exact) {
+    if (key.first != last) {
+      last = key.first;
+      usable = voxelPlane(store, key.first, minWeight, centre, f, d);
+      if (usable) a << (centre - f * d - frame.centre).cross(f) / frame.length, f;
+      if (usable) voxels.emplace_back();
+    }
+    if (!usable || e.weight <= 0) continue;
+    VoxelShare s;
+    s.scan = e.scan;
+    s.points = e.points;
+    s.weight = static_cast<double>(e.weight) / kShareScale;
+    s.jacobian = s.weight * a;
+    Eigen::Vector3d offset;
+    for (int k = 0; k < 3; ++k)
+      offset[k] = static_cast<double>(e.offset[k]) / kShareScale * maxResidual;
+    s.residual = s.weight * d + f.dot(offset);  // Σ w (d + f.(p − centre))
+    voxels.back().push_back(s);
+  }
+  return voxels;
+}
+
+/// How far a motion moves points at most `frame.length` from the centre (to first order).
+double reach(const Vector6d& delta) {
+  return delta.head<3>().norm() + delta.tail<3>().norm();
+}
+
+}  // namespace
+
+MotionFrame motionFrame(const BrickStore& store) {
+  const VoxelGrid& g = store.grid();
+  Eigen::AlignedBox3d box;
+  for (uint64_t code : store.layout().codes) {
+    const Eigen::Vector3d first = g.centre(mortonDecode(code) * g.brick);
+    box.extend(first);
+    box.extend(first + Eigen::Vector3d::Constant((g.brick - 1) * g.voxel));
+  }
+  MotionFrame frame;
+  if (box.isEmpty()) return frame;
+  frame.centre = box.center();
+  frame.length = (box.max() - frame.centre).norm() + g.voxel;
+  return frame;
+}
+
+std::vector<RegistrationStep> jointStep(std::vector<Pose>& poses, const BrickStore& store,
+                                        ControlRouting& control, const JointStepSettings& s,
+                                        MPI_Comm comm) {
+  const MotionFrame frame = motionFrame(store);
+  const double maxResidual = s.field.maxDistance + store.grid().voxel;
+  const auto voxels = voxelShares(exactShares(poses, store, control, s.field, maxResidual, comm),
+                                  store, frame, s.field.minWeight, maxResidual);
+  const JointEquations eq = reduceJointEquations(voxels, poses.size(), maxResidual, comm);
+  std::vector<char> free(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i)
+    free[i] = i != s.anchor && eq.points[i] >= s.minCorrespondences;
+  std::vector<Vector6d> delta = solveJoint(eq, free);
+  // Far from the optimum the linear step may overshoot the envelope the planes hold in.
+  double largest = 0;
+  for (const Vector6d& d : delta) largest = std::max(largest, reach(d));
+  const double shrink = largest > s.maxStep ? s.maxStep / largest : 1.0;
+  std::vector<RegistrationStep> steps(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) {
+    RegistrationStep& step = steps[i];
+    step.scan = i;
+    step.correspondences = eq.points[i];
+    step.rms = eq.rms(i);
+    step.applied = free[i] || i == s.anchor;  // the anchor is where it belongs
+    if (!free[i]) continue;
+    const Pose m = motionPose(shrink * delta[i], frame);
+    poses[i].R = m.R * poses[i].R;
+    poses[i].t = m.R * poses[i].t + m.t;
+    step.rotationDeg = rotationDegrees(m.R);
+    step.translation = shrink * delta[i].tail<3>().norm();
+  }
+  return steps;
+}
+
+}  // namespace rangefuse
