@@ -12,9 +12,6 @@
 namespace rangefuse {
 namespace {
 
-/// Marquardt damping, relative to the largest diagonal entry of a scan's block.
-constexpr double kDamping = 1e-3;
-
 uint64_t pairKey(uint32_t s, uint32_t t) {
   return uint64_t{s} << 32 | t;
 }
@@ -130,7 +127,8 @@ JointEquations reduceJointEquations(const std::vector<std::vector<VoxelShare>>& 
   return eq;
 }
 
-std::vector<Vector6d> solveJoint(const JointEquations& eq, const std::vector<char>& free) {
+std::vector<Vector6d> solveJoint(const JointEquations& eq, const std::vector<char>& free,
+                                 double damping) {
   const size_t scans = eq.gradient.size();
   std::vector<int> column(scans, -1);
   int n = 0;
@@ -147,12 +145,9 @@ std::vector<Vector6d> solveJoint(const JointEquations& eq, const std::vector<cha
         entries.emplace_back(a + i, b + j, h(i, j));
         if (a != b) entries.emplace_back(b + j, a + i, h(i, j));
       }
-    // Marquardt's damping, scaled by the scan's own terms: a motion the surfaces do not
-    // constrain (turning about a sphere's centre, sliding along a plane) stays near zero
-    // instead of taking whatever the noise leaves in the gradient.
     if (a == b)
       for (int i = 0; i < 6; ++i)
-        entries.emplace_back(a + i, a + i, kDamping * h.diagonal().maxCoeff());
+        entries.emplace_back(a + i, a + i, damping * h.diagonal().maxCoeff());
   }
   for (int k = 0; k < 6 * n; ++k) entries.emplace_back(k, k, 1e-300);
   Eigen::SparseMatrix<double> H(6 * n, 6 * n);

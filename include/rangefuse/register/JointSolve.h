@@ -87,9 +87,15 @@ JointEquations jointEquations(const std::vector<std::vector<VoxelShare>>& voxels
 JointEquations reduceJointEquations(const std::vector<std::vector<VoxelShare>>& voxels,
                                     size_t scans, double maxResidual, MPI_Comm comm);
 
-/// Solves H δ = −g for the scans marked free; the others (the anchor: the gauge) keep δ = 0.
-/// A tiny damping keeps directions nothing constrains (a scan that overlaps nothing free) still.
-std::vector<Vector6d> solveJoint(const JointEquations& eq, const std::vector<char>& free);
+/// Marquardt's damping of solveJoint, relative to the largest diagonal entry of a scan's block.
+constexpr double kJointDamping = 1e-3;
+
+/// Solves (H + damping · D) δ = −g for the scans marked free, D the largest diagonal entry of
+/// each scan's block; the others (the anchor: the gauge) keep δ = 0. The damping keeps a
+/// motion the surfaces do not constrain (turning about a sphere's centre, sliding along a
+/// plane) near zero instead of following whatever the noise leaves in the gradient.
+std::vector<Vector6d> solveJoint(const JointEquations& eq, const std::vector<char>& free,
+                                 double damping = kJointDamping);
 
 /// The pose change that applies motion δ in `frame` (left-multiplied onto a pose).
 Pose motionPose(const Vector6d& delta, const MotionFrame& frame);
