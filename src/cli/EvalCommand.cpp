@@ -84,12 +84,43 @@ double median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
+/// The best common rigid motion of all estimates and the scans' displacements once it is
+/// removed: a group that drifted away from the reference frame but agrees with itself shows a
+/// large motion and small displacements.
+json commonMotionReport(const std::vector<Pose>& estimates, const std::vector<Pose>& references,
+                        const std::vector<std::vector<Eigen::Vector3d>>& points,
+                        const EvalOptions& o) {
+  const Pose g = commonMotion(estimates, references, points);
+  std::vector<double> disp;
+  double moved = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < estimates.size(); ++i) {
+    const Pose moved_i{g.R * estimates[i].R, g.R * estimates[i].t + g.t};
+    disp.push_back(comparePose(moved_i, references[i], points[i]).displacementMean);
+    for (size_t k = 0; k < points[i].size(); k += 16, ++n) {
+      const Eigen::Vector3d p = estimates[i].apply(points[i][k]);
+      moved += (g.apply(p) - p).norm();
+    }
+  }
+  moved = n > 0 ? moved / n : 0;
+  const double worst = disp.empty() ? 0 : *std::max_element(disp.begin(), disp.end());
+  if (!o.json)
+    std::printf(
+        "common motion %.4f voxels (mean over points); without it: median displacement %.4f, "
+        "worst %.4f voxels\n",
+        moved / o.voxel, median(disp) / o.voxel, worst / o.voxel);
+  return {{"mean_motion", moved},
+          {"point_displacement_mean", {{"median", median(disp)}, {"max", worst}}}};
+}
+
 json poseReport(const EvalOptions& o) {
   const io::ConfFile est = io::readConf(o.poses), ref = io::readConf(o.referencePoses);
   std::map<std::string, const io::ConfScan*> byName;
   for (const auto& s : ref.scans) byName[s.name] = &s;
   json scans = json::array();
   std::vector<double> rot, trans, disp;
+  std::vector<Pose> estimates, references;
+  std::vector<std::vector<Eigen::Vector3d>> points;
   if (!o.json)
     std::printf("%-24s %12s %14s %16s %16s\n", "scan", "rot (deg)", "trans (vox)",
                 "disp mean (vox)", "disp max (vox)");
@@ -97,7 +128,10 @@ json poseReport(const EvalOptions& o) {
     auto it = byName.find(s.name);
     if (it == byName.end())
       throw InputError(o.referencePoses + ": has no scan named '" + s.name + "'");
-    const PoseError e = comparePose(s.pose, it->second->pose, scanPoints(*it->second));
+    points.push_back(scanPoints(*it->second));
+    estimates.push_back(s.pose);
+    references.push_back(it->second->pose);
+    const PoseError e = comparePose(s.pose, references.back(), points.back());
     rot.push_back(e.rotationDeg);
     trans.push_back(e.translation);
     disp.push_back(e.displacementMean);
@@ -119,7 +153,9 @@ json poseReport(const EvalOptions& o) {
   if (!o.json)
     std::printf("median rotation %.5f deg, translation %.4f voxels, displacement %.4f voxels\n",
                 median(rot), median(trans) / o.voxel, median(disp) / o.voxel);
+  const json common = commonMotionReport(estimates, references, points, o);
   return {{"poses", o.poses},
+          {"common_motion", common},
           {"reference_poses", o.referencePoses},
           {"voxel", o.voxel},
           {"scans", scans},

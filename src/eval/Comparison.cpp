@@ -1,5 +1,7 @@
 #include "rangefuse/eval/Comparison.h"
 
+#include "rangefuse/register/RigidFit.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -48,6 +50,25 @@ PoseError comparePose(const Pose& estimate, const Pose& reference,
   e.points = points.size();
   e.displacementMean = points.empty() ? 0 : sum / points.size();
   return e;
+}
+
+Pose commonMotion(const std::vector<Pose>& estimates, const std::vector<Pose>& references,
+                  const std::vector<std::vector<Eigen::Vector3d>>& points, size_t stride) {
+  RigidSums sums;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // moments about the data, for precision
+  size_t n = 0;
+  for (size_t i = 0; i < points.size(); ++i)
+    for (size_t k = 0; k < points[i].size(); k += stride, ++n)
+      centre += references[i].apply(points[i][k]);
+  if (n == 0) return Pose{};
+  centre /= static_cast<double>(n);
+  for (size_t i = 0; i < points.size(); ++i)
+    for (size_t k = 0; k < points[i].size(); k += stride)
+      sums.add(estimates[i].apply(points[i][k]) - centre,
+               references[i].apply(points[i][k]) - centre, 1);
+  Pose g = fitRigid(sums);
+  g.t += centre - g.R * centre;
+  return g;
 }
 
 }  // namespace rangefuse

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <unordered_map>
 
 #include "rangefuse/parallel/Mpi.h"
 
@@ -60,26 +60,67 @@ Eigen::Vector3d footPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& u,
   return p - f.f * f.distance;
 }
 
-using ShareMap = std::map<std::pair<uint64_t, uint32_t>, ExactShare>;
+/// Shares keyed by voxel and scan; parts of one share add up exactly (fixed point).
+class ShareTable {
+ public:
+  /// The share of `voxel` and `scan`, made empty on first use.
+  ExactShare& at(uint64_t voxel, uint32_t scan) {
+    auto [it, added] = index_.try_emplace(Key{voxel, scan}, shares_.size());
+    if (added) {
+      shares_.emplace_back();
+      shares_.back().voxel = voxel;
+      shares_.back().scan = scan;
+    }
+    return shares_[it->second];
+  }
+  void add(const ExactShare& part) {
+    ExactShare& to = at(part.voxel, part.scan);
+    to.points += part.points;
+    to.weight += part.weight;
+    for (int k = 0; k < 3; ++k) to.offset[k] += part.offset[k];
+  }
+  const std::vector<ExactShare>& shares() const { return shares_; }
+  /// The shares by voxel, then scan: an order that does not depend on where they were made.
+  std::vector<ExactShare> sorted() && {
+    std::sort(shares_.begin(), shares_.end(), [](const ExactShare& a, const ExactShare& b) {
+      return a.voxel != b.voxel ? a.voxel < b.voxel : a.scan < b.scan;
+    });
+    return std::move(shares_);
+  }
 
-/// Adds control point p of scan `scan` to its foot voxel's share.
-void addPoint(ShareMap& shares, const FootVoxel& foot, uint32_t scan, const Eigen::Vector3d& p,
-              double w, double maxResidual) {
-  ExactShare& e = shares[{foot.voxel, scan}];
-  e.voxel = foot.voxel;
-  e.scan = scan;
-  e.points += 1;
-  e.weight += std::llround(w * kShareScale);
-  for (int k = 0; k < 3; ++k)
-    e.offset[k] += std::llround(w * (p[k] - foot.centre[k]) / maxResidual * kShareScale);
+ private:
+  struct Key {
+    uint64_t voxel;
+    uint32_t scan;
+    bool operator==(const Key& o) const { return voxel == o.voxel && scan == o.scan; }
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const { return k.voxel * 0x9E3779B97F4A7C15ull ^ k.scan; }
+  };
+  std::unordered_map<Key, size_t, Hash> index_;
+  std::vector<ExactShare> shares_;
+};
+
+/// A value in fixed point (truncated: any rounding will do that is the same everywhere).
+int64_t fixed(double v) {
+  return static_cast<int64_t>(v * kShareScale);
 }
 
-/// This rank's and the received parts of the shares of the voxels this rank owns.
-ShareMap exactShares(const std::vector<Pose>& poses, const BrickStore& store,
-                     ControlRouting& control, const CorrespondenceSettings& settings,
-                     double maxResidual, MPI_Comm comm) {
+/// Adds control point p of scan `scan` to its foot voxel's share.
+void addPoint(ShareTable& shares, const FootVoxel& foot, uint32_t scan, const Eigen::Vector3d& p,
+              double w, double maxResidual) {
+  ExactShare& e = shares.at(foot.voxel, scan);
+  e.points += 1;
+  e.weight += fixed(w);
+  for (int k = 0; k < 3; ++k) e.offset[k] += fixed(w * (p[k] - foot.centre[k]) / maxResidual);
+}
+
+/// This rank's and the received parts of the shares of the voxels this rank owns, sorted.
+std::vector<ExactShare> exactShares(const std::vector<Pose>& poses, const BrickStore& store,
+                                    ControlRouting& control, const CorrespondenceSettings& settings,
+                                    double maxResidual, MPI_Comm comm) {
   const int me = mpi::rank(comm);
-  std::vector<ShareMap> parts(static_cast<size_t>(mpi::size(comm)));
+  std::vector<ShareTable> parts(static_cast<size_t>(mpi::size(comm)));
   for (size_t i = 0; i < poses.size(); ++i) {
     const ControlPoints c = control.at(i, poses[i], store);
     BrickCache cache;
@@ -98,20 +139,15 @@ ShareMap exactShares(const std::vector<Pose>& poses, const BrickStore& store,
   std::vector<std::vector<char>> out(parts.size());
   for (size_t r = 0; r < parts.size(); ++r)
     if (static_cast<int>(r) != me)
-      for (const auto& [key, e] : parts[r]) mpi::pack(out[r], &e, 1);
-  ShareMap mine = std::move(parts[me]);
+      mpi::pack(out[r], parts[r].shares().data(), parts[r].shares().size());
+  ShareTable mine = std::move(parts[me]);
   for (const auto& buf : mpi::exchangeBytes(std::move(out), comm))
     for (size_t at = 0; at < buf.size();) {
       ExactShare e;
       mpi::unpack(buf, at, &e, 1);
-      ExactShare& to = mine[{e.voxel, e.scan}];
-      to.voxel = e.voxel;
-      to.scan = e.scan;
-      to.points += e.points;
-      to.weight += e.weight;
-      for (int k = 0; k < 3; ++k) to.offset[k] += e.offset[k];
+      mine.add(e);
     }
-  return mine;
+  return std::move(mine).sorted();
 }
 
 /// The field at voxel `voxel` (a layout position, in this rank's bricks): its centre, unit
@@ -138,19 +174,19 @@ bool voxelPlane(const BrickStore& store, uint64_t voxel, float minWeight, Eigen:
 /// and every share of a voxel moves with the Jacobian of the voxel's surface point: the control
 /// points' noise along their rays would otherwise correlate with the residuals and bias the
 /// poses (errors in variables), and voxels far from the surface hold a less linear field.
-std::vector<std::vector<VoxelShare>> voxelShares(const ShareMap& exact, const BrickStore& store,
-                                                 const MotionFrame& frame, float minWeight,
-                                                 double maxResidual) {
+std::vector<std::vector<VoxelShare>> voxelShares(const std::vector<ExactShare>& exact,
+                                                 const BrickStore& store, const MotionFrame& frame,
+                                                 float minWeight, double maxResidual) {
   std::vector<std::vector<VoxelShare>> voxels;
   uint64_t last = ~uint64_t{0};
   Vector6d a = Vector6d::Zero();
   Eigen::Vector3d centre, f;
   double d = 0;
   bool usable = false;
-  for (const auto& [key, e] : exact) {
-    if (key.first != last) {
-      last = key.first;
-      usable = voxelPlane(store, key.first, minWeight, centre, f, d);
+  for (const ExactShare& e : exact) {
+    if (e.voxel != last) {
+      last = e.voxel;
+      usable = voxelPlane(store, e.voxel, minWeight, centre, f, d);
       if (usable) a << (centre - f * d - frame.centre).cross(f) / frame.length, f;
       if (usable) voxels.emplace_back();
     }

@@ -57,3 +57,28 @@ TEST(ComparePose, KnownRotationAndTranslation) {
   EXPECT_NEAR(same.rotationDeg, 0, 1e-6);
   EXPECT_EQ(same.displacementMax, 0);
 }
+
+TEST(CommonMotion, AGroupMovedTogetherShowsTheMotionAndNoRelativeError) {
+  // Three scans whose estimates are their references moved by one rigid motion G, one of
+  // them also off by 0.01 on its own: the common motion is G (to the small scan's share) and,
+  // removed, leaves only that scan's error.
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.02, Eigen::Vector3d(1, -2, 3).normalized()).toRotationMatrix();
+  const Pose g{R, Eigen::Vector3d(0.3, -0.1, 0.2)};
+  std::vector<std::vector<Eigen::Vector3d>> points(3);
+  std::vector<Pose> refs(3), est(3);
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 400; ++k)
+      points[i].push_back(Eigen::Vector3d(k % 20, k / 20, i + 0.1 * (k % 7)) * 0.1);
+    refs[i].t = Eigen::Vector3d(i, 0, 1);
+    const Pose inverse = g.inverse();
+    est[i] = Pose{inverse.R * refs[i].R, inverse.R * refs[i].t + inverse.t};
+  }
+  Pose found = commonMotion(est, refs, points, 1);
+  EXPECT_LT((found.R - g.R).norm(), 1e-12);
+  EXPECT_LT((found.t - g.t).norm(), 1e-12);
+  est[2].t += Eigen::Vector3d(0.01, 0, 0);
+  found = commonMotion(est, refs, points, 1);
+  EXPECT_LT((found.t - g.t).norm(), 0.01);
+  EXPECT_GT((found.t - g.t).norm(), 0.001);
+}

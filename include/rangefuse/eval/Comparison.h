@@ -41,4 +41,11 @@ struct PoseError {
 PoseError comparePose(const Pose& estimate, const Pose& reference,
                       const std::vector<Eigen::Vector3d>& points);
 
+/// The rigid motion G that brings the estimated scans best onto their references (least
+/// squares over every `stride`-th point of each scan): what all estimates share, a drift of
+/// the whole group rather than an error of the scans relative to one another. Compare G·estimate
+/// with the reference to see the relative errors alone.
+Pose commonMotion(const std::vector<Pose>& estimates, const std::vector<Pose>& references,
+                  const std::vector<std::vector<Eigen::Vector3d>>& points, size_t stride = 16);
+
 }  // namespace rangefuse
