@@ -17,7 +17,7 @@ FuseOptions changed() {
   o.scans = "a.conf", o.out = "m.ply", o.anchor = "scan_003", o.report = "r.json";
   o.preview = "p.png", o.posesOut = "p.conf", o.checkpoint = "c.h5", o.resume = "old.h5";
   o.method = FieldMethod::Robust, o.registration = RegistrationMode::Both;
-  o.registerField = RegistrationFieldMode::Rebuild;
+  o.registerField = RegistrationFieldMode::Rebuild, o.registerSolve = RegistrationSolve::PerScan;
   o.voxel = 0.00125, o.envelope = 2.5, o.brick = 16, o.minWeight = 0.25f, o.normals = false;
   o.surface.normalPasses = 3, o.surface.maxEdgeFactor = 5, o.surface.minCosine = 0.3;
   o.mergeCells = 1.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60, o.sameDistance = 1.5;
