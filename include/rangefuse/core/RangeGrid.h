@@ -24,11 +24,12 @@ struct RangeGrid {
   std::vector<Eigen::Vector3d> points;  ///< in the scan frame
   std::vector<int32_t> cell;            ///< rows*cols entries: point index or -1
   std::optional<Pinhole> pinhole;
+  bool spherical = false;  ///< a scanner station at the origin (PTX): rows and columns are angles
 
   int32_t at(int r, int c) const { return cell[static_cast<size_t>(r) * cols + c]; }
 
-  /// The sensor in the scan frame: a pinhole at the origin, else looking along -z.
-  Sensor sensor() const { return Sensor{pinhole.has_value()}; }
+  /// The sensor in the scan frame: a pinhole or a station at the origin, else looking along -z.
+  Sensor sensor() const { return Sensor{pinhole.has_value() || spherical}; }
 
   /// Unit direction from point p toward the sensor.
   Eigen::Vector3d towardSensor(const Eigen::Vector3d& p) const { return sensor().toward(p); }

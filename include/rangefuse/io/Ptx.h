@@ -1,0 +1,40 @@
+// Leica PTX (ASCII) terrestrial laser scans: one or more scans a file, each a header (columns,
+// rows, scanner position, scanner X/Y/Z axes, a 4 x 4 transform with the translation in its
+// last row: world = [x y z 1] M) and columns x rows lines "x y z intensity [r g b]",
+// column-major, "0 0 0" where the laser saw nothing. Files reach gigabytes: they are indexed in
+// one streaming pass and each scan is read on its own, never the whole file at once.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rangefuse/core/Limits.h"
+#include "rangefuse/core/Pose.h"
+#include "rangefuse/core/RangeGrid.h"
+
+namespace rangefuse::io {
+
+/// Where one scan of a PTX file lies and how it is placed.
+struct PtxScan {
+  uint64_t offset = 0;  ///< byte offset of its first point line
+  uint64_t line = 0;    ///< line number of its first point line (from 1), for messages
+  int cols = 0, rows = 0;
+  Pose pose;  ///< scanner frame to world, from the transform
+};
+
+/// The scans of a PTX file: headers parsed, point lines counted but not parsed. Throws
+/// InputError naming the file and line for a malformed header, a scan cut short or a grid
+/// larger than `limits`.
+std::vector<PtxScan> indexPtx(const std::string& path, const InputLimits& limits = {});
+
+/// Reads one scan of a PTX file as a spherical grid (points in the scanner frame; row r, column
+/// c is file line c·rows + r of the scan). Throws InputError naming the file and line for a
+/// line without 4 or 7 numbers, a non-finite number, or an early end.
+RangeGrid readPtxScan(const std::string& path, const PtxScan& scan);
+
+/// Writes scans (each grid's missing cells as "0 0 0") with their poses; the scanner position
+/// and axes are the pose's. Atomic.
+void writePtx(const std::string& path, const std::vector<RangeGrid>& grids,
+              const std::vector<Pose>& poses);
+
+}  // namespace rangefuse::io
