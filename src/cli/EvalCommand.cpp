@@ -11,7 +11,7 @@
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
-#include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/io/ScanFiles.h"
 
 namespace po = boost::program_options;
 using nlohmann::json;
@@ -76,7 +76,7 @@ json meshReport(const EvalOptions& o) {
 
 std::vector<Eigen::Vector3d> scanPoints(const io::ConfScan& s) {
   if (!std::filesystem::exists(s.path)) return {};
-  return io::readRangeGridPly(s.path).points;
+  return io::readScanGrid(s).points;
 }
 
 double median(std::vector<double> v) {
@@ -114,7 +114,8 @@ json commonMotionReport(const std::vector<Pose>& estimates, const std::vector<Po
 }
 
 json poseReport(const EvalOptions& o) {
-  const io::ConfFile est = io::readConf(o.poses), ref = io::readConf(o.referencePoses);
+  const io::ConfFile est = io::readScanList(o.poses, o.limits),
+                     ref = io::readScanList(o.referencePoses, o.limits);
   std::map<std::string, const io::ConfScan*> byName;
   for (const auto& s : ref.scans) byName[s.name] = &s;
   json scans = json::array();
@@ -199,10 +200,10 @@ json pairOverlap(const io::ConfFile& conf, const std::vector<ScanConsistency>& c
 
 /// The scans of --poses, in the world, agreeing with one another (no reference needed).
 json consistencyReport(const EvalOptions& o) {
-  const io::ConfFile conf = io::readConf(o.poses);
+  const io::ConfFile conf = io::readScanList(o.poses, o.limits);
   std::vector<ScanSurface> world;
   for (const auto& s : conf.scans)
-    world.push_back(buildScanSurface(io::readRangeGridPly(s.path, o.limits), s.pose, {}));
+    world.push_back(buildScanSurface(io::readScanGrid(s, o.limits), s.pose, {}));
   const ConsistencySettings settings{2 * o.voxel, o.voxel};
   const std::vector<ScanConsistency> c = poseConsistency(world, settings);
   json scans = json::array();

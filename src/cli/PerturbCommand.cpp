@@ -4,7 +4,7 @@
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Conf.h"
-#include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/scan/SyntheticScanner.h"
 
 namespace po = boost::program_options;
@@ -22,7 +22,7 @@ struct PerturbOptions {
 Eigen::Vector3d objectCentre(const io::ConfFile& conf) {
   Eigen::AlignedBox3d box;
   for (const auto& s : conf.scans)
-    for (const auto& p : io::readRangeGridPly(s.path).points) box.extend(s.pose.apply(p));
+    for (const auto& p : io::readScanGrid(s).points) box.extend(s.pose.apply(p));
   if (box.isEmpty()) throw InputError("perturb: the scans hold no points");
   return box.center();
 }
@@ -32,7 +32,7 @@ int run(const PerturbOptions& o) {
   if (o.rotDeg < 0 || o.transVox < 0)
     throw InputError("perturb: --rot-deg and --trans-vox must not be negative");
   if (o.out.empty()) throw InputError("perturb: --out FILE.conf is required");
-  io::ConfFile conf = io::readConf(o.scans);
+  io::ConfFile conf = io::readScanList(o.scans);
   const Eigen::Vector3d centre = objectCentre(conf);
   std::mt19937_64 rng(o.seed);
   for (size_t i = 1; i < conf.scans.size(); ++i) {  // the first scan stays: the anchor

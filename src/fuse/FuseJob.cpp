@@ -14,10 +14,10 @@
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/fuse/StreamedField.h"
-#include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPartPly.h"
 #include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/Png.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/FaultInjection.h"
@@ -158,7 +158,7 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
-        conf = io::readConf(o.scans);
+        conf = io::readScanList(o.scans, o.limits);
       }))
     return false;
   scans.rank = mpi::rank(comm);
@@ -290,7 +290,7 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
-        conf = io::readConf(o.scans);
+        conf = io::readScanList(o.scans, o.limits);
       }))
     return false;
   if (progress.isRoot() && !poses)
@@ -351,7 +351,7 @@ int finish(const FuseOptions& o, MPI_Comm comm, Progress& progress, const Loaded
 bool identifyScans(const FuseOptions& o, MPI_Comm comm, LoadedScans& scans,
                    std::vector<std::string>& hashes) {
   return collectively(comm, [&] {
-    const io::ConfFile conf = io::readConf(o.scans);
+    const io::ConfFile conf = io::readScanList(o.scans, o.limits);
     for (const auto& c : conf.scans) scans.names.push_back(c.name), scans.paths.push_back(c.path);
     hashes = hashScans(scans.paths, comm);
   });

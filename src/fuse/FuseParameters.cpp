@@ -80,9 +80,13 @@ std::string methodHelp() {
 std::vector<FuseParameter> makeTable() {
   using R = Recorded;
   return {
-      {"scans", "scans", R::CheckpointOnly, true, "scan list (.conf, Stanford bmesh lines)",
+      {"scans", "scans", R::CheckpointOnly, true,
+       "scan list: a .conf (Stanford bmesh lines; FILE.ptx#K names a PTX file's scan K) or a Leica "
+       ".ptx file",
        at(&FuseOptions::scans),
-       [](const FuseOptions& o) { return o.scans.empty() ? "is required (a .conf file)" : ""; }},
+       [](const FuseOptions& o) {
+         return o.scans.empty() ? "is required (a .conf or .ptx file)" : "";
+       }},
       {"voxel", "voxel", R::Result, true, "voxel size, in the scans' units",
        at(&FuseOptions::voxel),
        must<double>(

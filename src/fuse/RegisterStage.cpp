@@ -6,6 +6,7 @@
 #include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/RegistrationField.h"
 #include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {
@@ -118,6 +119,7 @@ class RegistrationCheckpointer {
       io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, current, hashes_, progress, nullptr),
                           nullptr, comm_);
     });
+    if (ok_) faultPoint("checkpoint");  // tests stop a run right after a given checkpoint
   }
 
  private:

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -33,6 +33,7 @@ void packScan(std::vector<char>& buf, uint64_t index, const PrismScan& s) {
   packVector(buf, s.surface.confidence);
   packVector(buf, s.surface.triangles);
   packVector(buf, s.limits);
+  mpi::pack(buf, &s.surface.sensor, 1);
 }
 
 uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
@@ -43,6 +44,7 @@ uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   unpackVector(buf, pos, s.surface.confidence);
   unpackVector(buf, pos, s.surface.triangles);
   unpackVector(buf, pos, s.limits);
+  mpi::unpack(buf, pos, &s.surface.sensor, 1);
   return index;
 }
 
@@ -51,6 +53,7 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
                   std::vector<int32_t>& remap) {
   PrismScan part;
   const ScanSurface& s = scan.surface;
+  part.surface.sensor = s.sensor;
   std::vector<uint32_t> used;
   for (uint32_t t : triangles) {
     Triangle tri = s.triangles[t];
@@ -78,6 +81,9 @@ namespace {
 
 /// What the scan saw, on cells of about the merged grid's (the voxel's) scale.
 SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const SurfaceOptions& o) {
+  // A station's lines of sight fan out in angles: no map yet, so its scans give no free-space
+  // evidence (agreement still removes what one scan alone saw).
+  if (grid.spherical) return SightMap{};
   const double spacing = lateralSpacing(grid);
   if (grid.pinhole) {
     const int shortSide = std::min(grid.cols, grid.rows);
@@ -90,7 +96,7 @@ SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const Surfa
 PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
                       const InputLimits& limits, double eps) {
   PrismScan s;
-  const RangeGrid grid = io::readRangeGridPly(c.path, limits);
+  const RangeGrid grid = io::readScanGrid(c, limits);
   s.surface = buildScanSurface(grid, Pose{}, options);
   s.limits = computePrismLimits(s.surface, eps);
   if (options.sightMap) s.sight = std::make_shared<SightMap>(sightMapOf(grid, s.surface, options));

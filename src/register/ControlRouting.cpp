@@ -76,6 +76,21 @@ ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm com
   for (size_t i = 0; i < scans.size(); ++i) sensors_.push_back(unpackSensor(&sensors[7 * i]));
 }
 
+Eigen::Vector4d ControlRouting::ball(const std::vector<Pose>& poses) const {
+  Eigen::AlignedBox3d box;
+  for (size_t i = 0; i < spheres_.size(); ++i)
+    if (spheres_[i][3] > 0) box.extend(poses[i].apply(spheres_[i].head<3>()));
+  if (box.isEmpty()) return Eigen::Vector4d::Zero();
+  const Eigen::Vector3d c = box.center();
+  double r = 0;
+  for (size_t i = 0; i < spheres_.size(); ++i)
+    if (spheres_[i][3] > 0)
+      r = std::max(r, (poses[i].apply(spheres_[i].head<3>()) - c).norm() + spheres_[i][3]);
+  Eigen::Vector4d out;
+  out << c, r;
+  return out;
+}
+
 double ControlRouting::motionBound(size_t i, const Pose& from, const Pose& to) const {
   // R x + t - (R0 x + t0) = (R - R0)(x - c) + (R - R0) c + t - t0, and |x - c| <= r.
   const Eigen::Vector3d c = spheres_[i].head<3>();

@@ -212,25 +212,13 @@ double reach(const Vector6d& delta) {
 
 }  // namespace
 
-MotionFrame motionFrame(const BrickStore& store) {
-  const VoxelGrid& g = store.grid();
-  Eigen::AlignedBox3d box;
-  for (uint64_t code : store.layout().codes) {
-    const Eigen::Vector3d first = g.centre(mortonDecode(code) * g.brick);
-    box.extend(first);
-    box.extend(first + Eigen::Vector3d::Constant((g.brick - 1) * g.voxel));
-  }
-  MotionFrame frame;
-  if (box.isEmpty()) return frame;
-  frame.centre = box.center();
-  frame.length = (box.max() - frame.centre).norm() + g.voxel;
-  return frame;
-}
-
 std::vector<RegistrationStep> jointStep(std::vector<Pose>& poses, const BrickStore& store,
                                         ControlRouting& control, const JointStepSettings& s,
                                         MPI_Comm comm) {
-  const MotionFrame frame = motionFrame(store);
+  // About the control points' ball at these poses: a frame that depends on the scans alone,
+  // so a run resumed with a field of other bricks takes the same steps.
+  const Eigen::Vector4d ball = control.ball(poses);
+  const MotionFrame frame{ball.head<3>(), ball[3] + s.field.maxDistance + store.grid().voxel};
   const double maxResidual = s.field.maxDistance + store.grid().voxel;
   const auto voxels = voxelShares(exactShares(poses, store, control, s.field, maxResidual, comm),
                                   store, frame, s.field.minWeight, maxResidual);

@@ -73,6 +73,7 @@ RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFa
   out.cols = (g.cols + k - 1) / k;
   out.rows = (g.rows + k - 1) / k;
   out.cell.assign(static_cast<size_t>(out.cols) * out.rows, -1);
+  out.spherical = g.spherical;
   if (g.pinhole) {
     // Merged pixel (C, R) is centred on old pixel k C + (k - 1) / 2.
     Pinhole p = *g.pinhole;

@@ -52,6 +52,15 @@ run_case() {
 
 make_case truncated "$(header ascii 3)\n0 0 1\n1 0 1\n0 1 1\n1 0\n"
 expect truncated "truncated" --scans "$tmp/truncated/scans.conf" --voxel 0.1
+# Leica PTX: a scan cut short, a point line with two numbers, a .conf naming a missing scan.
+ptx_header='2\n2\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n'
+printf "${ptx_header}0 0 1 1\n1 0 1 1\n0 1 1 1\n" >"$tmp/short.ptx"
+expect ptx_short "short.ptx:11: scan 1 has fewer than 4 point lines" --scans "$tmp/short.ptx" --voxel 0.1
+printf "${ptx_header}0 0 1 1\n1 0 1 1\n0 1\n1 1 1 1\n" >"$tmp/line.ptx"
+expect ptx_line "line.ptx:13: expected 'x y z intensity" --scans "$tmp/line.ptx" --voxel 0.1
+printf "${ptx_header}0 0 1 1\n1 0 1 1\n0 1 1 1\n1 1 1 1\n" >"$tmp/one.ptx"
+printf 'bmesh one.ptx#2 0 0 0 0 0 0 1\n' >"$tmp/ptx2.conf"
+expect ptx_index "holds only 1 scans" --scans "$tmp/ptx2.conf" --voxel 0.1
 make_case extra "$(header ascii 3)\n${body}1 1\n"
 expect extra "do not match" --scans "$tmp/extra/scans.conf" --voxel 0.1
 make_case format "$(header binary_middle_endian 3)\n$body"

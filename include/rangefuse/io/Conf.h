@@ -2,10 +2,12 @@
 #pragma once
 
 #include <istream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rangefuse/core/Pose.h"
+#include "rangefuse/io/Ptx.h"
 
 namespace rangefuse::io {
 
@@ -13,6 +15,8 @@ struct ConfScan {
   std::string name;  ///< as written in the .conf
   std::string path;  ///< resolved against the .conf's folder
   Pose pose;         ///< scan to world
+  /// Set for one scan of a PTX file (named FILE.ptx#K in a .conf; `path` is then the file's).
+  std::optional<PtxScan> ptx = std::nullopt;
 };
 
 struct ConfFile {

@@ -42,6 +42,10 @@ class ControlRouting {
   /// ask for the same scan and pose: when the scan moved past the reach, it is routed again.
   ControlPoints at(size_t i, const Pose& pose, const BrickStore& store);
 
+  /// A ball holding every scan's control points at `poses`: centre and radius. The same on
+  /// every rank, and it depends on the scans and poses alone (not on any field's bricks).
+  Eigen::Vector4d ball(const std::vector<Pose>& poses) const;
+
   /// How many times a scan moved past the reach and was routed again.
   size_t reroutes() const { return reroutes_; }
 

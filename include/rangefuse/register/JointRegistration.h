@@ -21,9 +21,6 @@ struct JointStepSettings {
   CorrespondenceSettings field;  ///< which voxels count
 };
 
-/// The frame motions are linearised in: the centre of `store`'s bricks and their half diagonal.
-MotionFrame motionFrame(const BrickStore& store);
-
 /// Collective: one Gauss-Newton step of every pose against `store` (built at any poses: it
 /// gives each voxel's plane normal and which voxels count, the scans give the planes). Returns
 /// every scan's step, identical on every rank for any rank count.

@@ -1,0 +1,92 @@
+// Scans read from a Leica PTX file fuse to the same mesh as the same grids read from
+// range-grid PLY files and a .conf: the file format changes nothing downstream.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "SharedTemp.h"
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/scan/Shapes.h"
+#include "rangefuse/scan/SyntheticScanner.h"
+
+using namespace rangefuse;
+
+namespace {
+
+std::string bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
+  FuseOptions o;
+  o.scans = scans;
+  o.voxel = 2;
+  o.out = out;
+  return o;
+}
+
+}  // namespace
+
+TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
+  const std::string dir = test::sharedTempPath("ptx-fuse");
+  ScanSettings s;
+  s.views = 5, s.width = 120, s.height = 90, s.voxel = 2, s.noise = 0.3;
+  const SyntheticSet set = scanMesh(makeShape("sphere"), s);
+  std::vector<io::ConfScan> conf;
+  std::vector<RangeGrid> grids;
+  std::vector<Pose> poses;
+  for (const SyntheticScan& sc : set.scans) {
+    conf.push_back({sc.name, dir + "/" + sc.name, sc.truth});
+    // What the PLY files hold: float coordinates.
+    RangeGrid g = sc.grid;
+    for (Eigen::Vector3d& p : g.points) p = p.cast<float>().cast<double>();
+    grids.push_back(g);
+    poses.push_back(sc.truth);
+  }
+  if (mpi::rank() == 0) {
+    std::filesystem::create_directories(dir);
+    for (const SyntheticScan& sc : set.scans)
+      io::writeRangeGridPly(dir + "/" + sc.name, sc.grid, io::PlyEncoding::BinaryLittleEndian);
+    io::writeConf(dir + "/scans.conf", conf);
+    io::writePtx(dir + "/stations.ptx", grids, poses);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/scans.conf", dir + "/ply.ply"), MPI_COMM_WORLD), 0);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/stations.ptx", dir + "/ptx.ply"), MPI_COMM_WORLD), 0);
+  // A .conf may name the scans of a PTX file too.
+  if (mpi::rank() == 0) {
+    std::vector<io::ConfScan> named = conf;
+    for (size_t i = 0; i < named.size(); ++i)
+      named[i].name = "stations.ptx#" + std::to_string(i + 1);
+    io::writeConf(dir + "/named.conf", named);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/named.conf", dir + "/named.ply"), MPI_COMM_WORLD), 0);
+  if (mpi::rank() == 0) {
+    const std::string ply = bytes(dir + "/ply.ply");
+    EXPECT_GT(ply.size(), 10000u);
+    EXPECT_EQ(ply, bytes(dir + "/ptx.ply"));
+    EXPECT_EQ(ply, bytes(dir + "/named.ply"));
+    const io::ConfFile list = io::readScanList(dir + "/stations.ptx");
+    ASSERT_EQ(list.scans.size(), 5u);
+    EXPECT_EQ(list.scans[4].name, "stations.ptx#5");
+    EXPECT_THROW(io::readScanList(dir + "/bad.conf"), std::exception);
+    io::writeConf(dir + "/bad.conf", {{"stations.ptx#6", "", Pose{}}});
+    try {
+      io::readScanList(dir + "/bad.conf");
+      ADD_FAILURE() << "a sixth scan of a five-scan file was accepted";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("holds only 5 scans"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+  }
+}
