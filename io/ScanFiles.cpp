@@ -4,6 +4,7 @@
 #include <map>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/DepthSequence.h"
 #include "rangefuse/io/RangeGridPly.h"
 
 namespace rangefuse::io {
@@ -45,14 +46,43 @@ void locatePtxScans(ConfFile& conf, const std::string& confPath, const InputLimi
   }
 }
 
-}  // namespace
+std::optional<DepthCamera> givenCamera(const ScanSourceOptions& source) {
+  if (source.intrinsics.empty()) return std::nullopt;
+  return parseIntrinsics(source.intrinsics);
+}
 
-ConfFile readScanList(const std::string& path, const InputLimits& limits) {
-  if (!isPtx(path)) {
-    ConfFile conf = readConf(path);
-    locatePtxScans(conf, path, limits);
-    return conf;
+/// A .conf's depth images (NAME.png) take the camera of the sequence folder above their own.
+void locateDepthImages(ConfFile& conf, const ScanSourceOptions& source) {
+  std::map<std::string, DepthCamera> cameras;
+  for (ConfScan& s : conf.scans) {
+    if (std::filesystem::path(s.path).extension() != ".png") continue;
+    const std::string dir = std::filesystem::path(s.path).parent_path().parent_path().string();
+    auto it = cameras.find(dir);
+    if (it == cameras.end()) {
+      const ConfFile probe = sequenceLayout(dir) == SequenceLayout::Tum
+                                 ? readTumSequence(dir, givenCamera(source), source.maxDepth)
+                                 : readRedwoodSequence(dir, givenCamera(source), source.maxDepth);
+      it = cameras.emplace(dir, *probe.scans.front().depth).first;
+    }
+    s.depth = it->second;
   }
+}
+
+ConfFile readSequence(const std::string& dir, const std::string& format,
+                      const ScanSourceOptions& source) {
+  std::optional<SequenceLayout> layout = sequenceLayout(dir);
+  if (format == "tum") layout = SequenceLayout::Tum;
+  if (format == "redwood") layout = SequenceLayout::Redwood;
+  if (!layout)
+    throw InputError(dir +
+                     ": a folder of scans must be a TUM RGB-D sequence (depth.txt or "
+                     "groundtruth.txt) or a Redwood one (depth/ and a .log trajectory)");
+  return *layout == SequenceLayout::Tum
+             ? readTumSequence(dir, givenCamera(source), source.maxDepth)
+             : readRedwoodSequence(dir, givenCamera(source), source.maxDepth);
+}
+
+ConfFile readPtxList(const std::string& path, const InputLimits& limits) {
   ConfFile list;
   const std::string name = std::filesystem::path(path).filename().string();
   const std::vector<PtxScan> scans = indexPtx(path, limits);
@@ -61,8 +91,29 @@ ConfFile readScanList(const std::string& path, const InputLimits& limits) {
   return list;
 }
 
+}  // namespace
+
+ConfFile readScanList(const std::string& path, const InputLimits& limits,
+                      const ScanSourceOptions& source) {
+  const std::string& format = source.format;
+  if (format != "auto" && format != "conf" && format != "ptx" && format != "tum" &&
+      format != "redwood")
+    throw InputError("--scan-format: '" + format + "' is not auto, conf, ptx, tum or redwood");
+  std::error_code ec;
+  const bool folder = std::filesystem::is_directory(path, ec);
+  if (format == "tum" || format == "redwood" || (format == "auto" && folder))
+    return readSequence(path, format, source);
+  if (format == "ptx" || (format == "auto" && isPtx(path))) return readPtxList(path, limits);
+  ConfFile conf = readConf(path);
+  locatePtxScans(conf, path, limits);
+  locateDepthImages(conf, source);
+  return conf;
+}
+
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
   if (scan.ptx) return readPtxScan(scan.path, *scan.ptx);
+  if (scan.depth)
+    return depthGrid(readDepthPng(scan.path, limits.maxGridCells), *scan.depth, scan.path);
   return readRangeGridPly(scan.path, limits);
 }
 

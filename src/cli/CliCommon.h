@@ -33,6 +33,11 @@ boost::program_options::options_description fuseOptions(FuseOptions& options);
 /// Adds --max-elements, --max-grid-cells and --max-voxels (memory bounds on input).
 void addLimitOptions(boost::program_options::options_description& desc, InputLimits& limits);
 
+/// --scan-format, --intrinsics and --depth-max, for commands that read scan lists (fuse has
+/// them in its option table).
+void addSourceOptions(boost::program_options::options_description& desc,
+                      io::ScanSourceOptions& source);
+
 /// Runs fn on rank 0 only; every rank returns its exit code, or 1 if it threw (the error
 /// printed once).
 int runOnRoot(MPI_Comm comm, const std::function<int()>& fn);

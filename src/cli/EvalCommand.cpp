@@ -25,6 +25,7 @@ struct EvalOptions {
   size_t samples = 200000;
   bool json = false, consistency = false;
   InputLimits limits;
+  io::ScanSourceOptions source;
 };
 
 json statsJson(const DistanceStats& s) {
@@ -114,8 +115,8 @@ json commonMotionReport(const std::vector<Pose>& estimates, const std::vector<Po
 }
 
 json poseReport(const EvalOptions& o) {
-  const io::ConfFile est = io::readScanList(o.poses, o.limits),
-                     ref = io::readScanList(o.referencePoses, o.limits);
+  const io::ConfFile est = io::readScanList(o.poses, o.limits, o.source),
+                     ref = io::readScanList(o.referencePoses, o.limits, o.source);
   std::map<std::string, const io::ConfScan*> byName;
   for (const auto& s : ref.scans) byName[s.name] = &s;
   json scans = json::array();
@@ -200,7 +201,7 @@ json pairOverlap(const io::ConfFile& conf, const std::vector<ScanConsistency>& c
 
 /// The scans of --poses, in the world, agreeing with one another (no reference needed).
 json consistencyReport(const EvalOptions& o) {
-  const io::ConfFile conf = io::readScanList(o.poses, o.limits);
+  const io::ConfFile conf = io::readScanList(o.poses, o.limits, o.source);
   std::vector<ScanSurface> world;
   for (const auto& s : conf.scans)
     world.push_back(buildScanSurface(io::readScanGrid(s, o.limits), s.pose, {}));
@@ -271,6 +272,7 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
       "json", po::bool_switch(&o.json), "print one JSON object instead of the table")(
       "json-out", po::value(&o.jsonOut), "also write the JSON object to this file");
   addLimitOptions(d, o.limits);
+  addSourceOptions(d, o.source);
   po::variables_map vm;
   const int parsed = parseCollectively(argc, argv, d, vm,
                                        "rangefuse eval --mesh out/bunny.ply --reference "

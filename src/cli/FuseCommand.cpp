@@ -59,6 +59,21 @@ void addLimitOptions(po::options_description& d, InputLimits& limits) {
       "refuse a field that needs more voxels than this, all ranks together (~40 bytes each)");
 }
 
+void addSourceOptions(po::options_description& d, io::ScanSourceOptions& source) {
+  // The help is fuse's own, so that every command describes these options alike.
+  auto help = [](const std::string& option) {
+    for (const FuseParameter& p : fuseParameters())
+      if (p.option == option) return p.help;
+    return std::string();
+  };
+  static const std::string format = help("scan-format"), intrinsics = help("intrinsics"),
+                           depthMax = help("depth-max");
+  auto add = d.add_options();
+  add("scan-format", po::value(&source.format)->default_value(source.format), format.c_str());
+  add("intrinsics", po::value(&source.intrinsics), intrinsics.c_str());
+  add("depth-max", po::value(&source.maxDepth)->default_value(source.maxDepth), depthMax.c_str());
+}
+
 po::options_description fuseOptions(FuseOptions& o) {
   po::options_description d("rangefuse fuse: fuse range scans into one mesh");
   auto add = d.add_options();

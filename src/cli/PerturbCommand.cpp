@@ -14,6 +14,7 @@ namespace {
 
 struct PerturbOptions {
   std::string scans, out;
+  io::ScanSourceOptions source;
   double voxel = 0, rotDeg = 5, transVox = 5;
   uint64_t seed = 1;
 };
@@ -32,7 +33,7 @@ int run(const PerturbOptions& o) {
   if (o.rotDeg < 0 || o.transVox < 0)
     throw InputError("perturb: --rot-deg and --trans-vox must not be negative");
   if (o.out.empty()) throw InputError("perturb: --out FILE.conf is required");
-  io::ConfFile conf = io::readScanList(o.scans);
+  io::ConfFile conf = io::readScanList(o.scans, {}, o.source);
   const Eigen::Vector3d centre = objectCentre(conf);
   std::mt19937_64 rng(o.seed);
   for (size_t i = 1; i < conf.scans.size(); ++i) {  // the first scan stays: the anchor
@@ -53,12 +54,14 @@ int perturbCommand(int argc, char** argv, MPI_Comm comm) {
       "rangefuse perturb: the scanner's pose perturbation applied to a .conf");
   auto add = d.add_options();
   add("help,h", "show this help");
-  add("scans", po::value(&o.scans), "scan list (.conf); its scans give the object centre");
+  add("scans", po::value(&o.scans),
+      "scan list (.conf, .ptx or sequence folder); its scans give the object centre");
   add("voxel", po::value(&o.voxel), "voxel size: the unit of --trans-vox");
   add("rot-deg", po::value(&o.rotDeg)->default_value(5.0), "max angle per axis, degrees");
   add("trans-vox", po::value(&o.transVox)->default_value(5.0), "max shift per axis, voxels");
   add("seed", po::value(&o.seed)->default_value(1), "random seed");
   add("out", po::value(&o.out), "perturbed .conf to write (scan names kept as written)");
+  addSourceOptions(d, o.source);
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -5,6 +6,7 @@
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/io/DepthSequence.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"
@@ -18,7 +20,8 @@ namespace rangefuse::cli {
 namespace {
 
 struct ScanOptions {
-  std::string mesh, shape, out;
+  std::string mesh, shape, out, path = "sphere", format = "ply";
+  double scale = 1;
   bool ascii = false, bigEndian = false;
   ScanSettings settings;
   InputLimits limits;
@@ -38,6 +41,10 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
               {"voxel", s.voxel},
               {"fov_deg", s.fovDeg},
               {"noise_voxels", s.noise},
+              {"depth_noise", s.depthNoise},
+              {"path", o.path},
+              {"format", o.format},
+              {"scale", o.scale},
               {"outliers", s.outliers},
               {"patches", s.patches},
               {"rot_deg", s.rotDeg},
@@ -67,32 +74,74 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
   return j;
 }
 
-int run(const ScanOptions& o) {
+/// Writes the scans as a TUM or Redwood depth sequence in `dir`, and perturbed.conf beside it
+/// (its names are the frames' images, so it reads back as a scan list).
+void writeSequence(const ScanOptions& o, const SyntheticSet& set, const std::string& dir) {
+  const bool tum = o.format == "tum";
+  const double unit = tum ? 1.0 / 5000 : 1e-3;
+  std::vector<io::DepthFrame> frames;
+  for (const auto& s : set.scans)
+    frames.push_back({io::depthImage(s.grid, unit), io::cameraPose(s.truth)});
+  const io::DepthCamera camera = io::depthCamera(set.scans.front().grid, unit);
+  if (tum)
+    io::writeTumSequence(dir, frames, camera);
+  else
+    io::writeRedwoodSequence(dir, frames, camera);
+  const io::ConfFile listed = tum ? io::readTumSequence(dir, std::nullopt, 0)
+                                  : io::readRedwoodSequence(dir, std::nullopt, 0);
+  std::vector<io::ConfScan> perturbed = listed.scans;
+  for (size_t k = 0; k < perturbed.size(); ++k) perturbed[k].pose = set.scans[k].perturbed;
+  io::writeConf(dir + "/perturbed.conf", perturbed);
+}
+
+/// Writes the scans as range-grid PLY files with truth.conf and perturbed.conf.
+void writeRangeGrids(const ScanOptions& o, const SyntheticSet& set, const std::string& dir) {
+  std::vector<io::ConfScan> truth, perturbed;
+  for (const auto& s : set.scans) {
+    const std::string path = (std::filesystem::path(dir) / s.name).string();
+    io::writeRangeGridPly(path, s.grid,
+                          o.ascii       ? io::PlyEncoding::Ascii
+                          : o.bigEndian ? io::PlyEncoding::BinaryBigEndian
+                                        : io::PlyEncoding::BinaryLittleEndian);
+    truth.push_back({s.name, path, s.truth});
+    perturbed.push_back({s.name, path, s.perturbed});
+  }
+  io::writeConf(dir + "/truth.conf", truth);
+  io::writeConf(dir + "/perturbed.conf", perturbed);
+}
+
+ScanOptions checked(ScanOptions o) {
+  if (o.path != "sphere" && o.path != "orbit")
+    throw InputError("scan: --path must be sphere or orbit");
+  o.settings.path = o.path == "orbit" ? ViewPath::Orbit : ViewPath::Sphere;
+  if (o.format != "ply" && o.format != "tum" && o.format != "redwood")
+    throw InputError("scan: --format must be ply, tum or redwood");
+  if (!(o.scale > 0 && std::isfinite(o.scale)))
+    throw InputError("scan: --scale must be positive and finite");
+  return o;
+}
+
+int run(const ScanOptions& given) {
+  const ScanOptions o = checked(given);
   if (o.mesh.empty() == o.shape.empty())
     throw InputError("scan: give exactly one of --mesh and --shape");
   if (o.out.empty()) throw InputError("scan: --out DIR is required");
   checkLimit("scan",
              "--width x --height =", static_cast<double>(o.settings.width) * o.settings.height,
              o.limits.maxGridCells, "max-grid-cells");
-  const TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh, o.limits);
+  TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh, o.limits);
+  for (Eigen::Vector3d& v : mesh.vertices) v *= o.scale;
   const SyntheticSet set = scanMesh(mesh, o.settings);
   std::filesystem::create_directories(o.out);
   const auto file = [&](const std::string& name) {
     return (std::filesystem::path(o.out) / name).string();
   };
-  std::vector<io::ConfScan> truth, perturbed;
   size_t points = 0;
-  for (const auto& s : set.scans) {
-    io::writeRangeGridPly(file(s.name), s.grid,
-                          o.ascii       ? io::PlyEncoding::Ascii
-                          : o.bigEndian ? io::PlyEncoding::BinaryBigEndian
-                                        : io::PlyEncoding::BinaryLittleEndian);
-    truth.push_back({s.name, file(s.name), s.truth});
-    perturbed.push_back({s.name, file(s.name), s.perturbed});
-    points += s.grid.points.size();
-  }
-  io::writeConf(file("truth.conf"), truth);
-  io::writeConf(file("perturbed.conf"), perturbed);
+  for (const auto& s : set.scans) points += s.grid.points.size();
+  if (o.format == "ply")
+    writeRangeGrids(o, set, o.out);
+  else
+    writeSequence(o, set, o.out);
   io::writeMeshPly(file("truth.ply"), mesh);
   io::writeMeshPly(file("patches.ply"), patchMesh(set.patches));
   for (size_t k = 0; k < set.patches.size(); ++k)
@@ -119,6 +168,15 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "voxel", po::value(&s.voxel)->required(), "voxel size: the unit of --noise and --trans-vox")(
       "fov", po::value(&s.fovDeg)->default_value(0.0), "field of view, degrees (0: fitted)")(
       "noise", po::value(&s.noise)->default_value(0.0), "range noise sigma along the ray, voxels")(
+      "depth-noise", po::bool_switch(&s.depthNoise),
+      "noise grows with the square of the range (depth cameras); --noise holds at the path's "
+      "distance")("path", po::value(&o.path)->default_value(o.path),
+                  "viewpoints: sphere (spread around the object) or orbit (one turn, a "
+                  "hand-held sequence)")(
+      "format", po::value(&o.format)->default_value(o.format),
+      "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
+      "camera_intrinsic.json)")("scale", po::value(&o.scale)->default_value(o.scale),
+                                "multiply the mesh's coordinates (e.g. to room size)")(
       "outliers", po::value(&s.outliers)->default_value(0.0), "fraction of outlier samples")(
       "patches", po::value(&s.patches)->default_value(0), "extraneous patches, one scan each")(
       "rot-deg", po::value(&s.rotDeg)->default_value(0.0), "pose perturbation: max angle per axis")(

@@ -158,7 +158,7 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
-        conf = io::readScanList(o.scans, o.limits);
+        conf = io::readScanList(o.scans, o.limits, o.source);
       }))
     return false;
   scans.rank = mpi::rank(comm);
@@ -290,7 +290,7 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
-        conf = io::readScanList(o.scans, o.limits);
+        conf = io::readScanList(o.scans, o.limits, o.source);
       }))
     return false;
   if (progress.isRoot() && !poses)
@@ -351,7 +351,7 @@ int finish(const FuseOptions& o, MPI_Comm comm, Progress& progress, const Loaded
 bool identifyScans(const FuseOptions& o, MPI_Comm comm, LoadedScans& scans,
                    std::vector<std::string>& hashes) {
   return collectively(comm, [&] {
-    const io::ConfFile conf = io::readScanList(o.scans, o.limits);
+    const io::ConfFile conf = io::readScanList(o.scans, o.limits, o.source);
     for (const auto& c : conf.scans) scans.names.push_back(c.name), scans.paths.push_back(c.path);
     hashes = hashScans(scans.paths, comm);
   });

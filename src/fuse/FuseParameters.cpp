@@ -81,11 +81,32 @@ std::vector<FuseParameter> makeTable() {
   using R = Recorded;
   return {
       {"scans", "scans", R::CheckpointOnly, true,
-       "scan list: a .conf (Stanford bmesh lines; FILE.ptx#K names a PTX file's scan K) or a Leica "
-       ".ptx file",
+       "scan list: a .conf (Stanford bmesh lines; FILE.ptx#K names a PTX file's scan K), a Leica "
+       ".ptx file, or a folder holding a TUM RGB-D or Redwood depth-image sequence",
        at(&FuseOptions::scans),
        [](const FuseOptions& o) {
-         return o.scans.empty() ? "is required (a .conf or .ptx file)" : "";
+         return o.scans.empty() ? "is required (a .conf, a .ptx file or a sequence folder)" : "";
+       }},
+      {"scan-format", "scan_format", R::CheckpointOnly, false,
+       "how to read --scans: auto (from the name: folder, .ptx, else .conf), conf, ptx, tum or "
+       "redwood",
+       [](FuseOptions& o) -> OptionValue { return &o.source.format; },
+       [](const FuseOptions& o) {
+         for (const char* f : {"auto", "conf", "ptx", "tum", "redwood"})
+           if (o.source.format == f) return "";
+         return "must be auto, conf, ptx, tum or redwood";
+       }},
+      {"intrinsics", "intrinsics", R::Result, false,
+       "depth images: camera intrinsics 'fx,fy,cx,cy' in pixels or an Open3D "
+       "camera_intrinsic.json (default: the sequence folder's camera_intrinsic.json)",
+       [](FuseOptions& o) -> OptionValue { return &o.source.intrinsics; }, nullptr},
+      {"depth-max", "depth_max", R::Result, false,
+       "depth images: measurements farther than this from the camera are dropped, in the scans' "
+       "units (0: keep all)",
+       [](FuseOptions& o) -> OptionValue { return &o.source.maxDepth; },
+       [](const FuseOptions& o) {
+         const double v = o.source.maxDepth;
+         return v >= 0 && std::isfinite(v) ? "" : "must be a finite distance >= 0 (0: keep all)";
        }},
       {"voxel", "voxel", R::Result, true, "voxel size, in the scans' units",
        at(&FuseOptions::voxel),

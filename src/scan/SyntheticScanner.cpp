@@ -46,6 +46,14 @@ Eigen::Vector3d fibonacciDirection(int i, int n) {
   return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
 }
 
+/// One turn around the object, 15-45 degrees above its equator: consecutive frames overlap
+/// as in a hand-held sequence.
+Eigen::Vector3d orbitDirection(int i, int n) {
+  const double phi = 2 * M_PI * i / n, elevation = (30 + 15 * std::sin(3 * phi)) * M_PI / 180;
+  return Eigen::Vector3d(std::cos(elevation) * std::cos(phi), std::cos(elevation) * std::sin(phi),
+                         std::sin(elevation));
+}
+
 SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centre, double radius,
                          std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1, 1);
@@ -81,12 +89,15 @@ double castPixel(const Bvh& bvh, const TriangleMesh& patches, const Eigen::Vecto
 }
 
 void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, double depthLo,
-            double depthHi, const ScanSettings& set, std::mt19937_64& rng) {
+            double depthHi, double eyeDistance, const ScanSettings& set, std::mt19937_64& rng) {
   RangeGrid& g = s.grid;
   g.cols = set.width;
   g.rows = set.height;
   g.cell.assign(static_cast<size_t>(g.cols) * g.rows, -1);
   std::normal_distribution<double> noise(0, set.noise * set.voxel);
+  auto growth = [&](double t) {
+    return set.depthNoise ? (t / eyeDistance) * (t / eyeDistance) : 1.0;
+  };
   std::uniform_real_distribution<double> unit(0, 1), depth(depthLo, depthHi);
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) {
@@ -98,7 +109,7 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
       if (set.outliers > 0 && unit(rng) < set.outliers)
         t = depth(rng);
       else if (set.noise > 0)
-        t += noise(rng);
+        t += growth(t) * noise(rng);
       g.cell[static_cast<size_t>(r) * g.cols + c] = static_cast<int32_t>(g.points.size());
       g.points.push_back(t * ray);
     }
@@ -127,7 +138,9 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
     char name[32];
     std::snprintf(name, sizeof(name), "scan_%03d.ply", i);
     s.name = name;
-    s.viewpoint = out.centre + eyeDistance * fibonacciDirection(i, set.views);
+    s.viewpoint =
+        out.centre + eyeDistance * (set.path == ViewPath::Orbit ? orbitDirection(i, set.views)
+                                                                : fibonacciDirection(i, set.views));
     s.truth = cameraPose(s.viewpoint, out.centre);
     s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
     TriangleMesh patches;
@@ -135,7 +148,8 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
       out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, rng));
       patches = patchMesh({out.patches.back()});
     }
-    render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, set, rng);
+    render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, eyeDistance, set,
+           rng);
     s.perturbed = s.truth;
     if (i > 0)
       s.perturbed = perturbPose(s.truth, out.centre, set.rotDeg, set.transVox * set.voxel, rng,

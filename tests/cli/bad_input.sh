@@ -61,6 +61,26 @@ expect ptx_line "line.ptx:13: expected 'x y z intensity" --scans "$tmp/line.ptx"
 printf "${ptx_header}0 0 1 1\n1 0 1 1\n0 1 1 1\n1 1 1 1\n" >"$tmp/one.ptx"
 printf 'bmesh one.ptx#2 0 0 0 0 0 0 1\n' >"$tmp/ptx2.conf"
 expect ptx_index "holds only 1 scans" --scans "$tmp/ptx2.conf" --voxel 0.1
+# Depth-image sequences: a missing frame, timestamps out of order, a corrupt PNG, counts that
+# disagree, a camera missing (each found on one rank or the other, never a hang).
+"$bin" scan --shape sphere --views 3 --width 40 --height 30 --voxel 1 --scale 0.01 --path orbit \
+  --format tum --out "$tmp/tum" >/dev/null
+cp -r "$tmp/tum" "$tmp/tum_missing" && rm "$tmp/tum_missing/depth/1000.033333.png"
+expect tum_missing "depth.txt: line 4: depth/1000.033333.png does not exist" \
+  --scans "$tmp/tum_missing" --voxel 0.01
+cp -r "$tmp/tum" "$tmp/tum_order" && sed -i 's/^1000.066667 /999.5 /' "$tmp/tum_order/depth.txt"
+expect tum_order "depth.txt: line 5: timestamps out of order" --scans "$tmp/tum_order" --voxel 0.01
+cp -r "$tmp/tum" "$tmp/tum_png" && head -c 100 "$tmp/tum/depth/1000.066667.png" \
+  >"$tmp/tum_png/depth/1000.066667.png"
+expect tum_png "1000.066667.png: corrupt PNG" --scans "$tmp/tum_png" --voxel 0.01
+cp -r "$tmp/tum" "$tmp/tum_camera" && rm "$tmp/tum_camera/camera_intrinsic.json"
+expect tum_camera "no camera intrinsics" --scans "$tmp/tum_camera" --voxel 0.01
+expect tum_intrinsics "--intrinsics: 'a,b' is not fx,fy,cx,cy" --scans "$tmp/tum" --voxel 0.01 \
+  --intrinsics a,b
+"$bin" scan --shape sphere --views 3 --width 40 --height 30 --voxel 1 --scale 0.01 --path orbit \
+  --format redwood --out "$tmp/rw" >/dev/null
+rm "$tmp/rw/depth/000002.png"
+expect redwood_count "trajectory.log: 3 poses but" --scans "$tmp/rw" --voxel 0.01
 make_case extra "$(header ascii 3)\n${body}1 1\n"
 expect extra "do not match" --scans "$tmp/extra/scans.conf" --voxel 0.1
 make_case format "$(header binary_middle_endian 3)\n$body"

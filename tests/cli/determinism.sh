@@ -25,6 +25,16 @@ done
 cmp "$tmp/robust1.ply" "$tmp/robust2.ply"
 cmp "$tmp/robust1.ply" "$tmp/robust3.ply"
 echo "robust (pinhole, patch): 1, 2 and 3 ranks give identical meshes"
+# A depth-camera sequence (TUM folder of 16-bit PNG frames), robust fusion with sight maps.
+"$bin" scan --shape composite --views 12 --width 120 --height 90 --voxel 0.01 --scale 0.01 \
+  --path orbit --noise 0.5 --depth-noise --outliers 0.01 --format tum --out "$tmp/tum" >/dev/null
+for n in 1 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/tum" --voxel 0.01 --method robust \
+    --out "$tmp/tum$n.ply" >"$tmp/log$n"
+done
+cmp "$tmp/tum1.ply" "$tmp/tum2.ply"
+cmp "$tmp/tum1.ply" "$tmp/tum3.ply"
+echo "depth sequence (TUM, robust): 1, 2 and 3 ranks give identical meshes"
 # Registration: identical poses and meshes too.
 "$bin" scan --shape composite --views 6 --width 120 --height 90 --voxel 1 --rot-deg 2 \
   --trans-vox 2 --out "$tmp/synth" >/dev/null

@@ -23,7 +23,8 @@ FuseOptions changed() {
   o.mergeCells = 1.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60, o.sameDistance = 1.5;
   o.sameAngle = 30, o.freeMargin = INFINITY, o.controlStride = 4, o.maxIterations = 7;
   o.maxRounds = 2, o.roundTolerance = 0.05, o.checkpointEvery = 30, o.scanMemory = 0;
-  o.threads = 3;
+  o.threads = 3, o.source.format = "tum", o.source.intrinsics = "525,525,319.5,239.5";
+  o.source.maxDepth = 3;
   return o;
 }
 

@@ -12,16 +12,18 @@
 #include "rangefuse/fuse/FieldMethod.h"
 #include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/fuse/Progress.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
 
 struct FuseOptions {
-  std::string scans;    ///< .conf file
-  std::string out;      ///< mesh .ply
-  std::string report;   ///< run report .json (optional)
-  std::string preview;  ///< rendered picture .png (optional)
+  std::string scans;             ///< .conf, .ptx or depth-sequence folder
+  io::ScanSourceOptions source;  ///< how to read it (format, depth cameras)
+  std::string out;               ///< mesh .ply
+  std::string report;            ///< run report .json (optional)
+  std::string preview;           ///< rendered picture .png (optional)
   FieldMethod method = FieldMethod::Prism;
   double voxel = 0;           ///< in the scans' units
   double envelope = 3.0;      ///< prism half-thickness, in voxels

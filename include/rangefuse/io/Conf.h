@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rangefuse/core/Pose.h"
+#include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/Ptx.h"
 
 namespace rangefuse::io {
@@ -17,6 +18,8 @@ struct ConfScan {
   Pose pose;         ///< scan to world
   /// Set for one scan of a PTX file (named FILE.ptx#K in a .conf; `path` is then the file's).
   std::optional<PtxScan> ptx = std::nullopt;
+  /// Set for a depth image (16-bit PNG) of a sequence: the camera that took it.
+  std::optional<DepthCamera> depth = std::nullopt;
 };
 
 struct ConfFile {

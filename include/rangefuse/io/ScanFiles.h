@@ -1,5 +1,6 @@
 // The scans a job reads, whatever files hold them: a Stanford .conf naming range-grid PLY files
-// (or scans of PTX files, as FILE.ptx#K), or a Leica PTX file itself.
+// (or scans of PTX files, as FILE.ptx#K, or depth images), a Leica PTX file, or a folder holding
+// a depth-image sequence (TUM RGB-D or Redwood layout).
 #pragma once
 
 #include <string>
@@ -10,10 +11,20 @@
 
 namespace rangefuse::io {
 
+/// How to read a scan list beyond its own contents (`fuse --scan-format`, `--intrinsics`, ...).
+struct ScanSourceOptions {
+  std::string format = "auto";  ///< auto (from the path), conf, ptx, tum or redwood
+  std::string intrinsics;       ///< depth cameras: "fx,fy,cx,cy" or a json file ("": the folder's)
+  double maxDepth = 0;          ///< depth cameras: farther measurements are dropped (0: none)
+};
+
 /// The scans `path` lists: a .ptx file gives all its scans, named FILE.ptx#1, #2, ..., posed by
-/// their transforms; anything else is read as a .conf, whose FILE.ptx#K names are looked up in
-/// their files. Throws InputError naming the file at fault.
-ConfFile readScanList(const std::string& path, const InputLimits& limits = {});
+/// their transforms; a folder is a depth-image sequence, one scan per frame, named by its image;
+/// anything else is read as a .conf, whose FILE.ptx#K names are looked up in their files and
+/// whose .png names are depth images of the sequence folder above them. Throws InputError
+/// naming the file at fault.
+ConfFile readScanList(const std::string& path, const InputLimits& limits = {},
+                      const ScanSourceOptions& source = {});
 
 /// The grid of one listed scan, in its own frame.
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits = {});

@@ -13,17 +13,25 @@
 
 namespace rangefuse {
 
+/// Where the viewpoints lie: spread evenly over a sphere around the object (a turntable or
+/// a scanner moved around it), or along one orbit around it with a gently rising and falling
+/// height (a hand-held depth camera filming a sequence).
+enum class ViewPath { Sphere, Orbit };
+
 struct ScanSettings {
   int views = 24;
+  ViewPath path = ViewPath::Sphere;
   int width = 320;
   int height = 240;
-  double voxel = 1.0;   ///< unit of noise and translation
-  double fovDeg = 0;    ///< vertical field of view; 0 = fitted to the object
-  double noise = 0;     ///< Gaussian range noise sigma, voxels
-  double outliers = 0;  ///< fraction of samples moved to a random depth on their ray
-  int patches = 0;      ///< extraneous flat patches, each seen by one scan only
-  double rotDeg = 0;    ///< perturbation: rotation about each axis uniform in [-A, A]
-  double transVox = 0;  ///< perturbation: translation along each axis uniform in [-T, T]
+  double voxel = 1.0;       ///< unit of noise and translation
+  double fovDeg = 0;        ///< vertical field of view; 0 = fitted to the object
+  double noise = 0;         ///< Gaussian range noise sigma, voxels
+  bool depthNoise = false;  ///< sigma grows with the square of the range (depth cameras), equal
+                            ///< to `noise` at the viewpoints' distance from the object's centre
+  double outliers = 0;      ///< fraction of samples moved to a random depth on their ray
+  int patches = 0;          ///< extraneous flat patches, each seen by one scan only
+  double rotDeg = 0;        ///< perturbation: rotation about each axis uniform in [-A, A]
+  double transVox = 0;      ///< perturbation: translation along each axis uniform in [-T, T]
   uint64_t seed = 1;
 };
 
@@ -50,9 +58,9 @@ struct SyntheticSet {
   double radius = 0;       ///< its radius
 };
 
-/// Renders `settings.views` range grids of the mesh from viewpoints spread evenly over a
-/// sphere (Fibonacci), by exact first-hit ray casting through a BVH, then applies the
-/// corruptions. Deterministic for a given seed. Throws InputError on bad settings.
+/// Renders `settings.views` range grids of the mesh from viewpoints on `settings.path`, by exact
+/// first-hit ray casting through a BVH, then applies the corruptions. Deterministic for a given
+/// seed. Throws InputError on bad settings.
 SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& settings);
 
 /// The scanner's pose perturbation: rotation about x, y, z by angles uniform in [-rotDeg,

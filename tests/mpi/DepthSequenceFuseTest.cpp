@@ -1,0 +1,93 @@
+// A depth camera's sequence (16-bit PNG frames along one orbit, noise growing with the square of
+// the range) fuses from its TUM folder, its Redwood folder and a .conf naming its images: close
+// to the truth, and to the same mesh whichever list names the same images and poses.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "SharedTemp.h"
+#include "rangefuse/eval/Comparison.h"
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/DepthSequence.h"
+#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/scan/Shapes.h"
+#include "rangefuse/scan/SyntheticScanner.h"
+
+using namespace rangefuse;
+
+namespace {
+
+constexpr double kVoxel = 0.01;  // 1 cm, the scene 1.2 m across
+
+std::string bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TriangleMesh scene() {
+  TriangleMesh m = makeComposite();
+  for (Eigen::Vector3d& v : m.vertices) v *= 0.01;
+  return m;
+}
+
+/// Writes the sequence as TUM (0.2 mm counts) and Redwood (1 mm counts) folders on rank 0.
+void writeSequences(const std::string& dir) {
+  if (mpi::rank() != 0) return;
+  ScanSettings s;
+  s.views = 16, s.width = 160, s.height = 120, s.voxel = kVoxel, s.noise = 0.5;
+  s.depthNoise = true, s.path = ViewPath::Orbit;
+  const SyntheticSet set = scanMesh(scene(), s);
+  for (const auto& [name, unit] : {std::pair{"tum", 1.0 / 5000}, std::pair{"redwood", 1e-3}}) {
+    std::vector<io::DepthFrame> frames;
+    for (const SyntheticScan& sc : set.scans)
+      frames.push_back({io::depthImage(sc.grid, unit), io::cameraPose(sc.truth)});
+    const io::DepthCamera camera = io::depthCamera(set.scans[0].grid, unit);
+    if (std::string(name) == "tum")
+      io::writeTumSequence(dir + "/tum", frames, camera);
+    else
+      io::writeRedwoodSequence(dir + "/redwood", frames, camera);
+  }
+}
+
+FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
+  FuseOptions o;
+  o.scans = scans;
+  o.voxel = kVoxel;
+  o.out = out;
+  return o;
+}
+
+}  // namespace
+
+TEST(DepthSequenceFuse, TumRedwoodAndNamedImagesFuseCloseToTheTruth) {
+  const std::string dir = test::sharedTempPath("depth-seq");
+  writeSequences(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/tum", dir + "/tum.ply"), MPI_COMM_WORLD), 0);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/redwood", dir + "/redwood.ply"), MPI_COMM_WORLD), 0);
+  if (mpi::rank() == 0)
+    io::writeConf(dir + "/tum/named.conf", io::readScanList(dir + "/tum").scans);
+  MPI_Barrier(MPI_COMM_WORLD);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/tum/named.conf", dir + "/named.ply"), MPI_COMM_WORLD), 0);
+  if (mpi::rank() == 0) {
+    EXPECT_EQ(bytes(dir + "/tum.ply"), bytes(dir + "/named.ply"));
+    for (const char* name : {"tum", "redwood"}) {
+      const TriangleMesh mesh = io::readMeshPly(dir + "/" + name + ".ply");
+      const MeshComparison c =
+          compareMeshes(mesh, scene(), CompareSettings{kVoxel, 3 * kVoxel, 50000, 1});
+      std::printf("%s sequence: accuracy mean %.3f voxel, precision %.4f, recall %.4f\n", name,
+                  c.accuracy.mean / kVoxel, c.precision, c.recall);
+      // The orbit never sees the undersides: accuracy and precision are the measures here.
+      EXPECT_LT(c.accuracy.mean, 0.15 * kVoxel) << name;
+      EXPECT_GT(c.precision, 0.99) << name;
+      EXPECT_GT(c.recall, 0.7) << name;
+    }
+    std::filesystem::remove_all(dir);
+  }
+}

@@ -1,0 +1,268 @@
+// Depth-image sequences: 16-bit PNG round trips, the depth image's grid against hand-computed
+// camera points, nearest-timestamp matching, TUM and Redwood folders written and read back, and
+// each malformed input refused with the file (and line) at fault.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "TempDir.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/io/DepthSequence.h"
+#include "rangefuse/io/Png.h"
+#include "rangefuse/io/ScanFiles.h"
+
+using namespace rangefuse;
+using test::TempDir;
+
+namespace {
+
+io::DepthImage randomImage(int width, int height, unsigned seed) {
+  std::mt19937 rng(seed);
+  io::DepthImage image{width, height, std::vector<uint16_t>(size_t(width) * height)};
+  for (uint16_t& c : image.counts) c = rng() % 4 == 0 ? 0 : static_cast<uint16_t>(rng());
+  image.counts[0] = 65535;
+  return image;
+}
+
+io::DepthCamera camera(int width, int height) {
+  io::DepthCamera c;
+  c.fx = 525, c.fy = 520, c.cx = 0.5 * (width - 1) + 0.25, c.cy = 0.5 * (height - 1) - 0.5;
+  c.width = width, c.height = height;
+  return c;
+}
+
+Pose randomPose(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Pose p;
+  p.R = Eigen::AngleAxisd(3 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized())
+            .toRotationMatrix();
+  p.t = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  return p;
+}
+
+std::vector<io::DepthFrame> frames(int n) {
+  std::vector<io::DepthFrame> out;
+  for (int k = 0; k < n; ++k) out.push_back({randomImage(9, 7, 10 + k), randomPose(20 + k)});
+  return out;
+}
+
+/// The message of reading the folder or list, or "" when it reads.
+std::string failure(const std::string& path, const io::ScanSourceOptions& source = {}) {
+  try {
+    for (const io::ConfScan& s : io::readScanList(path, {}, source).scans) io::readScanGrid(s);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectMessage(const std::string& message, const std::string& part) {
+  EXPECT_NE(message.find(part), std::string::npos) << "'" << message << "' lacks '" << part << "'";
+}
+
+}  // namespace
+
+TEST(DepthPng, SixteenBitCountsRoundTripExactly) {
+  TempDir dir;
+  const io::DepthImage image = randomImage(13, 5, 1);
+  io::writeDepthPng(dir.file("d.png"), image);
+  const io::DepthImage back = io::readDepthPng(dir.file("d.png"), 1000);
+  EXPECT_EQ(back.width, 13);
+  EXPECT_EQ(back.height, 5);
+  EXPECT_EQ(back.counts, image.counts);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("d.png.tmp")));
+}
+
+TEST(DepthPng, RefusesColourTruncatedMissingAndOversizedFiles) {
+  TempDir dir;
+  io::writePng(dir.file("rgb.png"), Image(4, 3, 0));
+  expectMessage(
+      [&] {
+        try {
+          io::readDepthPng(dir.file("rgb.png"), 1000);
+        } catch (const InputError& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      }(),
+      "rgb.png: not a 16-bit greyscale PNG");
+  io::writeDepthPng(dir.file("d.png"), randomImage(40, 30, 2));
+  std::filesystem::resize_file(dir.file("d.png"),
+                               std::filesystem::file_size(dir.file("d.png")) / 2);
+  EXPECT_THROW(io::readDepthPng(dir.file("d.png"), 10000), InputError);
+  EXPECT_THROW(io::readDepthPng(dir.file("none.png"), 10000), InputError);
+  io::writeDepthPng(dir.file("big.png"), randomImage(40, 30, 3));
+  EXPECT_THROW(io::readDepthPng(dir.file("big.png"), 1199), InputError);
+  EXPECT_NO_THROW(io::readDepthPng(dir.file("big.png"), 1200));
+}
+
+TEST(DepthCamera, GridPointsAreTheCameraPointsInTheScanFrame) {
+  const io::DepthCamera cam = camera(9, 7);
+  const io::DepthImage image = randomImage(9, 7, 4);
+  const RangeGrid g = io::depthGrid(image, cam, "test");
+  const Pose cameraToWorld = randomPose(5), scanToWorld = io::scanPose(cameraToWorld);
+  ASSERT_TRUE(g.pinhole);
+  int seen = 0;
+  for (int v = 0; v < 7; ++v)
+    for (int u = 0; u < 9; ++u) {
+      const int32_t k = g.at(6 - v, u);
+      const double d = image.at(u, v) * cam.unit;
+      ASSERT_EQ(k < 0, image.at(u, v) == 0) << u << ", " << v;
+      if (k < 0) continue;
+      ++seen;
+      const Eigen::Vector3d camPoint((u - cam.cx) * d / cam.fx, (v - cam.cy) * d / cam.fy, d);
+      EXPECT_LT((scanToWorld.apply(g.points[k]) - cameraToWorld.apply(camPoint)).norm(), 1e-12);
+      // The grid's own pinhole (rows from the bottom) sends the point back to its cell.
+      const Eigen::Vector3d& p = g.points[k];
+      EXPECT_NEAR(g.pinhole->cx + g.pinhole->fx * p.x() / -p.z(), u, 1e-9);
+      EXPECT_NEAR(g.pinhole->cy + g.pinhole->fy * p.y() / -p.z(), 6 - v, 1e-9);
+    }
+  EXPECT_GT(seen, 30);
+  EXPECT_LT((io::cameraPose(scanToWorld).R - cameraToWorld.R).norm(), 1e-15);
+  EXPECT_GT(scanToWorld.R.determinant(), 0.999);
+}
+
+TEST(DepthCamera, FarMeasurementsAreDroppedAndSizeMismatchesRefused) {
+  io::DepthCamera cam = camera(9, 7);
+  cam.maxDepth = 30.0;  // counts above 30000 at 1 mm
+  const io::DepthImage image = randomImage(9, 7, 6);
+  const RangeGrid g = io::depthGrid(image, cam, "test");
+  size_t kept = 0;
+  for (uint16_t c : image.counts) kept += c > 0 && c <= 30000;
+  EXPECT_EQ(g.points.size(), kept);
+  EXPECT_THROW(io::depthGrid(image, camera(8, 7), "f.png"), InputError);
+}
+
+TEST(DepthSequence, NearestTimestampWithinTheLimit) {
+  const std::vector<double> poses = {1.00, 1.01, 1.02, 1.10};
+  const std::vector<long> match =
+      io::nearestTimes({0.97, 0.995, 1.014, 1.016, 1.06, 1.13, 1.2}, poses, 0.02);
+  EXPECT_EQ(match, (std::vector<long>{-1, 0, 1, 2, -1, -1, -1}));
+  EXPECT_EQ(io::nearestTimes({1.09}, poses, 0.02), (std::vector<long>{3}));
+}
+
+TEST(DepthSequence, TumFolderRoundTripsFramesAndPoses) {
+  TempDir dir;
+  const auto written = frames(4);
+  io::writeTumSequence(dir.file("tum"), written, camera(9, 7));
+  EXPECT_EQ(io::sequenceLayout(dir.file("tum")), io::SequenceLayout::Tum);
+  const io::ConfFile list = io::readScanList(dir.file("tum"));
+  ASSERT_EQ(list.scans.size(), 4u);
+  EXPECT_TRUE(list.warnings.empty());
+  for (size_t k = 0; k < 4; ++k) {
+    const io::ConfScan& s = list.scans[k];
+    EXPECT_EQ(s.name.rfind("depth/", 0), 0u);
+    ASSERT_TRUE(s.depth);
+    EXPECT_DOUBLE_EQ(s.depth->unit, 1.0 / 5000);
+    const Pose cam = io::cameraPose(s.pose);
+    EXPECT_LT((cam.R - written[k].cameraToWorld.R).norm(), 1e-14);
+    EXPECT_LT((cam.t - written[k].cameraToWorld.t).norm(), 1e-15);
+    const RangeGrid g = io::readScanGrid(s);
+    EXPECT_EQ(g.points, io::depthGrid(written[k].image, *s.depth, "").points);
+  }
+}
+
+TEST(DepthSequence, RedwoodFolderRoundTripsAndAConfMayNameItsImages) {
+  TempDir dir;
+  const auto written = frames(3);
+  io::writeRedwoodSequence(dir.file("rw"), written, camera(9, 7));
+  EXPECT_EQ(io::sequenceLayout(dir.file("rw")), io::SequenceLayout::Redwood);
+  const io::ConfFile list = io::readScanList(dir.file("rw"));
+  ASSERT_EQ(list.scans.size(), 3u);
+  EXPECT_EQ(list.scans[2].name, "depth/000002.png");
+  EXPECT_DOUBLE_EQ(list.scans[2].depth->unit, 1e-3);
+  for (size_t k = 0; k < 3; ++k)
+    EXPECT_LT((io::cameraPose(list.scans[k].pose).t - written[k].cameraToWorld.t).norm(), 1e-15);
+  // Refined poses written beside the sequence read back with the same camera.
+  io::writeConf(dir.file("rw/poses.conf"), list.scans);
+  const io::ConfFile named = io::readScanList(dir.file("rw/poses.conf"));
+  ASSERT_EQ(named.scans.size(), 3u);
+  ASSERT_TRUE(named.scans[1].depth);
+  EXPECT_EQ(named.scans[1].depth->fx, 525);
+  EXPECT_EQ(io::readScanGrid(named.scans[1]).points, io::readScanGrid(list.scans[1]).points);
+  // --intrinsics overrides the folder's camera.
+  io::ScanSourceOptions given;
+  given.intrinsics = "500,500,4,3";
+  EXPECT_EQ(io::readScanList(dir.file("rw"), {}, given).scans[0].depth->fx, 500);
+}
+
+TEST(DepthSequence, FramesWithoutAPoseNearbyAreLeftOutWithAWarning) {
+  TempDir dir;
+  io::writeTumSequence(dir.file("tum"), frames(3), camera(9, 7));
+  // Keep only the first frame's pose: the others are 33 and 67 ms away.
+  std::ifstream in(dir.file("tum/groundtruth.txt"));
+  std::string line, kept;
+  for (int n = 0; std::getline(in, line) && n < 3; ++n) kept += line + "\n";
+  dir.write("tum/groundtruth.txt", kept);
+  const io::ConfFile list = io::readScanList(dir.file("tum"));
+  EXPECT_EQ(list.scans.size(), 1u);
+  ASSERT_EQ(list.warnings.size(), 1u);
+  expectMessage(list.warnings[0], "2 of 3 depth frames have no pose");
+}
+
+TEST(DepthSequence, MalformedTumFoldersNameTheFileAndLine) {
+  TempDir dir;
+  auto fresh = [&] {
+    std::filesystem::remove_all(dir.file("tum"));
+    io::writeTumSequence(dir.file("tum"), frames(3), camera(9, 7));
+  };
+  fresh();
+  dir.write("tum/depth.txt", "1.0 depth/1000.000000.png\n0.5 depth/1000.033333.png\n");
+  expectMessage(failure(dir.file("tum")), "depth.txt: line 2: timestamps out of order");
+  fresh();
+  dir.write("tum/depth.txt", "1000.0 depth/1000.000000.png\n1000.1 depth/gone.png\n");
+  expectMessage(failure(dir.file("tum")), "depth.txt: line 2: depth/gone.png does not exist");
+  fresh();
+  dir.write("tum/groundtruth.txt", "# poses\n1000.0 0 0 0 0 0 0\n");
+  expectMessage(failure(dir.file("tum")), "groundtruth.txt: line 2: expected");
+  fresh();
+  dir.write("tum/groundtruth.txt", "1000.0 0 0 nan 0 0 0 1\n");
+  expectMessage(failure(dir.file("tum")), "groundtruth.txt: line 1: NaN or Inf");
+  fresh();
+  dir.write("tum/groundtruth.txt", "1000.0 0 0 0 0 0 0 2\n");
+  expectMessage(failure(dir.file("tum")), "line 1: quaternion is not of unit length");
+  fresh();
+  std::filesystem::remove(dir.file("tum/camera_intrinsic.json"));
+  expectMessage(failure(dir.file("tum")), "no camera intrinsics");
+  EXPECT_EQ(failure(dir.file("tum"), {"auto", "525,525,4,3", 0}), "");
+  expectMessage(failure(dir.file("tum"), {"auto", "525,525,4", 0}), "--intrinsics");
+  fresh();
+  dir.write("tum/camera_intrinsic.json", "{\"width\": 9}");
+  expectMessage(failure(dir.file("tum")), "camera_intrinsic.json: not a camera intrinsic file");
+  fresh();
+  io::writeDepthPng(dir.file("tum/depth/1000.033333.png"), randomImage(8, 7, 1));
+  expectMessage(failure(dir.file("tum")), "1000.033333.png: image is 8 x 7 pixels");
+  fresh();
+  dir.write("tum/depth/1000.066667.png", "not a png");
+  expectMessage(failure(dir.file("tum")), "1000.066667.png: corrupt or truncated PNG");
+}
+
+TEST(DepthSequence, MalformedRedwoodFoldersNameTheFileAndLine) {
+  TempDir dir;
+  auto fresh = [&] {
+    std::filesystem::remove_all(dir.file("rw"));
+    io::writeRedwoodSequence(dir.file("rw"), frames(2), camera(9, 7));
+  };
+  fresh();
+  std::filesystem::remove(dir.file("rw/depth/000001.png"));
+  expectMessage(failure(dir.file("rw")), "trajectory.log: 2 poses but");
+  fresh();
+  dir.write("rw/trajectory.log", "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n");
+  expectMessage(failure(dir.file("rw")), "trajectory.log: 4 lines");
+  fresh();
+  dir.write(
+      "rw/trajectory.log",
+      "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n1 1 2\n2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  expectMessage(failure(dir.file("rw")), "trajectory.log: line 7: the matrix is not a rigid");
+  fresh();
+  dir.write("rw/trajectory.log",
+            "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n1 1 2\n1 0 0 0\n0 1 0\n0 0 1 0\n0 0 0 1\n");
+  expectMessage(failure(dir.file("rw")), "trajectory.log: line 8: expected a matrix row");
+  std::filesystem::create_directories(dir.file("empty"));
+  expectMessage(failure(dir.file("empty")), "empty: a folder of scans must be");
+  expectMessage(failure(dir.file("rw"), {"ptx", "", 0}), "rw");
+  expectMessage(failure(dir.file("rw"), {"e57", "", 0}), "--scan-format: 'e57'");
+}
