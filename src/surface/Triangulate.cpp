@@ -18,7 +18,59 @@ bool keepTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vec
   return n.dot(g.towardSensor(centre)) / len >= minCos;
 }
 
+/// Azimuth of a column about the station's z axis (circular mean of its points), or NaN when
+/// the column holds no point off the axis.
+double columnAzimuth(const RangeGrid& g, int c) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (int r = 0; r < g.rows; ++r)
+    if (const int32_t k = g.at(r, c); k >= 0) {
+      const Eigen::Vector2d xy = g.points[k].head<2>();
+      if (xy.norm() > 0) sum += xy.normalized();
+    }
+  return sum.norm() > 0 ? std::atan2(sum.y(), sum.x()) : NAN;
+}
+
+/// a - b wrapped into (-pi, pi].
+double angleBetween(double a, double b) {
+  return std::remainder(a - b, 2 * M_PI);
+}
+
 }  // namespace
+
+namespace internal {
+
+bool wrapsAround(const RangeGrid& g) {
+  if (!g.spherical || g.cols < 8) return false;
+  std::vector<double> azimuth(g.cols), steps;
+  for (int c = 0; c < g.cols; ++c) azimuth[c] = columnAzimuth(g, c);
+  for (int c = 0; c + 1 < g.cols; ++c)
+    if (!std::isnan(azimuth[c]) && !std::isnan(azimuth[c + 1]))
+      steps.push_back(angleBetween(azimuth[c + 1], azimuth[c]));
+  if (steps.empty() || std::isnan(azimuth.front()) || std::isnan(azimuth.back())) return false;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double step = steps[steps.size() / 2];
+  if (!(std::abs(step) > 0)) return false;
+  // A full turn: the columns' steps add up to 2 pi and the seam is about one step wide.
+  const double seam = angleBetween(azimuth.front(), azimuth.back());
+  return std::abs(g.cols * std::abs(step) - 2 * M_PI) <= 2 * std::abs(step) && seam * step > 0 &&
+         std::abs(seam) <= 1.5 * std::abs(step);
+}
+
+bool facesSensor(const RangeGrid& g) {
+  long toward = 0, away = 0;
+  for (int r = 0; r + 1 < g.rows; ++r)
+    for (int c = 0; c + 1 < g.cols; ++c) {
+      const int32_t a = g.at(r, c), b = g.at(r, c + 1), d = g.at(r + 1, c);
+      if (a < 0 || b < 0 || d < 0) continue;
+      const Eigen::Vector3d& p = g.points[a];
+      const double side = (g.points[b] - p).cross(g.points[d] - p).dot(g.towardSensor(p));
+      toward += side > 0;
+      away += side < 0;
+    }
+  return toward >= away;
+}
+
+}  // namespace internal
 
 double gridSpacing(const RangeGrid& grid) {
   // Squares keep the order, so the median step is the root of the median square: one root.
@@ -45,11 +97,17 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& option
       return;
     mesh.faces.push_back({use(a), use(b), use(c)});
   };
-  // (r,c),(r,c+1),(r+1,c) has its normal toward +z, the sensor side (NOTES.md).
+  // (r,c),(r,c+1),(r+1,c) has its normal toward +z, the sensor side (NOTES.md), in Stanford
+  // and pinhole grids; a station's columns may turn either way, so the cells vote.
+  const bool forward = internal::facesSensor(grid);
+  auto cell = [&](int32_t a, int32_t b, int32_t c) { forward ? emit(a, b, c) : emit(a, c, b); };
+  // A full turn closes: the last column's neighbour is the first.
+  const int columns = internal::wrapsAround(grid) ? grid.cols : grid.cols - 1;
   for (int r = 0; r + 1 < grid.rows; ++r)
-    for (int c = 0; c + 1 < grid.cols; ++c) {
-      emit(grid.at(r, c), grid.at(r, c + 1), grid.at(r + 1, c));
-      emit(grid.at(r, c + 1), grid.at(r + 1, c + 1), grid.at(r + 1, c));
+    for (int c = 0; c < columns; ++c) {
+      const int next = c + 1 < grid.cols ? c + 1 : 0;
+      cell(grid.at(r, c), grid.at(r, next), grid.at(r + 1, c));
+      cell(grid.at(r, next), grid.at(r + 1, next), grid.at(r + 1, c));
     }
   return mesh;
 }

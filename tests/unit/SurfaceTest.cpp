@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "rangefuse/surface/ScanSurface.h"
 
 using namespace rangefuse;
@@ -19,7 +21,55 @@ RangeGrid planeGrid(int cols, int rows, double slope) {
   return g;
 }
 
+/// A station inside a cylinder of radius 5: columns step `turn` / cols in azimuth (a full turn
+/// when |turn| = 2 pi; negative: clockwise), rows 0.2 apart in height.
+RangeGrid stationGrid(int cols, int rows, double turn) {
+  RangeGrid g;
+  g.cols = cols, g.rows = rows, g.spherical = true;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const double a = turn * c / cols;
+      g.cell.push_back(static_cast<int32_t>(g.points.size()));
+      g.points.emplace_back(5 * std::cos(a), 5 * std::sin(a), 0.2 * (r - rows / 2));
+    }
+  return g;
+}
+
+/// Edges used by one triangle only.
+size_t boundaryEdges(const std::vector<Triangle>& triangles) {
+  std::map<std::pair<int32_t, int32_t>, int> uses;
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+  size_t n = 0;
+  for (const auto& [edge, count] : uses) n += count == 1;
+  return n;
+}
+
 }  // namespace
+
+TEST(Surface, AStationsFullTurnClosesAcrossTheSeamFacingTheStation) {
+  for (double turn : {2 * M_PI, -2 * M_PI}) {
+    const RangeGrid g = stationGrid(120, 10, turn);
+    EXPECT_TRUE(internal::wrapsAround(g));
+    const ScanSurface s = buildScanSurface(g, Pose{}, SurfaceOptions{});
+    EXPECT_EQ(s.triangles.size(), 2u * 9 * 120) << turn;
+    EXPECT_EQ(boundaryEdges(s.triangles), 2u * 120) << turn;  // the top and bottom rows only
+    for (size_t i = 0; i < s.points.size(); ++i) {
+      const Eigen::Vector3d inward(-s.points[i].x(), -s.points[i].y(), 0);
+      EXPECT_GT(s.normals[i].dot(inward.normalized()), 0.999) << turn;
+    }
+  }
+}
+
+TEST(Surface, APartialTurnStaysOpen) {
+  const RangeGrid g = stationGrid(120, 10, 0.9 * 2 * M_PI);
+  EXPECT_FALSE(internal::wrapsAround(g));
+  EXPECT_EQ(buildScanSurface(g, Pose{}, SurfaceOptions{}).triangles.size(), 2u * 9 * 119);
+  RangeGrid pinhole = stationGrid(120, 10, 2 * M_PI);
+  pinhole.spherical = false;
+  pinhole.pinhole = Pinhole{100, 100, 60, 5};
+  EXPECT_FALSE(internal::wrapsAround(pinhole));
+}
 
 TEST(Surface, TwoTrianglesPerFullCellFacingTheSensor) {
   RangeGrid g = planeGrid(10, 8, 0);

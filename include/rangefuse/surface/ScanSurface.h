@@ -34,8 +34,17 @@ struct ScanSurface {
 double gridSpacing(const RangeGrid& grid);
 
 /// Two triangles per full grid cell, filtered by edge length and obliqueness; only the
-/// vertices some triangle uses are kept. Coordinates stay in the scan frame.
+/// vertices some triangle uses are kept. Coordinates stay in the scan frame. Triangles are wound
+/// to face the sensor whichever way the grid's columns run, and a station's full turn is
+/// closed across its 0/360 degree seam.
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options);
+
+namespace internal {
+/// True when a spherical grid's columns close a full turn about the station's z axis.
+bool wrapsAround(const RangeGrid& grid);
+/// True when most cells' triangles (r,c),(r,c+1),(r+1,c) face the sensor as wound.
+bool facesSensor(const RangeGrid& grid);
+}  // namespace internal
 
 /// Vertex normals as the mean of their triangles' normals, then `passes` rounds of
 /// averaging with the neighbouring vertices' normals.
