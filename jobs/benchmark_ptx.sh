@@ -1,36 +1,31 @@
 #!/usr/bin/env bash
-# PTX reading speed (issue 18): writes a synthetic station (a full turn of COLS x ROWS points
-# on a room-sized sphere, ASCII as Leica exports it), then times `rangefuse perturb`, which
-# indexes the file and reads every scan's grid (nothing else of note), and `rangefuse fuse`'s
-# read stage on one rank. Usage: bash jobs/benchmark_ptx.sh [COLS ROWS]  (default 3000 1500)
+# Terrestrial laser scans (issue 18): the synthetic room scanned from STATIONS tripods, each a
+# full turn of COLS x ROWS points (noise 0.3 voxel), written as one ASCII Leica PTX file. Times
+# `rangefuse perturb` (it indexes the file and reads every scan's grid, nothing else of note:
+# the PTX reading speed), then fuses on 2 ranks at VOXEL and measures the mesh against the room.
+# Usage: bash jobs/benchmark_ptx.sh [STATIONS COLS ROWS VOXEL]  (default 3 3000 1500 0.01)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh >/dev/null
 source jobs/mpi_env.sh
+stations=${1:-3} cols=${2:-3000} rows=${3:-1500} voxel=${4:-0.01}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-cols=${1:-3000}
-rows=${2:-1500}
-/usr/bin/python3 - "$tmp/station.ptx" "$cols" "$rows" <<'PY'
-import sys
-import numpy as np
-path, cols, rows = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-az = 2 * np.pi * np.arange(cols) / cols
-el = np.pi * (np.arange(rows) + 0.5) / rows - np.pi / 2
-A, E = np.meshgrid(az, el, indexing="ij")  # column-major: all rows of a column together
-r = 5 + 0.002 * np.sin(7 * A) * np.cos(5 * E)
-pts = np.stack([r * np.cos(E) * np.cos(A), r * np.cos(E) * np.sin(A), r * np.sin(E),
-                np.full(A.shape, 0.5)], axis=-1).reshape(-1, 4)
-with open(path, "w") as f:
-    f.write(f"{cols}\n{rows}\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n")
-    np.savetxt(f, pts, fmt="%.6f")
-PY
-bytes=$(stat -c %s "$tmp/station.ptx")
+bin=build/rangefuse
+$bin scan --shape room --path stations --views "$stations" --width "$cols" --height "$rows" \
+  --voxel "$voxel" --noise 0.3 --format ptx --out "$tmp/room" --max-grid-cells 1000000000
+bytes=$(stat -c %s "$tmp/room/stations.ptx")
 start=$(date +%s.%N)
-build/rangefuse perturb --scans "$tmp/station.ptx" --voxel 0.01 --rot-deg 0 --trans-vox 0 \
-  --out "$tmp/p.conf" >/dev/null
+$bin perturb --scans "$tmp/room/stations.ptx" --voxel "$voxel" --rot-deg 0 --trans-vox 0 \
+  --out "$tmp/p.conf" --max-grid-cells 1000000000 >/dev/null
 seconds=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
-echo "PTX $((cols * rows)) points, $(awk -v b="$bytes" 'BEGIN { printf "%.0f", b / 1e6 }') MB:" \
-  "index and read $seconds s, $(awk -v b="$bytes" -v s="$seconds" 'BEGIN { printf "%.0f", b / 1e6 / s }') MB/s (perturb)"
-mpirun -np 1 build/rangefuse fuse --scans "$tmp/station.ptx" --voxel 0.01 --out "$tmp/m.ply" |
-  grep -E "\] (read|write) "
+echo "PTX: $stations stations, $((stations * cols * rows)) points, $((bytes / 1000000)) MB:" \
+  "index and read $seconds s, $(awk -v b="$bytes" -v s="$seconds" 'BEGIN { printf "%.0f", b / 1e6 / s }') MB/s (perturb, one process)"
+start=$(date +%s.%N)
+mpirun -np 2 --bind-to none $bin fuse --scans "$tmp/room/stations.ptx" --voxel "$voxel" \
+  --out "$tmp/m.ply" --max-grid-cells 1000000000 >"$tmp/log"
+seconds=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
+grep -E "\] (read|field|mesh|write|done) " "$tmp/log"
+echo "fuse, 2 ranks, read to write: $seconds s"
+$bin eval --mesh "$tmp/m.ply" --reference "$tmp/room/truth.ply" --voxel "$voxel" |
+  grep -E "accuracy|completeness|chamfer|F-score"

@@ -9,6 +9,7 @@
 #include "rangefuse/io/DepthSequence.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/Ptx.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/scan/Shapes.h"
 #include "rangefuse/scan/SyntheticScanner.h"
@@ -52,19 +53,21 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
               {"seed", s.seed}}},
             {"object_centre", vec(set.centre)},
             {"object_radius", set.radius}};
-  for (const auto& sc : set.scans)
-    j["scans"].push_back(
-        {{"name", sc.name},
-         {"viewpoint", vec(sc.viewpoint)},
-         {"points", sc.grid.points.size()},
-         {"fx", sc.grid.pinhole->fx},
-         {"fy", sc.grid.pinhole->fy},
-         {"cx", sc.grid.pinhole->cx},
-         {"cy", sc.grid.pinhole->cy},
-         {"truth", io::poseToJson(sc.truth)},
-         {"perturbed", io::poseToJson(sc.perturbed)},
-         {"perturbation",
-          {{"rotation_deg", vec(sc.rotationDeg)}, {"translation", vec(sc.translation)}}}});
+  for (const auto& sc : set.scans) {
+    json scan = {{"name", sc.name},
+                 {"viewpoint", vec(sc.viewpoint)},
+                 {"points", sc.grid.points.size()},
+                 {"sensor", sc.grid.spherical ? "station" : "pinhole"},
+                 {"truth", io::poseToJson(sc.truth)},
+                 {"perturbed", io::poseToJson(sc.perturbed)},
+                 {"perturbation",
+                  {{"rotation_deg", vec(sc.rotationDeg)}, {"translation", vec(sc.translation)}}}};
+    if (sc.grid.pinhole) {
+      const Pinhole& p = *sc.grid.pinhole;
+      scan.update({{"fx", p.fx}, {"fy", p.fy}, {"cx", p.cx}, {"cy", p.cy}});
+    }
+    j["scans"].push_back(scan);
+  }
   j["patches"] = json::array();
   for (const auto& p : set.patches) {
     json corners = json::array();
@@ -110,12 +113,34 @@ void writeRangeGrids(const ScanOptions& o, const SyntheticSet& set, const std::s
   io::writeConf(dir + "/perturbed.conf", perturbed);
 }
 
+/// Writes the scans as one Leica PTX file, stations.ptx, with truth.conf and perturbed.conf
+/// naming its scans (stations.ptx#K).
+void writeStations(const SyntheticSet& set, const std::string& dir) {
+  std::vector<RangeGrid> grids;
+  std::vector<Pose> poses;
+  std::vector<io::ConfScan> truth, perturbed;
+  for (size_t k = 0; k < set.scans.size(); ++k) {
+    grids.push_back(set.scans[k].grid);
+    poses.push_back(set.scans[k].truth);
+    const std::string name = "stations.ptx#" + std::to_string(k + 1);
+    truth.push_back({name, "", set.scans[k].truth});
+    perturbed.push_back({name, "", set.scans[k].perturbed});
+  }
+  io::writePtx(dir + "/stations.ptx", grids, poses);
+  io::writeConf(dir + "/truth.conf", truth);
+  io::writeConf(dir + "/perturbed.conf", perturbed);
+}
+
 ScanOptions checked(ScanOptions o) {
-  if (o.path != "sphere" && o.path != "orbit")
-    throw InputError("scan: --path must be sphere or orbit");
-  o.settings.path = o.path == "orbit" ? ViewPath::Orbit : ViewPath::Sphere;
-  if (o.format != "ply" && o.format != "tum" && o.format != "redwood")
-    throw InputError("scan: --format must be ply, tum or redwood");
+  if (o.path != "sphere" && o.path != "orbit" && o.path != "stations")
+    throw InputError("scan: --path must be sphere, orbit or stations");
+  o.settings.path = o.path == "orbit"      ? ViewPath::Orbit
+                    : o.path == "stations" ? ViewPath::Stations
+                                           : ViewPath::Sphere;
+  if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx")
+    throw InputError("scan: --format must be ply, tum, redwood or ptx");
+  if (o.path == "stations" && o.format != "ptx")
+    throw InputError("scan: stations are written as --format ptx (spherical grids)");
   if (!(o.scale > 0 && std::isfinite(o.scale)))
     throw InputError("scan: --scale must be positive and finite");
   return o;
@@ -140,6 +165,8 @@ int run(const ScanOptions& given) {
   for (const auto& s : set.scans) points += s.grid.points.size();
   if (o.format == "ply")
     writeRangeGrids(o, set, o.out);
+  else if (o.format == "ptx")
+    writeStations(set, o.out);
   else
     writeSequence(o, set, o.out);
   io::writeMeshPly(file("truth.ply"), mesh);
@@ -161,7 +188,7 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
   d.add_options()("help,h", "show this help")("config", po::value<std::string>(),
                                               "read options from an .ini file")(
       "mesh", po::value(&o.mesh), "mesh to scan (PLY)")(
-      "shape", po::value(&o.shape), "built-in shape instead: sphere, torus or composite")(
+      "shape", po::value(&o.shape), "built-in shape instead: sphere, torus, composite or room")(
       "views", po::value(&s.views)->default_value(24), "number of scans")(
       "width", po::value(&s.width)->default_value(320), "pixels per row")(
       "height", po::value(&s.height)->default_value(240), "rows")(
@@ -171,12 +198,14 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "depth-noise", po::bool_switch(&s.depthNoise),
       "noise grows with the square of the range (depth cameras); --noise holds at the path's "
       "distance")("path", po::value(&o.path)->default_value(o.path),
-                  "viewpoints: sphere (spread around the object) or orbit (one turn, a "
-                  "hand-held sequence)")(
+                  "viewpoints: sphere (spread around the object), orbit (one turn, a "
+                  "hand-held sequence) or stations (terrestrial scanners inside the scene, "
+                  "e.g. --shape room; width x height is a full turn x 160 degrees)")(
       "format", po::value(&o.format)->default_value(o.format),
       "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
-      "camera_intrinsic.json)")("scale", po::value(&o.scale)->default_value(o.scale),
-                                "multiply the mesh's coordinates (e.g. to room size)")(
+      "camera_intrinsic.json), or ptx (one Leica PTX file of every scan, truth.conf)")(
+      "scale", po::value(&o.scale)->default_value(o.scale),
+      "multiply the mesh's coordinates (e.g. to room size)")(
       "outliers", po::value(&s.outliers)->default_value(0.0), "fraction of outlier samples")(
       "patches", po::value(&s.patches)->default_value(0), "extraneous patches, one scan each")(
       "rot-deg", po::value(&s.rotDeg)->default_value(0.0), "pose perturbation: max angle per axis")(

@@ -1,6 +1,8 @@
 #include "rangefuse/scan/Shapes.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "rangefuse/core/Error.h"
 
@@ -75,11 +77,52 @@ TriangleMesh makeComposite() {
   return m;
 }
 
+TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, bool bottom,
+                     double cell) {
+  TriangleMesh m;
+  const Eigen::Vector3d size = hi - lo;
+  // Each face as a corner and two edges whose cross product points outward.
+  struct Face {
+    Eigen::Vector3d corner, u, v;
+  };
+  const Eigen::Vector3d X(size.x(), 0, 0), Y(0, size.y(), 0), Z(0, 0, size.z());
+  const std::vector<Face> faces = {{lo, Z, Y},     {lo + X, Y, Z}, {lo, X, Z},
+                                   {lo + Y, Z, X}, {lo + Z, X, Y}, {lo, Y, X}};
+  for (size_t f = 0; f < (bottom ? 6u : 5u); ++f) {
+    const Face& face = faces[f];
+    const int nu = std::max(1, static_cast<int>(std::ceil(face.u.norm() / cell)));
+    const int nv = std::max(1, static_cast<int>(std::ceil(face.v.norm() / cell)));
+    const int32_t base = static_cast<int32_t>(m.vertices.size());
+    for (int j = 0; j <= nv; ++j)
+      for (int i = 0; i <= nu; ++i)
+        m.vertices.push_back(face.corner + face.u * i / nu + face.v * j / nv);
+    auto at = [&](int i, int j) { return base + j * (nu + 1) + i; };
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+  }
+  return m;
+}
+
+TriangleMesh makeRoom() {
+  // Faces in cells of at most 0.25 m, so that closest-point searches stay local.
+  TriangleMesh m = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d(8, 6, 3), true, 0.25);
+  appendMesh(m,
+             makeBox(Eigen::Vector3d(2.0, 1.4, 0), Eigen::Vector3d(3.6, 2.3, 0.75), false, 0.25));
+  appendMesh(m, makeBox(Eigen::Vector3d(7.3, 0.4, 0), Eigen::Vector3d(7.9, 1.9, 2.0), false, 0.25));
+  appendMesh(m, makeBox(Eigen::Vector3d(5.0, 4.0, 0), Eigen::Vector3d(5.6, 4.6, 0.6), false, 0.25));
+  appendMesh(m, makeSphere(Eigen::Vector3d(1.5, 4.6, 1.2), 0.4, 32, 64));
+  return m;
+}
+
 TriangleMesh makeShape(const std::string& name) {
+  if (name == "room") return makeRoom();
   if (name == "sphere") return makeSphere(Eigen::Vector3d::Zero(), 50, 96, 192);
   if (name == "torus") return makeTorus(Eigen::Vector3d::Zero(), 35, 15, 192, 80);
   if (name == "composite") return makeComposite();
-  throw InputError("--shape must be sphere, torus or composite, not '" + name + "'");
+  throw InputError("--shape must be sphere, torus, composite or room, not '" + name + "'");
 }
 
 }  // namespace rangefuse

@@ -25,6 +25,8 @@ void validate(const TriangleMesh& mesh, const ScanSettings& s) {
   if (s.rotDeg < 0 || s.transVox < 0)
     throw InputError("scan: --rot-deg and --trans-vox must not be negative");
   if (s.fovDeg < 0 || s.fovDeg >= 180) throw InputError("scan: --fov must be in (0, 180) degrees");
+  if (s.path == ViewPath::Stations && s.patches > 0)
+    throw InputError("scan: --patches needs camera views (--path sphere or orbit), not stations");
 }
 
 /// Camera looking at `target` from `eye`: columns x, y, z with the sensor looking along -z.
@@ -44,6 +46,28 @@ Eigen::Vector3d fibonacciDirection(int i, int n) {
   const double z = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - z * z);
   const double phi = i * M_PI * (3 - std::sqrt(5.0));
   return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+/// Stations spread on a ring at the middle of the scene, a third of the way to its walls, each
+/// turned a little from the last (a survey placing its tripods through a room).
+Eigen::Vector3d stationPosition(int i, int n, const Eigen::AlignedBox3d& box) {
+  const double a = 2 * M_PI * i / n + 0.3;
+  const Eigen::Vector3d half = 0.5 * box.sizes();
+  return box.center() +
+         Eigen::Vector3d(0.3 * half.x() * std::cos(a), 0.3 * half.y() * std::sin(a), 0);
+}
+
+/// Unit ray of a station's cell: columns a full turn of azimuth, rows from 80 degrees below the
+/// horizon to 80 above.
+Eigen::Vector3d stationRay(const RangeGrid& g, int r, int c) {
+  const double az = 2 * M_PI * c / g.cols, el = (-80 + 160.0 * r / (g.rows - 1)) * M_PI / 180;
+  return Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+}
+
+Eigen::Vector3d pinholeRay(const RangeGrid& g, int r, int c) {
+  return Eigen::Vector3d((c - g.pinhole->cx) / g.pinhole->fx, (r - g.pinhole->cy) / g.pinhole->fy,
+                         -1)
+      .normalized();
 }
 
 /// One turn around the object, 15-45 degrees above its equator: consecutive frames overlap
@@ -101,9 +125,7 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
   std::uniform_real_distribution<double> unit(0, 1), depth(depthLo, depthHi);
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) {
-      const Eigen::Vector3d ray = Eigen::Vector3d((c - g.pinhole->cx) / g.pinhole->fx,
-                                                  (r - g.pinhole->cy) / g.pinhole->fy, -1)
-                                      .normalized();
+      const Eigen::Vector3d ray = g.spherical ? stationRay(g, r, c) : pinholeRay(g, r, c);
       double t = castPixel(bvh, patches, s.truth.t, s.truth.R * ray);
       if (std::isnan(t)) continue;
       if (set.outliers > 0 && unit(rng) < set.outliers)
@@ -138,18 +160,25 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
     char name[32];
     std::snprintf(name, sizeof(name), "scan_%03d.ply", i);
     s.name = name;
-    s.viewpoint =
-        out.centre + eyeDistance * (set.path == ViewPath::Orbit ? orbitDirection(i, set.views)
-                                                                : fibonacciDirection(i, set.views));
-    s.truth = cameraPose(s.viewpoint, out.centre);
-    s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
-    TriangleMesh patches;
-    if (patchOf[i] >= 0) {
-      out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, rng));
-      patches = patchMesh({out.patches.back()});
+    if (set.path == ViewPath::Stations) {
+      s.viewpoint = stationPosition(i, set.views, box);
+      s.truth = Pose{Eigen::Matrix3d::Identity(), s.viewpoint};
+      s.grid.spherical = true;
+      render(s, bvh, {}, 0.1 * out.radius, 2 * out.radius, out.radius, set, rng);
+    } else {
+      s.viewpoint = out.centre + eyeDistance * (set.path == ViewPath::Orbit
+                                                    ? orbitDirection(i, set.views)
+                                                    : fibonacciDirection(i, set.views));
+      s.truth = cameraPose(s.viewpoint, out.centre);
+      s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
+      TriangleMesh patches;
+      if (patchOf[i] >= 0) {
+        out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, rng));
+        patches = patchMesh({out.patches.back()});
+      }
+      render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, eyeDistance, set,
+             rng);
     }
-    render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, eyeDistance, set,
-           rng);
     s.perturbed = s.truth;
     if (i > 0)
       s.perturbed = perturbPose(s.truth, out.centre, set.rotDeg, set.transVox * set.voxel, rng,

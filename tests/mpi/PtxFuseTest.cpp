@@ -7,13 +7,16 @@
 #include <sstream>
 
 #include "SharedTemp.h"
+#include "rangefuse/eval/Comparison.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/scan/Shapes.h"
 #include "rangefuse/scan/SyntheticScanner.h"
+#include "rangefuse/surface/ScanSurface.h"
 
 using namespace rangefuse;
 
@@ -87,6 +90,37 @@ TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
     } catch (const std::exception& e) {
       EXPECT_NE(std::string(e.what()).find("holds only 5 scans"), std::string::npos) << e.what();
     }
+    std::filesystem::remove_all(dir);
+  }
+}
+
+TEST(PtxFuse, ThreeStationsInARoomFuseCloseToTheRoom) {
+  const std::string dir = test::sharedTempPath("ptx-room");
+  const double voxel = 0.05;
+  ScanSettings s;
+  s.views = 3, s.width = 480, s.height = 200, s.voxel = voxel, s.noise = 0.3;
+  s.path = ViewPath::Stations;
+  const SyntheticSet set = scanMesh(makeRoom(), s);
+  EXPECT_TRUE(internal::wrapsAround(set.scans[0].grid));  // a full turn: the seam closes
+  if (mpi::rank() == 0) {
+    std::filesystem::create_directories(dir);
+    std::vector<RangeGrid> grids;
+    std::vector<Pose> poses;
+    for (const SyntheticScan& sc : set.scans) grids.push_back(sc.grid), poses.push_back(sc.truth);
+    io::writePtx(dir + "/room.ptx", grids, poses);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  FuseOptions o = fuseOptions(dir + "/room.ptx", dir + "/room.ply");
+  o.voxel = voxel;
+  ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+  if (mpi::rank() == 0) {
+    const MeshComparison c = compareMeshes(io::readMeshPly(o.out), makeRoom(),
+                                           CompareSettings{voxel, 3 * voxel, 50000, 1});
+    std::printf("room from 3 stations: accuracy mean %.3f voxel, precision %.4f, recall %.4f\n",
+                c.accuracy.mean / voxel, c.precision, c.recall);
+    EXPECT_LT(c.accuracy.mean, 0.15 * voxel);
+    EXPECT_GT(c.precision, 0.99);
+    EXPECT_GT(c.recall, 0.8);  // what the stations cannot see: under the desk, behind the cabinet
     std::filesystem::remove_all(dir);
   }
 }

@@ -18,7 +18,17 @@ TriangleMesh makeTorus(const Eigen::Vector3d& centre, double R, double r, int ri
 /// from each other (no overlapping surfaces, so every face is a true surface).
 TriangleMesh makeComposite();
 
-/// "sphere", "torus" or "composite", each about 100 units across; throws InputError.
+/// An axis-aligned box with outward triangles, each face in square cells of at most `cell`;
+/// without its bottom face when `bottom` is false (furniture standing on a floor).
+TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, bool bottom,
+                     double cell);
+
+/// A room 8 x 6 x 3 (metres) seen from inside, with a desk, a cabinet, a low cube and a ball:
+/// a scene for terrestrial scanner stations.
+TriangleMesh makeRoom();
+
+/// "sphere", "torus" or "composite", each about 100 units across, or "room" (8 m across);
+/// throws InputError.
 TriangleMesh makeShape(const std::string& name);
 
 /// Appends b's vertices and faces to a.

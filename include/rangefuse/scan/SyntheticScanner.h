@@ -14,9 +14,11 @@
 namespace rangefuse {
 
 /// Where the viewpoints lie: spread evenly over a sphere around the object (a turntable or
-/// a scanner moved around it), or along one orbit around it with a gently rising and falling
-/// height (a hand-held depth camera filming a sequence).
-enum class ViewPath { Sphere, Orbit };
+/// a scanner moved around it), along one orbit around it with a gently rising and falling
+/// height (a hand-held depth camera filming a sequence), or inside the scene as terrestrial
+/// laser scanner stations (spherical grids: width columns of a full turn, height rows from 80
+/// degrees below the horizon to 80 above).
+enum class ViewPath { Sphere, Orbit, Stations };
 
 struct ScanSettings {
   int views = 24;
@@ -43,7 +45,7 @@ struct SyntheticPatch {
 
 struct SyntheticScan {
   std::string name;  ///< file name, scan_NNN.ply
-  RangeGrid grid;    ///< scan frame: sensor at the origin looking toward -z, pinhole intrinsics
+  RangeGrid grid;    ///< scan frame: sensor at the origin (pinhole looking toward -z, or station)
   Pose truth;        ///< exact scan-to-world pose
   Pose perturbed;    ///< truth moved by the drawn perturbation (scan 0 exact)
   Eigen::Vector3d rotationDeg = Eigen::Vector3d::Zero();  ///< drawn angles about x, y, z
