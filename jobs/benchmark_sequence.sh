@@ -6,6 +6,7 @@
 # 2 ranks (prism and robust), Open3D in one process (it does not use MPI). Prints time read to
 # mesh, peak memory and accuracy against the true mesh.
 # Usage: bash jobs/benchmark_sequence.sh [FRAMES WIDTH HEIGHT VOXEL]  (default 300 640 480 0.01)
+# SEQ_DIR=folder keeps the generated sequence there (and reuses it when it exists).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh >/dev/null
@@ -14,28 +15,34 @@ frames=${1:-300} width=${2:-640} height=${3:-480} voxel=${4:-0.01}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 bin=build/rangefuse
-$bin scan --mesh tests/data/bunny/bun_zipper.ply --scale 10 --views "$frames" --width "$width" \
-  --height "$height" --voxel "$voxel" --noise 0.5 --depth-noise --outliers 0.005 --path orbit \
-  --format tum --out "$tmp/seq"
-echo "$frames frames ${width}x${height}, voxel $voxel, $(du -sm "$tmp/seq/depth" | cut -f1) MB of PNG"
+seq=${SEQ_DIR:-$tmp/seq}
+[[ -f $seq/depth.txt ]] ||
+  $bin scan --mesh tests/data/bunny/bun_zipper.ply --scale 10 --views "$frames" --width "$width" \
+    --height "$height" --voxel "$voxel" --noise 0.5 --depth-noise --outliers 0.005 --path orbit \
+    --format tum --out "$seq"
+echo "$frames frames ${width}x${height}, voxel $voxel, $(du -sm "$seq/depth" | cut -f1) MB of PNG"
 
-accuracy() {  # mesh -> "chamfer | accuracy mean | p99 | F-score" in voxels
-  $bin eval --mesh "$1" --reference "$tmp/seq/truth.ply" --voxel "$voxel" --json |
-    /usr/bin/python3 -c 'import json,sys; j=json.load(sys.stdin); v=float(sys.argv[1]);
-print(f"{j[\"chamfer\"]/v:.3f} | {j[\"accuracy\"][\"mean\"]/v:.3f} | {j[\"accuracy\"][\"p99\"]/v:.2f} | {j[\"fscore\"]:.4f}")' "$voxel"
+accuracy() {  # mesh -> "chamfer | accuracy mean | p99 | F-score", lengths in voxels
+  $bin eval --mesh "$1" --reference "$seq/truth.ply" --voxel "$voxel" --json |
+    /usr/bin/python3 -c '
+import json, sys
+j, v = json.load(sys.stdin), float(sys.argv[1])
+a = j["accuracy"]
+print("%.3f | %.3f | %.2f | %.4f" % (j["chamfer"] / v, a["mean"] / v, a["p99"] / v, j["fscore"]))
+' "$voxel"
 }
 
 echo "| tool | seconds read to mesh | peak memory (MiB) | Chamfer (voxel) | accuracy mean | accuracy p99 | F-score |"
 echo "|---|---|---|---|---|---|---|"
 for method in prism robust; do
   start=$(date +%s.%N)
-  mpirun -np 2 --bind-to none $bin fuse --scans "$tmp/seq" --voxel "$voxel" --method $method \
+  mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" --method $method \
     --out "$tmp/$method.ply" >"$tmp/$method.log"
   seconds=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
   memory=$(grep "peak memory per rank" "$tmp/$method.log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
   echo "| rangefuse $method, 2 ranks | $seconds | $memory | $(accuracy "$tmp/$method.ply") |"
 done
-o3d=$(/usr/bin/python3 jobs/open3d_sequence.py "$tmp/seq" "$voxel" "$tmp/o3d.ply" 2>/dev/null)
+o3d=$(/usr/bin/python3 jobs/open3d_sequence.py "$seq" "$voxel" "$tmp/o3d.ply" 2>/dev/null)
 seconds=$(echo "$o3d" | sed 's/.*total \([0-9.]*\) s.*/\1/')
 memory=$(echo "$o3d" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
 echo "| Open3D ScalableTSDFVolume, 1 process | $seconds | $memory | $(accuracy "$tmp/o3d.ply") |"
