@@ -72,7 +72,7 @@ cp -r "$tmp/tum" "$tmp/tum_order" && sed -i 's/^1000.066667 /999.5 /' "$tmp/tum_
 expect tum_order "depth.txt: line 5: timestamps out of order" --scans "$tmp/tum_order" --voxel 0.01
 cp -r "$tmp/tum" "$tmp/tum_png" && head -c 100 "$tmp/tum/depth/1000.066667.png" \
   >"$tmp/tum_png/depth/1000.066667.png"
-expect tum_png "1000.066667.png: corrupt PNG" --scans "$tmp/tum_png" --voxel 0.01
+expect tum_png "1000.066667.png: corrupt or truncated PNG" --scans "$tmp/tum_png" --voxel 0.01
 cp -r "$tmp/tum" "$tmp/tum_camera" && rm "$tmp/tum_camera/camera_intrinsic.json"
 expect tum_camera "no camera intrinsics" --scans "$tmp/tum_camera" --voxel 0.01
 expect tum_intrinsics "--intrinsics: 'a,b' is not fx,fy,cx,cy" --scans "$tmp/tum" --voxel 0.01 \
