@@ -51,23 +51,6 @@ std::optional<DepthCamera> givenCamera(const ScanSourceOptions& source) {
   return parseIntrinsics(source.intrinsics);
 }
 
-/// A .conf's depth images (NAME.png) take the camera of the sequence folder above their own.
-void locateDepthImages(ConfFile& conf, const ScanSourceOptions& source) {
-  std::map<std::string, DepthCamera> cameras;
-  for (ConfScan& s : conf.scans) {
-    if (std::filesystem::path(s.path).extension() != ".png") continue;
-    const std::string dir = std::filesystem::path(s.path).parent_path().parent_path().string();
-    auto it = cameras.find(dir);
-    if (it == cameras.end()) {
-      const ConfFile probe = sequenceLayout(dir) == SequenceLayout::Tum
-                                 ? readTumSequence(dir, givenCamera(source), source.maxDepth)
-                                 : readRedwoodSequence(dir, givenCamera(source), source.maxDepth);
-      it = cameras.emplace(dir, *probe.scans.front().depth).first;
-    }
-    s.depth = it->second;
-  }
-}
-
 ConfFile readSequence(const std::string& dir, const std::string& format,
                       const ScanSourceOptions& source) {
   std::optional<SequenceLayout> layout = sequenceLayout(dir);
@@ -80,6 +63,21 @@ ConfFile readSequence(const std::string& dir, const std::string& format,
   return *layout == SequenceLayout::Tum
              ? readTumSequence(dir, givenCamera(source), source.maxDepth)
              : readRedwoodSequence(dir, givenCamera(source), source.maxDepth);
+}
+
+/// A .conf's depth images (NAME.png) take the camera of the sequence folder above their own.
+void locateDepthImages(ConfFile& conf, const ScanSourceOptions& source) {
+  std::map<std::string, DepthCamera> cameras;
+  for (ConfScan& s : conf.scans) {
+    if (std::filesystem::path(s.path).extension() != ".png") continue;
+    const std::string dir = std::filesystem::path(s.path).parent_path().parent_path().string();
+    auto it = cameras.find(dir);
+    if (it == cameras.end()) {
+      const ConfFile probe = readSequence(dir, "auto", source);
+      it = cameras.emplace(dir, *probe.scans.front().depth).first;
+    }
+    s.depth = it->second;
+  }
 }
 
 ConfFile readPtxList(const std::string& path, const InputLimits& limits) {
