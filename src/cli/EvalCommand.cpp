@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include "CliCommon.h"
 #include "Commands.h"
@@ -12,6 +13,7 @@
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/surface/ScanSurface.h"
 
 namespace po = boost::program_options;
 using nlohmann::json;
@@ -20,7 +22,7 @@ namespace rangefuse::cli {
 namespace {
 
 struct EvalOptions {
-  std::string mesh, reference, poses, referencePoses, jsonOut;
+  std::string mesh, reference, seen, poses, referencePoses, jsonOut;
   double voxel = 0, tau = 1, spurious = 3;
   size_t samples = 200000;
   bool json = false, consistency = false;
@@ -39,6 +41,17 @@ void printStats(const char* name, const DistanceStats& s, double voxel) {
       name, s.mean, s.median, s.p90, s.p99, s.max, s.mean / voxel, s.p99 / voxel);
 }
 
+/// The cells (edge tau / 2) the scans of --seen cross, triangulated as fusion does but keeping
+/// oblique triangles too (the yardstick should not be our own filter).
+SeenCells seenCells(const EvalOptions& o) {
+  SeenCells cells(o.tau * o.voxel / 2);
+  SurfaceOptions surface;
+  surface.minCosine = 0;
+  for (const auto& s : io::readScanList(o.seen, o.limits, o.source).scans)
+    cells.addSurface(triangulateGrid(io::readScanGrid(s, o.limits), surface), s.pose);
+  return cells;
+}
+
 json meshReport(const EvalOptions& o) {
   checkLimit("eval", "--samples", static_cast<double>(o.samples), o.limits.maxElements,
              "max-elements");
@@ -47,11 +60,18 @@ json meshReport(const EvalOptions& o) {
   if (mesh.faces.empty()) throw InputError(o.mesh + ": mesh has no triangles");
   if (ref.faces.empty()) throw InputError(o.reference + ": mesh has no triangles");
   CompareSettings s{o.tau * o.voxel, o.spurious * o.voxel, o.samples, 1};
-  const MeshComparison c = compareMeshes(mesh, ref, s);
+  std::optional<SeenCells> seen;
+  if (!o.seen.empty()) seen = seenCells(o);
+  const MeshComparison c = compareMeshes(mesh, ref, s, seen ? &*seen : nullptr);
   if (!o.json) {
     std::printf("mesh %s (%zu triangles) against %s (%zu triangles), %zu samples each way\n",
                 o.mesh.c_str(), mesh.faces.size(), o.reference.c_str(), ref.faces.size(),
                 o.samples);
+    if (seen)
+      std::printf(
+          "seen surface: %.4f of the reference's area lies within about %g voxel of a scan's "
+          "surface of %s; completeness and recall count only it\n",
+          c.seenFraction, o.tau, o.seen.c_str());
     printStats("accuracy", c.accuracy, o.voxel);
     printStats("completeness", c.completeness, o.voxel);
     std::printf("chamfer       %.5g (%.3f voxels)\n", c.chamfer, c.chamfer / o.voxel);
@@ -72,7 +92,9 @@ json meshReport(const EvalOptions& o) {
           {"recall", c.recall},
           {"fscore", c.fscore},
           {"spurious_voxels", o.spurious},
-          {"spurious_area_fraction", c.spuriousAreaFraction}};
+          {"spurious_area_fraction", c.spuriousAreaFraction},
+          {"seen", o.seen},
+          {"seen_fraction", c.seenFraction}};
 }
 
 std::vector<Eigen::Vector3d> scanPoints(const io::ConfScan& s) {
@@ -258,8 +280,11 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
   po::options_description d(
       "rangefuse eval: a mesh against a reference mesh, or poses against reference poses");
   d.add_options()("help,h", "show this help")("mesh", po::value(&o.mesh), "mesh to judge (PLY)")(
-      "reference", po::value(&o.reference), "reference mesh (PLY)")("poses", po::value(&o.poses),
-                                                                    "estimated poses (.conf)")(
+      "reference", po::value(&o.reference), "reference mesh (PLY)")(
+      "seen", po::value(&o.seen),
+      "scan list (.conf, .ptx or sequence folder, with true poses): completeness and recall "
+      "count only the reference surface within about --tau of its triangulated scans, the part "
+      "the scanners saw")("poses", po::value(&o.poses), "estimated poses (.conf)")(
       "reference-poses", po::value(&o.referencePoses),
       "reference poses (.conf); its scan files give the points")(
       "voxel", po::value(&o.voxel), "voxel size (model units): results are also given in voxels")(

@@ -15,15 +15,16 @@ namespace {
 struct PerturbOptions {
   std::string scans, out;
   io::ScanSourceOptions source;
+  InputLimits limits;
   double voxel = 0, rotDeg = 5, transVox = 5;
   uint64_t seed = 1;
 };
 
 /// The centre of the bounding box of every scan's points in the world.
-Eigen::Vector3d objectCentre(const io::ConfFile& conf) {
+Eigen::Vector3d objectCentre(const io::ConfFile& conf, const InputLimits& limits) {
   Eigen::AlignedBox3d box;
   for (const auto& s : conf.scans)
-    for (const auto& p : io::readScanGrid(s).points) box.extend(s.pose.apply(p));
+    for (const auto& p : io::readScanGrid(s, limits).points) box.extend(s.pose.apply(p));
   if (box.isEmpty()) throw InputError("perturb: the scans hold no points");
   return box.center();
 }
@@ -33,8 +34,8 @@ int run(const PerturbOptions& o) {
   if (o.rotDeg < 0 || o.transVox < 0)
     throw InputError("perturb: --rot-deg and --trans-vox must not be negative");
   if (o.out.empty()) throw InputError("perturb: --out FILE.conf is required");
-  io::ConfFile conf = io::readScanList(o.scans, {}, o.source);
-  const Eigen::Vector3d centre = objectCentre(conf);
+  io::ConfFile conf = io::readScanList(o.scans, o.limits, o.source);
+  const Eigen::Vector3d centre = objectCentre(conf, o.limits);
   std::mt19937_64 rng(o.seed);
   for (size_t i = 1; i < conf.scans.size(); ++i) {  // the first scan stays: the anchor
     Eigen::Vector3d angles, shift;
@@ -62,6 +63,7 @@ int perturbCommand(int argc, char** argv, MPI_Comm comm) {
   add("seed", po::value(&o.seed)->default_value(1), "random seed");
   add("out", po::value(&o.out), "perturbed .conf to write (scan names kept as written)");
   addSourceOptions(d, o.source);
+  addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

@@ -1,9 +1,9 @@
 #include "rangefuse/eval/Comparison.h"
 
-#include "rangefuse/register/RigidFit.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "rangefuse/register/RigidFit.h"
 
 namespace rangefuse {
 namespace {
@@ -13,13 +13,31 @@ double fractionWithin(const std::vector<double>& d, double limit) {
   return double(std::count_if(d.begin(), d.end(), [&](double x) { return x <= limit; })) / d.size();
 }
 
+/// Distances from the reference's samples (those on the seen surface, with `seen`) to the mesh.
+std::vector<double> completenessDistances(const TriangleMesh& reference, const TriangleMesh& mesh,
+                                          const CompareSettings& s, const SeenCells* seen,
+                                          double& seenFraction) {
+  std::vector<Eigen::Vector3d> samples = sampleSurface(reference, s.samples, s.seed + 1);
+  const size_t all = samples.size();
+  if (seen)
+    samples.erase(std::remove_if(samples.begin(), samples.end(),
+                                 [&](const Eigen::Vector3d& p) { return !seen->near(p); }),
+                  samples.end());
+  seenFraction = all > 0 ? double(samples.size()) / double(all) : 0;
+  const MeshDistance dist(mesh);
+  std::vector<double> out;
+  out.reserve(samples.size());
+  for (const auto& p : samples) out.push_back(dist.distance(p));
+  return out;
+}
+
 }  // namespace
 
 MeshComparison compareMeshes(const TriangleMesh& mesh, const TriangleMesh& reference,
-                             const CompareSettings& s) {
-  const std::vector<double> acc = sampledDistances(mesh, reference, s.samples, s.seed);
-  const std::vector<double> comp = sampledDistances(reference, mesh, s.samples, s.seed + 1);
+                             const CompareSettings& s, const SeenCells* seen) {
   MeshComparison c;
+  const std::vector<double> acc = sampledDistances(mesh, reference, s.samples, s.seed);
+  const std::vector<double> comp = completenessDistances(reference, mesh, s, seen, c.seenFraction);
   c.accuracy = summarize(acc);
   c.completeness = summarize(comp);
   c.chamfer = 0.5 * (c.accuracy.mean + c.completeness.mean);

@@ -12,18 +12,6 @@
 namespace po = boost::program_options;
 
 namespace rangefuse::fuzz {
-namespace {
-
-template <class Fn>
-void refusedCleanly(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError&) {
-  }
-}
-
-}  // namespace
-
 InputLimits fuzzLimits() {
   InputLimits l;
   l.maxElements = 1 << 22;
@@ -65,6 +53,9 @@ Entry entryNamed(const std::string& name) {
   if (name == "conf") return conf;
   if (name == "fuse_ini") return fuseIni;
   if (name == "checkpoint") return checkpoint;
+  if (name == "ptx") return ptx;
+  if (name == "depth_png") return depthPng;
+  if (name == "depth_sequence") return depthSequence;
   return nullptr;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
 
 namespace rangefuse::fuzz {
@@ -16,9 +17,27 @@ void meshPly(const std::string& bytes);
 void conf(const std::string& bytes);
 void fuseIni(const std::string& bytes);
 
+/// Sensor files, written to a scratch folder first (their readers take paths): a PTX file, a
+/// 16-bit PNG, and a depth-image folder whose first byte picks TUM (even) or Redwood (odd) and
+/// whose other bytes, cut at NULs, are its text files (TUM: depth.txt, groundtruth.txt,
+/// camera_intrinsic.json; Redwood: trajectory.log, camera_intrinsic.json) beside two valid
+/// frames.
+void ptx(const std::string& bytes);
+void depthPng(const std::string& bytes);
+void depthSequence(const std::string& bytes);
+
 /// Builds a structurally valid HDF5 file whose attributes, dataset shapes, types, counts
 /// and metadata are chosen by `bytes`, then loads it as a checkpoint. Needs MPI initialised.
 void checkpoint(const std::string& bytes);
+
+/// Runs fn; a clean refusal (InputError) is swallowed, anything else escapes.
+template <class Fn>
+void refusedCleanly(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError&) {
+  }
+}
 
 /// Limits small enough that libFuzzer's 2 GiB malloc limit is never what stops a run.
 InputLimits fuzzLimits();

@@ -6,7 +6,7 @@ tool=$1
 out=$2
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 data=$repo/tests/data/bunny
-mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint}
+mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint,ptx,depth_png,depth_sequence}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -54,6 +54,22 @@ printf '# comment\r\ncamera 0 0 0 0 0 0 1\r\nmesh a.ply 0 0 0 0 0 0 1\r\nbmesh b
 cp "$repo"/jobs/*.ini "$out/fuse_ini/"
 printf 'scans = a.conf\nvoxel = 0.5\nmethod = consensus\nquorum = 1.5\nregister = both\nmax-voxels = 1000\n' \
   >"$out/fuse_ini/consensus.ini"
+
+# Sensor files: a two-station PTX, a depth frame, and sequence folders as the depth_sequence
+# entry takes them (a layout byte, then the folder's text files separated by NULs; its two
+# frames are named as a two-frame TUM sequence names them).
+"$tool" scan --shape room --path stations --views 2 --width 8 --height 4 --voxel 0.5 \
+  --format ptx --out "$tmp/ptx" >/dev/null
+cp "$tmp/ptx/stations.ptx" "$out/ptx/two_stations.ptx"
+"$tool" scan --shape sphere --path orbit --views 2 --width 4 --height 3 --voxel 0.2 \
+  --format tum --out "$tmp/tum" >/dev/null
+"$tool" scan --shape sphere --path orbit --views 2 --width 4 --height 3 --voxel 0.2 \
+  --format redwood --out "$tmp/redwood" >/dev/null
+cp "$(find "$tmp/tum/depth" -name '*.png' | sort | head -1)" "$out/depth_png/frame.png"
+{ printf '\x00'; cat "$tmp/tum/depth.txt"; printf '\x00'; cat "$tmp/tum/groundtruth.txt"
+  printf '\x00'; cat "$tmp/tum/camera_intrinsic.json"; } >"$out/depth_sequence/tum"
+{ printf '\x01'; cat "$tmp/redwood/trajectory.log"; printf '\x00'
+  cat "$tmp/redwood/camera_intrinsic.json"; } >"$out/depth_sequence/redwood"
 
 # Checkpoint seeds are choice bytes (see FuzzCheckpoint.cpp): flags first, then values.
 printf '\x00\x00\x00\x40' >"$out/checkpoint/field"

@@ -6,6 +6,7 @@
 
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/eval/MeshDistance.h"
+#include "rangefuse/eval/SeenSurface.h"
 
 namespace rangefuse {
 
@@ -17,6 +18,7 @@ struct MeshComparison {
   double recall = 0;           ///< fraction of completeness samples within tau
   double fscore = 0;
   double spuriousAreaFraction = 0;  ///< mesh area farther than spuriousDistance from reference
+  double seenFraction = 1;          ///< share of the reference's area the completeness covers
 };
 
 struct CompareSettings {
@@ -26,8 +28,10 @@ struct CompareSettings {
   uint64_t seed = 1;
 };
 
+/// Accuracy, completeness and F-score of a mesh against a reference. With `seen`, completeness
+/// and recall count only the reference's samples near a scan point (the surface measured).
 MeshComparison compareMeshes(const TriangleMesh& mesh, const TriangleMesh& reference,
-                             const CompareSettings& settings);
+                             const CompareSettings& settings, const SeenCells* seen = nullptr);
 
 struct PoseError {
   std::string name;

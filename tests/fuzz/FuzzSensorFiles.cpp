@@ -1,0 +1,91 @@
+// Fuzz entries for the sensor formats that arrive as files on disk (Leica PTX, 16-bit PNG,
+// depth-image folders): the readers take paths, so the bytes are written into a scratch folder
+// this process owns and read back exactly as the tool reads them.
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "FuzzEntries.h"
+#include "rangefuse/io/DepthPng.h"
+#include "rangefuse/io/Ptx.h"
+#include "rangefuse/io/ScanFiles.h"
+
+namespace fs = std::filesystem;
+
+namespace rangefuse::fuzz {
+namespace {
+
+/// A folder of our own under the temporary directory, made on first use. Left behind at exit
+/// (a few small files): libFuzzer ends processes in ways no destructor sees.
+const fs::path& scratch() {
+  static const fs::path dir = [] {
+    std::string name = (fs::temp_directory_path() / "rangefuse_fuzz_XXXXXX").string();
+    if (!mkdtemp(name.data())) std::abort();
+    return fs::path(name);
+  }();
+  return dir;
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// `bytes` cut at NUL bytes: one part per file of a folder.
+std::vector<std::string> parts(const std::string& bytes) {
+  std::vector<std::string> out(1);
+  for (char c : bytes)
+    if (c == '\0')
+      out.emplace_back();
+    else
+      out.back() += c;
+  return out;
+}
+
+/// A sequence folder: two valid 4 x 3 frames named as TUM timestamps (Redwood takes any
+/// names), then the layout's text files from the parts (a missing part: a missing file).
+fs::path sequenceFolder(bool tum, const std::vector<std::string>& text) {
+  const fs::path dir = scratch() / "sequence";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "depth");
+  const io::DepthImage frame{
+      4, 3, {0, 5000, 5100, 5200, 5000, 5000, 5000, 0, 4900, 5000, 5050, 5000}};
+  io::writeDepthPng((dir / "depth" / "1000.000000.png").string(), frame);
+  io::writeDepthPng((dir / "depth" / "1000.033333.png").string(), frame);
+  const std::vector<const char*> names =
+      tum ? std::vector<const char*>{"depth.txt", "groundtruth.txt", "camera_intrinsic.json"}
+          : std::vector<const char*>{"trajectory.log", "camera_intrinsic.json"};
+  for (size_t k = 0; k < names.size() && k < text.size(); ++k) writeBytes(dir / names[k], text[k]);
+  return dir;
+}
+
+}  // namespace
+
+void ptx(const std::string& bytes) {
+  const fs::path file = scratch() / "fuzz.ptx";
+  writeBytes(file, bytes);
+  refusedCleanly([&] {
+    for (const io::PtxScan& scan : io::indexPtx(file.string(), fuzzLimits()))
+      io::readPtxScan(file.string(), scan);
+  });
+}
+
+void depthPng(const std::string& bytes) {
+  const fs::path file = scratch() / "fuzz.png";
+  writeBytes(file, bytes);
+  refusedCleanly([&] { io::readDepthPng(file.string(), fuzzLimits().maxGridCells); });
+}
+
+void depthSequence(const std::string& bytes) {
+  const bool tum = bytes.empty() || (bytes[0] & 1) == 0;
+  const fs::path dir = sequenceFolder(tum, parts(bytes.empty() ? bytes : bytes.substr(1)));
+  io::ScanSourceOptions source;
+  source.format = tum ? "tum" : "redwood";
+  refusedCleanly([&] {
+    for (const io::ConfScan& scan : io::readScanList(dir.string(), fuzzLimits(), source).scans)
+      io::readScanGrid(scan, fuzzLimits());
+  });
+}
+
+}  // namespace rangefuse::fuzz
