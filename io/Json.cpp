@@ -16,7 +16,7 @@ nlohmann::json readJson(const std::string& path) {
   if (!in) throw InputError(path + ": cannot open file");
   try {
     return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range
     throw InputError(path + ": not valid JSON: " + e.what());
   }
 }

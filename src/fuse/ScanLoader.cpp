@@ -147,6 +147,22 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
   return box;
 }
 
+/// The ranks owning the planned bricks of [lo, hi], ascending, each once.
+std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo,
+                             const BrickCoord& hi) {
+  std::vector<int> owners;
+  BrickCoord b;
+  for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
+    for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
+      for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
+        const int64_t at = layout.find(mortonEncode(b));
+        if (at >= 0) owners.push_back(layout.ownerOf(at));
+      }
+  std::sort(owners.begin(), owners.end());
+  owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
+  return owners;
+}
+
 }  // namespace
 
 void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
@@ -154,18 +170,15 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
   const int ranks = layout.ranks();
   std::vector<std::vector<uint32_t>> triangles(ranks);
   std::vector<int> owners;
+  // Neighbouring triangles (grid order) mostly reach the same bricks: their owners are known.
+  BrickCoord lastLo(1, 1, 1), lastHi(0, 0, 0);
   for (size_t t = 0; t < world.surface.triangles.size(); ++t) {
-    BrickCoord lo, hi, b;
+    BrickCoord lo, hi;
     if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
-    owners.clear();
-    for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
-      for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
-        for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
-          const int64_t at = layout.find(mortonEncode(b));
-          if (at >= 0) owners.push_back(layout.ownerOf(at));
-        }
-    std::sort(owners.begin(), owners.end());
-    owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
+    if (lo != lastLo || hi != lastHi) {
+      owners = brickOwners(layout, lo, hi);
+      lastLo = lo, lastHi = hi;
+    }
     for (int r : owners) triangles[r].push_back(static_cast<uint32_t>(t));
   }
   std::vector<int32_t> remap(world.surface.points.size(), -1);

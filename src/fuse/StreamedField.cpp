@@ -135,9 +135,11 @@ struct SightMaps {
 
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
 bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
-               Eigen::AlignedBox3d& box, uint64_t& triangles, SightMaps* sights) {
+               Eigen::AlignedBox3d& box, uint64_t& triangles, std::vector<uint64_t>& bytes,
+               SightMaps* sights) {
   std::map<size_t, std::string> warnings;
   triangles = 0;
+  bytes.assign(conf.scans.size(), 0);
   if (!collectively(comm, [&] {
         std::vector<size_t> mine;
         for (size_t i = 0; i < conf.scans.size(); ++i)
@@ -152,6 +154,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
               warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
             box.extend(pointBounds(s));
             triangles += s.surface.triangles.size();
+            bytes[i] = scanBytes(s);
             if (sights && s.sight) sights->mine.emplace(i, *s.sight);
             share.offer(i, std::move(s));
           }
@@ -161,6 +164,8 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
   printWarnings(warnings, comm);
   box = allreduceBox(box, comm);
   MPI_Allreduce(MPI_IN_PLACE, &triangles, 1, MPI_UINT64_T, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, bytes.data(), static_cast<int>(bytes.size()), MPI_UINT64_T, MPI_SUM,
+                comm);
   return true;
 }
 
@@ -182,9 +187,10 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
-bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, int threads,
-                    SurfaceHypotheses* hypotheses, MPI_Comm comm, Progress& progress,
-                    FusedField& field, RankCounters& counters, RoutingStats& routing) {
+bool integrateShare(const io::ConfFile& conf, ScanShare& share, const std::vector<size_t>& windows,
+                    double reach, int threads, SurfaceHypotheses* hypotheses, MPI_Comm comm,
+                    Progress& progress, FusedField& field, RankCounters& counters,
+                    RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(conf.scans.size());
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
@@ -194,8 +200,8 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, in
   // have routed are the prisms the integrator finds reaching a brick.
   const bool alone = ranks == 1 && reach == 0;
   double lastLine = progress.elapsed();
-  for (size_t first = 0; first < conf.scans.size(); first += ranks) {
-    const size_t end = std::min(conf.scans.size(), first + ranks);
+  for (size_t w = 0, first = 0; w < windows.size(); first = windows[w++]) {
+    const size_t end = windows[w];
     std::vector<std::vector<char>> out(ranks);
     IndexedScans parts;
     if (!collectively(comm, [&] {
@@ -233,6 +239,27 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, double reach, in
 
 }  // namespace
 
+std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
+                                   uint64_t budget) {
+  std::vector<size_t> ends;
+  const size_t n = scanBytes.size(), step = static_cast<size_t>(std::max(1, ranks));
+  for (size_t first = 0; first < n;) {
+    size_t end = std::min(n, first + step);
+    uint64_t bytes = 0;
+    for (size_t i = first; i < end; ++i) bytes += scanBytes[i];
+    while (end < n) {
+      uint64_t more = 0;
+      for (size_t i = end; i < std::min(n, end + step); ++i) more += scanBytes[i];
+      if (bytes + more > budget * step) break;
+      bytes += more;
+      end = std::min(n, end + step);
+    }
+    ends.push_back(end);
+    first = end;
+  }
+  return ends;
+}
+
 std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks) {
   std::vector<int> reader(fileBytes.size(), 0);
   std::vector<uint64_t> load(ranks, 0);
@@ -257,9 +284,10 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   ScanShare share(o, conf, assignReaders(fileSizes(conf), ranks), me);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
+  std::vector<uint64_t> bytes;
   std::optional<SightMaps> sights;
   if (o.robust) sights.emplace();
-  if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles,
+  if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles, bytes,
                  sights ? &*sights : nullptr))
     return false;
   if (sights) sights->share(conf.scans.size(), comm);
@@ -280,8 +308,10 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
   if (o.robust) hypotheses.emplace(*field.store, *o.robust);
-  if (!integrateShare(conf, share, o.routeReach, o.threads, hypotheses ? &*hypotheses : nullptr,
-                      comm, progress, field, counters, routing))
+  const std::vector<size_t> windows = routingWindows(bytes, ranks, o.keepBytes / 8);
+  if (!integrateShare(conf, share, windows, o.routeReach, o.threads,
+                      hypotheses ? &*hypotheses : nullptr, comm, progress, field, counters,
+                      routing))
     return false;
   if (hypotheses &&
       !collectively(comm, [&] { counters.robust = hypotheses->resolve(sights->all, o.threads); }))

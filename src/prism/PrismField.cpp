@@ -87,9 +87,8 @@ PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypothes
       scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}),
       slabs_(std::max(1, threads)) {}
 
-bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
-  BrickCoord lo, hi, b;
-  if (!bricksOfBox(store_.grid(), box, lo, hi)) return false;
+bool PrismIntegrator::touchesOwnedBrick(const BrickCoord& lo, const BrickCoord& hi) const {
+  BrickCoord b;
   for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
     for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
       for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x())
@@ -99,10 +98,20 @@ bool PrismIntegrator::touchesOwnedBrick(const Eigen::AlignedBox3d& box) const {
 
 void PrismIntegrator::findReach(const PrismScan& scan, size_t first, size_t end) {
   VoxelIndex lo, hi;
+  // Neighbouring triangles (grid order) mostly reach the same bricks: the answer is known.
+  const int B = store_.grid().brick;
+  BrickCoord lastLo(1, 1, 1), lastHi(0, 0, 0);
+  bool lastLocal = false;
   for (size_t t = first; t < end; ++t) {
-    const Eigen::AlignedBox3d box = prismBounds(scanPrism(scan, t));
-    store_.grid().voxelRange(box, lo, hi);
-    reach_[t] = {lo.z(), hi.z(), touchesOwnedBrick(box)};
+    store_.grid().voxelRange(prismBounds(scanPrism(scan, t)), lo, hi);
+    bool local = false;
+    if (!(lo.array() > hi.array()).any()) {
+      const BrickCoord bLo = brickOf(lo, B), bHi = brickOf(hi, B);
+      if (bLo != lastLo || bHi != lastHi)
+        lastLocal = touchesOwnedBrick(bLo, bHi), lastLo = bLo, lastHi = bHi;
+      local = lastLocal;
+    }
+    reach_[t] = {lo.z(), hi.z(), local};
   }
 }
 

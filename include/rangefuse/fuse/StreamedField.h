@@ -20,8 +20,10 @@ struct StreamOptions {
   int brick = 8;
   SurfaceOptions surface;
   InputLimits limits;
-  uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes; the rest are re-read
-  int threads = 1;         ///< threads of this rank (reading scans, adding them to the field)
+  /// Prepared scans a rank keeps between passes (the rest are re-read); an eighth of it bounds
+  /// the scans of one routing window (see routingWindows).
+  uint64_t keepBytes = 0;
+  int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)
   /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
   /// scan's triangles within this reach of a local brick kept in FusedField::scans.
   double routeReach = 0;
@@ -31,6 +33,13 @@ struct StreamOptions {
   /// Called on every rank once the bricks are planned, before the field pass (may be null).
   std::function<void(const BrickLayout&)> planned;
 };
+
+/// Where the field pass's windows end: each window is routed in one exchange and added before
+/// the next. A window takes `ranks` consecutive scans, and `ranks` more while its prepared
+/// scans stay within `budget` bytes a rank: ranks wait for one another once a window, and a
+/// view that falls mostly on one rank's bricks is evened out by the other views of its window.
+std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
+                                   uint64_t budget);
 
 /// The reader rank of each scan: scans are taken in windows of `ranks` consecutive scans and
 /// each window is shared by file size (largest to the least loaded rank).

@@ -84,7 +84,7 @@ class PrismIntegrator {
     int zLo, zHi;
     bool local;
   };
-  bool touchesOwnedBrick(const Eigen::AlignedBox3d& box) const;
+  bool touchesOwnedBrick(const BrickCoord& lo, const BrickCoord& hi) const;
   void findReach(const PrismScan& scan, size_t first, size_t end);
   void cutSlabs();
   uint64_t rasterizeSlab(const PrismScan& scan, Slab& slab);
