@@ -1,5 +1,6 @@
 #include "rangefuse/prism/Prism.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rangefuse {
@@ -36,6 +37,7 @@ void truncateAtEdgeSurface(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
                            const Eigen::Vector3d& pb, const Eigen::Vector3d& nb, double eps,
                            double& lo, double& hi) {
   const Eigen::Vector3d A = pa - pi, B = pb - pa, C = na, D = nb - na;
+  if (internal::crossingBeyond(A, B, na, nb, ni, eps)) return;  // most prisms: normals barely turn
   // X(u) = A + uB must lie in span(Y(u) = C + uD, n_i): det[X, Y, n_i] = 0.
   double a0 = det3(A, C, ni), a1 = det3(B, C, ni) + det3(A, D, ni), a2 = det3(B, D, ni);
   double scale = (A.norm() + B.norm()) * (C.norm() + D.norm());
@@ -79,6 +81,22 @@ Eigen::AlignedBox3d prismBounds(const Prism& prism) {
 }
 
 namespace internal {
+
+// A meeting has X(u) + d Y(u) = v n_i; across n_i that is |d| = |X(u)⊥| / |Y(u)⊥|, where |X⊥|
+// is at least the distance of the edge (A + uB, seen along n_i) from the line and |Y⊥| at most
+// the larger of the end normals' (Y runs from na to nb).
+bool crossingBeyond(const Eigen::Vector3d& A, const Eigen::Vector3d& B, const Eigen::Vector3d& na,
+                    const Eigen::Vector3d& nb, const Eigen::Vector3d& ni, double eps) {
+  const double nn = ni.squaredNorm();
+  if (!(nn > 0)) return false;
+  auto across = [&](const Eigen::Vector3d& x) { return x - (x.dot(ni) / nn) * ni; };
+  const Eigen::Vector3d a = across(A), b = across(B);
+  const double bb = b.squaredNorm();
+  const double t = bb > 0 ? std::clamp(-a.dot(b) / bb, 0.0, 1.0) : 0.0;
+  const double edge2 = (a + t * b).squaredNorm();
+  const double tilt2 = std::max(across(na).squaredNorm(), across(nb).squaredNorm());
+  return edge2 > (1 + 1e-6) * eps * eps * tilt2 + 1e-300;
+}
 
 PrismCubic::PrismCubic(const Prism& prism) {
   const Eigen::Vector3d e1 = prism.p[1] - prism.p[0], e2 = prism.p[2] - prism.p[0];

@@ -181,3 +181,44 @@ TEST(Prism, RowRasterizationFindsExactlyTheBruteForceVoxels) {
   }
   EXPECT_GT(total, 3000u);  // the comparison covered real work
 }
+
+TEST(Prism, QuickExitOnlyWhereEveryEdgeSurfaceMeetingIsOutsideTheEnvelope) {
+  // Brute force: sign changes of det[X(u), Y(u), n_i] over a fine u grid, refined by bisection,
+  // are the meetings; each gives d from X + d Y - v n_i = 0. The quick exit must never skip a
+  // meeting with |d| <= eps, and must fire for most nearly parallel normals (else it buys
+  // nothing).
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u01(0, 1), sym(-1, 1);
+  int exits = 0, nearlyParallel = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const double tilt = trial % 2 ? 0.05 : 0.8;  // radians-ish spread of the normals
+    std::array<Eigen::Vector3d, 3> p, n;
+    for (int k = 0; k < 3; ++k) {
+      p[k] = Eigen::Vector3d(u01(rng), u01(rng), 0.1 * sym(rng));
+      n[k] = (Eigen::Vector3d::UnitZ() + tilt * Eigen::Vector3d(sym(rng), sym(rng), sym(rng)))
+                 .normalized();
+    }
+    const double eps = 0.05 + 2 * u01(rng);
+    const Eigen::Vector3d A = p[1] - p[0], B = p[2] - p[1];
+    if (!internal::crossingBeyond(A, B, n[1], n[2], n[0], eps)) continue;
+    ++exits;
+    nearlyParallel += trial % 2;
+    auto det = [&](double u) { return (A + u * B).dot((n[1] + u * (n[2] - n[1])).cross(n[0])); };
+    const int steps = 2000;
+    for (int s = 0; s < steps; ++s) {
+      double lo = double(s) / steps, hi = double(s + 1) / steps;
+      if ((det(lo) < 0) == (det(hi) < 0)) continue;
+      for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        ((det(mid) < 0) == (det(lo) < 0) ? lo : hi) = mid;
+      }
+      const Eigen::Vector3d X = A + lo * B, Y = n[1] + lo * (n[2] - n[1]);
+      Eigen::Matrix<double, 3, 2> M;
+      M << Y, -n[0];
+      const Eigen::Vector2d dv = M.colPivHouseholderQr().solve(-X);
+      EXPECT_GT(std::abs(dv[0]), eps) << "trial " << trial << " u " << lo;
+    }
+  }
+  EXPECT_GT(nearlyParallel, 1500);   // of 2000 nearly parallel trials
+  EXPECT_GT(exits, nearlyParallel);  // and some of the strongly turning ones
+}

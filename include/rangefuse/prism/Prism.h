@@ -52,6 +52,11 @@ struct PrismCubic {
   double Nn = 0, Kn = 0, Ln = 0;
 };
 
+/// True when the line p_i + v n_i cannot meet the edge surface pa + u B + d (na + u (nb - na)),
+/// u in [0, 1], at |d| <= eps (A = pa - p_i): makePrism's quick exit before Eq. 9's quadratic.
+bool crossingBeyond(const Eigen::Vector3d& A, const Eigen::Vector3d& B, const Eigen::Vector3d& na,
+                    const Eigen::Vector3d& nb, const Eigen::Vector3d& ni, double eps);
+
 /// solvePrismDistance with the prism's cubic computed once (the same bits).
 bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
                         PrismHit& hit);
