@@ -250,7 +250,7 @@ std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int r
     while (end < n) {
       uint64_t more = 0;
       for (size_t i = end; i < std::min(n, end + step); ++i) more += scanBytes[i];
-      if (bytes + more > budget * step) break;
+      if (bytes + more > budget) break;
       bytes += more;
       end = std::min(n, end + step);
     }
@@ -308,7 +308,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
   if (o.robust) hypotheses.emplace(*field.store, *o.robust);
-  const std::vector<size_t> windows = routingWindows(bytes, ranks, o.keepBytes / 8);
+  const std::vector<size_t> windows = routingWindows(bytes, ranks, o.keepBytes / 4);
   if (!integrateShare(conf, share, windows, o.routeReach, o.threads,
                       hypotheses ? &*hypotheses : nullptr, comm, progress, field, counters,
                       routing))

@@ -20,8 +20,8 @@ struct StreamOptions {
   int brick = 8;
   SurfaceOptions surface;
   InputLimits limits;
-  /// Prepared scans a rank keeps between passes (the rest are re-read); an eighth of it bounds
-  /// the scans of one routing window (see routingWindows).
+  /// Prepared scans a rank keeps between passes (the rest are re-read); a quarter of it bounds
+  /// the scans of one routing window, all ranks together (see routingWindows).
   uint64_t keepBytes = 0;
   int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)
   /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
@@ -36,8 +36,9 @@ struct StreamOptions {
 
 /// Where the field pass's windows end: each window is routed in one exchange and added before
 /// the next. A window takes `ranks` consecutive scans, and `ranks` more while its prepared
-/// scans stay within `budget` bytes a rank: ranks wait for one another once a window, and a
-/// view that falls mostly on one rank's bricks is evened out by the other views of its window.
+/// scans stay within `budget` bytes in all (each rank holds about its share): ranks wait for
+/// one another once a window, and a view that falls mostly on one rank's bricks is evened out
+/// by the other views of its window.
 std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
                                    uint64_t budget);
 
