@@ -81,15 +81,12 @@ namespace {
 
 /// What the scan saw, on cells of about the merged grid's (the voxel's) scale.
 SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const SurfaceOptions& o) {
-  // A station's lines of sight fan out in angles: no map yet, so its scans give no free-space
-  // evidence (agreement still removes what one scan alone saw).
-  if (grid.spherical) return SightMap{};
   const double spacing = lateralSpacing(grid);
-  if (grid.pinhole) {
-    const int shortSide = std::min(grid.cols, grid.rows);
-    return SightMap::fromPinholeGrid(
-        grid, o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1);
-  }
+  const int shortSide = std::min(grid.cols, grid.rows);
+  const int k = o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1;
+  // A station's lines of sight fan out in angles: cells of its (merged) angular step.
+  if (grid.spherical) return SightMap::fromStation(local, k * angularSpacing(grid));
+  if (grid.pinhole) return SightMap::fromPinholeGrid(grid, k);
   return SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
 }
 

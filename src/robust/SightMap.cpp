@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "rangefuse/parallel/Mpi.h"
 
@@ -21,14 +22,20 @@ void SightMap::allocate(int width, int height, float fill) {
 }
 
 Eigen::Vector3d SightMap::project(const Eigen::Vector3d& q) const {
+  if (rays_ == Rays::Station) {
+    const double across = std::hypot(q.x(), q.y());
+    return {au_ * std::atan2(q.y(), q.x()) + bu_, av_ * std::atan2(q.z(), across) + bv_,
+            std::hypot(across, q.z())};
+  }
   const double depth = -q.z();
-  const double X = pinhole_ ? q.x() / depth : q.x(), Y = pinhole_ ? q.y() / depth : q.y();
+  const bool pinhole = rays_ == Rays::Pinhole;
+  const double X = pinhole ? q.x() / depth : q.x(), Y = pinhole ? q.y() / depth : q.y();
   return {au_ * X + bu_, av_ * Y + bv_, depth};
 }
 
 SightMap SightMap::fromPinholeGrid(const RangeGrid& grid, int k) {
   SightMap m;
-  m.pinhole_ = true;
+  m.rays_ = Rays::Pinhole;
   k = std::max(1, k);
   // Pixel c = cx + fx x / depth has its centre at integer c; block C holds [k C, k C + k).
   const Pinhole& p = *grid.pinhole;
@@ -58,6 +65,26 @@ SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
   const auto& v = surface.points;
   for (const Triangle& t : surface.triangles)
     m.rasterize(m.project(v[t[0]]), m.project(v[t[1]]), m.project(v[t[2]]));
+  return m;
+}
+
+SightMap SightMap::fromStation(const ScanSurface& surface, double angle) {
+  SightMap m;
+  if (surface.points.empty() || !(angle > 0)) return m;
+  m.rays_ = Rays::Station;
+  angle = std::max(angle, 2 * M_PI / (kMaxSide - 4));
+  // Two cells of margin around [-pi, pi] x [-pi/2, pi/2], as fromSurface keeps around its box.
+  m.au_ = m.av_ = 1 / angle;
+  m.bu_ = 2 + M_PI / angle, m.bv_ = 2 + 0.5 * M_PI / angle;
+  m.allocate(static_cast<int>(std::ceil(2 * M_PI / angle)) + 4,
+             static_cast<int>(std::ceil(M_PI / angle)) + 4, kUnknown);
+  const auto& v = surface.points;
+  const double seam = M_PI / angle;  // a triangle spanning half a turn lies across the seam
+  for (const Triangle& t : surface.triangles) {
+    const Eigen::Vector3d a = m.project(v[t[0]]), b = m.project(v[t[1]]), c = m.project(v[t[2]]);
+    if (std::max({a.x(), b.x(), c.x()}) - std::min({a.x(), b.x(), c.x()}) < seam)
+      m.rasterize(a, b, c);
+  }
   return m;
 }
 
@@ -93,7 +120,7 @@ void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 
 double SightMap::clearance(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d q = toScan_.apply(p);
-  if (pinhole_ && !(q.z() < 0)) return NAN;  // behind the sensor
+  if (rays_ == Rays::Pinhole && !(q.z() < 0)) return NAN;  // behind the sensor
   const Eigen::Vector3d r = project(q);
   if (!(r.x() >= 1 && r.y() >= 1 && r.x() < width_ - 1 && r.y() < height_ - 1)) return NAN;
   const int x = static_cast<int>(r.x()), y = static_cast<int>(r.y());
@@ -108,7 +135,7 @@ double SightMap::clearance(const Eigen::Vector3d& p) const {
 }
 
 void SightMap::pack(std::vector<char>& out) const {
-  double head[17] = {pinhole_ ? 1.0 : 0.0, au_, bu_, av_, bv_};
+  double head[17] = {static_cast<double>(rays_), au_, bu_, av_, bv_};
   for (int i = 0; i < 9; ++i) head[5 + i] = toScan_.R(i / 3, i % 3);
   for (int i = 0; i < 3; ++i) head[14 + i] = toScan_.t[i];
   const int32_t size[2] = {width_, height_};
@@ -123,7 +150,9 @@ SightMap SightMap::unpack(const std::vector<char>& in, size_t& pos) {
   mpi::unpack(in, pos, head, 17);
   mpi::unpack(in, pos, size, 2);
   SightMap m;
-  m.pinhole_ = head[0] != 0;
+  if (!(head[0] == 0 || head[0] == 1 || head[0] == 2))
+    throw std::runtime_error("sight map: unknown kind of rays in a message");
+  m.rays_ = static_cast<Rays>(static_cast<int>(head[0]));
   m.au_ = head[1], m.bu_ = head[2], m.av_ = head[3], m.bv_ = head[4];
   for (int i = 0; i < 9; ++i) m.toScan_.R(i / 3, i % 3) = head[5 + i];
   for (int i = 0; i < 3; ++i) m.toScan_.t[i] = head[14 + i];

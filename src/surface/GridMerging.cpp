@@ -60,6 +60,14 @@ double lateralSpacing(const RangeGrid& grid) {
       }));
 }
 
+double angularSpacing(const RangeGrid& grid) {
+  // The chord between unit directions: the angle, to within a part in 10^6 at these steps.
+  return std::sqrt(
+      internal::medianNeighbourStep(grid, [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+        return (a.normalized() - b.normalized()).squaredNorm();
+      }));
+}
+
 int mergeFactor(double spacing, double target, int shortSide) {
   if (!(spacing > 0) || !(target > spacing)) return 1;
   // A scan much smaller than a voxel keeps a grid of its own rather than vanish into a cell.

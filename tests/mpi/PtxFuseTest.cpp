@@ -124,3 +124,47 @@ TEST(PtxFuse, ThreeStationsInARoomFuseCloseToTheRoom) {
     std::filesystem::remove_all(dir);
   }
 }
+
+TEST(PtxFuse, AGhostOneStationSawIsRemovedByWhatTheOthersSawThrough) {
+  // Station 0 sees a block of its cells at 60 % of their range: a surface floating in the room
+  // (someone walking past), which the other stations look through. Prism fusion keeps it;
+  // robust fusion's free-space evidence, from the stations' sight maps, removes it.
+  const std::string dir = test::sharedTempPath("ptx-ghost");
+  const double voxel = 0.05;
+  ScanSettings s;
+  s.views = 3, s.width = 480, s.height = 200, s.voxel = voxel, s.noise = 0.3;
+  s.path = ViewPath::Stations;
+  SyntheticSet set = scanMesh(makeRoom(), s);
+  RangeGrid& ghosted = set.scans[0].grid;
+  for (int r = 90; r < 130; ++r)
+    for (int c = 200; c < 250; ++c)
+      if (const int32_t i = ghosted.at(r, c); i >= 0) ghosted.points[i] *= 0.6;
+  if (mpi::rank() == 0) {
+    std::filesystem::create_directories(dir);
+    std::vector<RangeGrid> grids;
+    std::vector<Pose> poses;
+    for (const SyntheticScan& sc : set.scans) grids.push_back(sc.grid), poses.push_back(sc.truth);
+    io::writePtx(dir + "/ghost.ptx", grids, poses);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  double spurious[2] = {0, 0};
+  for (const FieldMethod method : {FieldMethod::Prism, FieldMethod::Robust}) {
+    FuseOptions o = fuseOptions(dir + "/ghost.ptx", dir + "/ghost.ply");
+    o.voxel = voxel;
+    o.method = method;
+    ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+    if (mpi::rank() != 0) continue;
+    const MeshComparison c = compareMeshes(io::readMeshPly(o.out), makeRoom(),
+                                           CompareSettings{voxel, 3 * voxel, 50000, 1});
+    spurious[method == FieldMethod::Robust] = c.spuriousAreaFraction;
+    std::printf("ghost, %s: spurious area %.4f%%, accuracy mean %.3f voxel, recall %.4f\n",
+                method == FieldMethod::Robust ? "robust" : "prism", 100 * c.spuriousAreaFraction,
+                c.accuracy.mean / voxel, c.recall);
+    EXPECT_GT(c.recall, 0.8);  // the room stays
+  }
+  if (mpi::rank() == 0) {
+    EXPECT_GT(spurious[0], 0.005);  // the ghost is there with prism fusion
+    EXPECT_LT(spurious[1], 0.1 * spurious[0]);
+    std::filesystem::remove_all(dir);
+  }
+}

@@ -55,6 +55,43 @@ TEST(SightMap, OrthographicSurfaceAndUnknownOutsideIt) {
   EXPECT_TRUE(std::isnan(m.clearance(Eigen::Vector3d(20, 5, 6))));
 }
 
+/// A station's view of the sphere of radius 5 about it: 2-degree steps of azimuth and
+/// elevation up to 80 degrees, as a scan-frame surface.
+ScanSurface stationSphere() {
+  ScanSurface s;
+  const double step = 2 * M_PI / 180;
+  const int cols = 180, rows = 81;  // azimuth -179..179 (no column on the seam), elevation +-80
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const double az = -M_PI + (c + 0.5) * step, el = (r - 40) * step;
+      s.points.push_back(5 * Eigen::Vector3d(std::cos(el) * std::cos(az),
+                                             std::cos(el) * std::sin(az), std::sin(el)));
+    }
+  for (int r = 0; r + 1 < rows; ++r)
+    for (int c = 0; c + 1 < cols; ++c) {
+      const int a = r * cols + c;
+      s.triangles.push_back({a, a + 1, a + cols});
+      s.triangles.push_back({a + 1, a + cols + 1, a + cols});
+    }
+  return s;
+}
+
+TEST(SightMap, StationClearanceIsTheRangeInFrontOfWhatItSaw) {
+  SightMap m = SightMap::fromStation(stationSphere(), 2 * M_PI / 180);
+  Pose pose;
+  pose.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, -1, 2).normalized()).toRotationMatrix();
+  pose.t = Eigen::Vector3d(10, 20, 1);
+  m.place(pose);
+  for (const Eigen::Vector3d& dir : {Eigen::Vector3d(1, 0.3, 0.2), Eigen::Vector3d(-1, -0.5, -0.6),
+                                     Eigen::Vector3d(0.1, 1, 0.9), Eigen::Vector3d(-0.3, 0.2, 0)}) {
+    const Eigen::Vector3d u = pose.R * dir.normalized();  // a line of sight, in the world
+    EXPECT_NEAR(m.clearance(pose.t + 3 * u), 2, 1e-5) << dir.transpose();
+    EXPECT_NEAR(m.clearance(pose.t + 7 * u), -2, 1e-5) << dir.transpose();
+  }
+  // Straight up, past the scan's 80 degrees of elevation: nothing known.
+  EXPECT_TRUE(std::isnan(m.clearance(pose.t + 3 * (pose.R * Eigen::Vector3d::UnitZ()))));
+}
+
 TEST(SightMap, PackUnpackRoundTrip) {
   SightMap m = SightMap::fromPinholeGrid(planeGrid(30), 2);
   Pose pose;
@@ -67,6 +104,15 @@ TEST(SightMap, PackUnpackRoundTrip) {
   EXPECT_EQ(pos, bytes.size());
   for (const Eigen::Vector3d& p : {Eigen::Vector3d(1, 0, -4), Eigen::Vector3d(-2, 1, -7)})
     EXPECT_EQ(back.clearance(pose.apply(p)), m.clearance(pose.apply(p)));
+  SightMap station = SightMap::fromStation(stationSphere(), 0.05);
+  station.place(pose);
+  bytes.clear(), pos = 0;
+  station.pack(bytes);
+  const SightMap stationBack = SightMap::unpack(bytes, pos);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1, 0, -4), Eigen::Vector3d(-2, 1, 3)}) {
+    EXPECT_EQ(stationBack.clearance(pose.apply(p)), station.clearance(pose.apply(p)));
+    EXPECT_TRUE(std::isfinite(station.clearance(pose.apply(p))));
+  }
 }
 
 /// One brick of 2^3 voxels at the origin, voxel 1: centres are their indices.

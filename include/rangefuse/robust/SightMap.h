@@ -13,8 +13,9 @@
 namespace rangefuse {
 
 /// A scan's surface depth along its lines of sight: rays through a pinhole at the scan frame's
-/// origin looking toward -z, or parallel to -z (near-orthographic range grids). Depth is -z,
-/// the nearest per cell.
+/// origin looking toward -z, parallel to -z (near-orthographic range grids), or from a scanner
+/// station at the origin in every direction (cells of azimuth and elevation, depth the range).
+/// Depth is -z for the first two; the nearest per cell.
 class SightMap {
  public:
   SightMap() = default;
@@ -25,6 +26,11 @@ class SightMap {
   /// A near-orthographic scan's triangles (scan frame) on cells `cell` wide: cells no
   /// triangle covers are unknown (such grids do not say where their frame ends).
   static SightMap fromSurface(const ScanSurface& surface, double cell);
+
+  /// A station's triangles (scan frame) on cells `angle` radians wide in azimuth (about the
+  /// frame's z axis) and elevation: cells no triangle covers are unknown, and so is a thin
+  /// strip at the azimuth seam (triangles across it are left out).
+  static SightMap fromStation(const ScanSurface& surface, double angle);
 
   /// The same map for the scan placed at `pose` (scan to world).
   void place(const Pose& pose);
@@ -49,9 +55,12 @@ class SightMap {
   float& depthAt(int x, int y) { return depth_[static_cast<size_t>(y) * width_ + x]; }
   float depthAt(int x, int y) const { return depth_[static_cast<size_t>(y) * width_ + x]; }
 
+  enum class Rays : uint8_t { Parallel, Pinhole, Station };
+
   Pose toScan_;  ///< world -> scan frame
-  bool pinhole_ = false;
-  /// Cell coordinates: (au X + bu, av Y + bv), X, Y = x, y (orthographic) or x, y / depth.
+  Rays rays_ = Rays::Parallel;
+  /// Cell coordinates: (au X + bu, av Y + bv), X, Y = x, y (orthographic), x, y / depth
+  /// (pinhole) or azimuth, elevation (station).
   double au_ = 1, bu_ = 0, av_ = 1, bv_ = 0;
   int width_ = 0, height_ = 0;
   std::vector<float> depth_;  ///< NaN: unknown; +inf: saw nothing

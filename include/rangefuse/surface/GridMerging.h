@@ -16,6 +16,10 @@ int mergeFactor(double spacing, double target, int shortSide);
 /// removed): the pixel footprint, which range noise does not inflate as it does gridSpacing.
 double lateralSpacing(const RangeGrid& grid);
 
+/// The median angle (radians) between grid neighbours' directions from the scan frame's
+/// origin: a station's angular step, whatever the range.
+double angularSpacing(const RangeGrid& grid);
+
 /// The grid with each k x k block of cells merged into one: the mean of the block's points that
 /// lie on the surface of its most central point (within maxEdgeFactor grid steps per cell of
 /// separation, the triangulation's own test), so that a block across a depth edge keeps only the
