@@ -1,6 +1,7 @@
 #include "rangefuse/fuse/Checkpointing.h"
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "rangefuse/core/Error.h"
@@ -17,29 +18,36 @@ bool given(const FuseOptions& o, const std::string& option) {
 }  // namespace
 
 std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm) {
-  // Each rank hashes every size-th file; hashes and errors are gathered by everyone, so all
+  // Each file once, however many scans it holds (a PTX file of six stations is not read six
+  // times), every size-th file on each rank; hashes and errors are gathered by everyone, so all
   // ranks throw the same first error (reported once by the caller) or agree on the hashes.
+  std::vector<std::string> files;
+  std::map<std::string, size_t> fileOf;
+  for (const auto& p : paths)
+    if (fileOf.emplace(p, files.size()).second) files.push_back(p);
   const int me = mpi::rank(comm), n = mpi::size(comm);
   std::string mine;
-  for (size_t i = me; i < paths.size(); i += n) {
+  for (size_t i = me; i < files.size(); i += n) {
     std::string h;
     try {
-      h = io::fileHash(paths[i]);
+      h = io::fileHash(files[i]);
     } catch (const std::exception& e) {
       h = std::string("!") + e.what();
     }
     mine += std::to_string(i) + " " + h + "\n";
   }
-  std::vector<std::string> out(paths.size());
+  std::vector<std::string> hashes(files.size());
   for (const auto& part : mpi::allgatherBytes(std::vector<char>(mine.begin(), mine.end()), comm)) {
     const std::string text(part.begin(), part.end());
     for (size_t pos = 0, end; (end = text.find('\n', pos)) != std::string::npos; pos = end + 1) {
       const size_t space = text.find(' ', pos);
-      out[std::stoul(text.substr(pos, space - pos))] = text.substr(space + 1, end - space - 1);
+      hashes[std::stoul(text.substr(pos, space - pos))] = text.substr(space + 1, end - space - 1);
     }
   }
-  for (const auto& h : out)
+  for (const auto& h : hashes)
     if (!h.empty() && h[0] == '!') throw InputError(h.substr(1));
+  std::vector<std::string> out;
+  for (const auto& p : paths) out.push_back(hashes[fileOf.at(p)]);
   return out;
 }
 

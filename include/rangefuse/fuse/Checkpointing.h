@@ -8,7 +8,8 @@
 
 namespace rangefuse {
 
-/// Collective: content hashes of the scan files (rank 0 reads, all ranks get them).
+/// Collective: content hashes of the scan files, one per path (a file named twice is read
+/// once; the ranks share the files), every rank getting them all.
 std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm);
 
 /// The checkpoint meta of a run at `stage` with the scans' current poses.
