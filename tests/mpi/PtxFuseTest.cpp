@@ -37,6 +37,26 @@ FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
   return o;
 }
 
+/// Three stations of 480 x 200 points in the synthetic room, noise 0.3 voxel.
+SyntheticSet roomStations(double voxel) {
+  ScanSettings s;
+  s.views = 3, s.width = 480, s.height = 200, s.voxel = voxel, s.noise = 0.3;
+  s.path = ViewPath::Stations;
+  return scanMesh(makeRoom(), s);
+}
+
+/// Rank 0 writes the stations as one PTX file, dir/name (the folder made); every rank waits.
+void writeStations(const SyntheticSet& set, const std::string& dir, const std::string& name) {
+  if (mpi::rank() == 0) {
+    std::filesystem::create_directories(dir);
+    std::vector<RangeGrid> grids;
+    std::vector<Pose> poses;
+    for (const SyntheticScan& sc : set.scans) grids.push_back(sc.grid), poses.push_back(sc.truth);
+    io::writePtx(dir + "/" + name, grids, poses);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
 }  // namespace
 
 TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
@@ -97,19 +117,9 @@ TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
 TEST(PtxFuse, ThreeStationsInARoomFuseCloseToTheRoom) {
   const std::string dir = test::sharedTempPath("ptx-room");
   const double voxel = 0.05;
-  ScanSettings s;
-  s.views = 3, s.width = 480, s.height = 200, s.voxel = voxel, s.noise = 0.3;
-  s.path = ViewPath::Stations;
-  const SyntheticSet set = scanMesh(makeRoom(), s);
+  const SyntheticSet set = roomStations(voxel);
   EXPECT_TRUE(internal::wrapsAround(set.scans[0].grid));  // a full turn: the seam closes
-  if (mpi::rank() == 0) {
-    std::filesystem::create_directories(dir);
-    std::vector<RangeGrid> grids;
-    std::vector<Pose> poses;
-    for (const SyntheticScan& sc : set.scans) grids.push_back(sc.grid), poses.push_back(sc.truth);
-    io::writePtx(dir + "/room.ptx", grids, poses);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  writeStations(set, dir, "room.ptx");
   FuseOptions o = fuseOptions(dir + "/room.ptx", dir + "/room.ply");
   o.voxel = voxel;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
@@ -131,22 +141,12 @@ TEST(PtxFuse, AGhostOneStationSawIsRemovedByWhatTheOthersSawThrough) {
   // robust fusion's free-space evidence, from the stations' sight maps, removes it.
   const std::string dir = test::sharedTempPath("ptx-ghost");
   const double voxel = 0.05;
-  ScanSettings s;
-  s.views = 3, s.width = 480, s.height = 200, s.voxel = voxel, s.noise = 0.3;
-  s.path = ViewPath::Stations;
-  SyntheticSet set = scanMesh(makeRoom(), s);
+  SyntheticSet set = roomStations(voxel);
   RangeGrid& ghosted = set.scans[0].grid;
   for (int r = 90; r < 130; ++r)
     for (int c = 200; c < 250; ++c)
       if (const int32_t i = ghosted.at(r, c); i >= 0) ghosted.points[i] *= 0.6;
-  if (mpi::rank() == 0) {
-    std::filesystem::create_directories(dir);
-    std::vector<RangeGrid> grids;
-    std::vector<Pose> poses;
-    for (const SyntheticScan& sc : set.scans) grids.push_back(sc.grid), poses.push_back(sc.truth);
-    io::writePtx(dir + "/ghost.ptx", grids, poses);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  writeStations(set, dir, "ghost.ptx");
   double spurious[2] = {0, 0};
   for (const FieldMethod method : {FieldMethod::Prism, FieldMethod::Robust}) {
     FuseOptions o = fuseOptions(dir + "/ghost.ptx", dir + "/ghost.ply");
