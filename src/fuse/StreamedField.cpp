@@ -243,20 +243,14 @@ std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int r
                                    uint64_t budget) {
   std::vector<size_t> ends;
   const size_t n = scanBytes.size(), step = static_cast<size_t>(std::max(1, ranks));
-  for (size_t first = 0; first < n;) {
-    size_t end = std::min(n, first + step);
-    uint64_t bytes = 0;
-    for (size_t i = first; i < end; ++i) bytes += scanBytes[i];
-    while (end < n) {
-      uint64_t more = 0;
-      for (size_t i = end; i < std::min(n, end + step); ++i) more += scanBytes[i];
-      if (bytes + more > budget) break;
-      bytes += more;
-      end = std::min(n, end + step);
-    }
-    ends.push_back(end);
-    first = end;
+  uint64_t held = 0;  // bytes of the window open so far (none at the start)
+  for (size_t first = 0; first < n; first += step) {
+    uint64_t round = 0;
+    for (size_t i = first; i < std::min(n, first + step); ++i) round += scanBytes[i];
+    if (first > 0 && held + round > budget) ends.push_back(first), held = 0;
+    held += round;
   }
+  if (n > 0) ends.push_back(n);
   return ends;
 }
 
