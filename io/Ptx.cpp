@@ -1,11 +1,13 @@
 #include "rangefuse/io/Ptx.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iomanip>
 #include <memory>
+#include <stdexcept>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
@@ -16,9 +18,13 @@ namespace {
 /// Lines of a file read in large blocks, with the byte offset and number of each line.
 class LineReader {
  public:
-  LineReader(const std::string& path, uint64_t offset, uint64_t line)
+  /// Reads from byte `offset`, numbering lines from `line`, in blocks of `block` bytes (a short
+  /// range needs no more than its own bytes).
+  LineReader(const std::string& path, uint64_t offset, uint64_t line,
+             size_t block = size_t{1} << 22)
       : path_(path),
         file_(std::fopen(path.c_str(), "rb"), &std::fclose),
+        buffer_(std::max<size_t>(block, 64)),
         offset_(offset),
         line_(line - 1) {
     if (!file_) throw InputError(path + ": cannot open for reading");
@@ -81,7 +87,7 @@ class LineReader {
 
   std::string path_;
   std::unique_ptr<FILE, int (*)(FILE*)> file_;
-  std::vector<char> buffer_ = std::vector<char>(size_t{1} << 22);
+  std::vector<char> buffer_;
   size_t at_ = 0, end_ = 0;
   bool eof_ = false;
   uint64_t offset_, line_;
@@ -162,10 +168,15 @@ std::vector<PtxScan> indexPtx(const std::string& path, const InputLimits& limits
   PtxScan scan;
   while (readHeader(in, scan, limits)) {
     const uint64_t points = static_cast<uint64_t>(scan.cols) * static_cast<uint64_t>(scan.rows);
-    if (!in.skip(points))
-      throw InputError(path + ":" + std::to_string(scan.line) + ": scan " +
-                       std::to_string(scans.size() + 1) + " has fewer than " +
-                       std::to_string(points) + " point lines");
+    scan.columns.reserve(scan.cols);
+    for (int c = 0; c < scan.cols; ++c) {
+      scan.columns.push_back(in.offset());
+      if (!in.skip(scan.rows))
+        throw InputError(path + ":" + std::to_string(scan.line) + ": scan " +
+                         std::to_string(scans.size() + 1) + " has fewer than " +
+                         std::to_string(points) + " point lines");
+    }
+    scan.end = in.offset();
     scans.push_back(scan);
     scan = PtxScan{};
   }
@@ -174,15 +185,26 @@ std::vector<PtxScan> indexPtx(const std::string& path, const InputLimits& limits
 }
 
 RangeGrid readPtxScan(const std::string& path, const PtxScan& scan) {
-  LineReader in(path, scan.offset, scan.line);
+  return readPtxColumns(path, scan, 0, scan.cols);
+}
+
+RangeGrid readPtxColumns(const std::string& path, const PtxScan& scan, int first, int count) {
+  if (first < 0 || count < 0 || first + count > scan.cols ||
+      scan.columns.size() != static_cast<size_t>(scan.cols))
+    throw std::logic_error("readPtxColumns: columns outside the indexed scan");
   RangeGrid grid;
-  grid.cols = scan.cols;
+  grid.cols = count;
   grid.rows = scan.rows;
   grid.spherical = true;
-  grid.cell.assign(static_cast<size_t>(scan.cols) * scan.rows, -1);
+  grid.cell.assign(static_cast<size_t>(count) * scan.rows, -1);
+  if (count == 0) return grid;
+  const uint64_t from = scan.columns[first];
+  const uint64_t to = first + count < scan.cols ? scan.columns[first + count] : scan.end;
+  LineReader in(path, from, scan.line + static_cast<uint64_t>(first) * scan.rows,
+                static_cast<size_t>(std::min<uint64_t>(to - from + 2, uint64_t{1} << 22)));
   std::string_view line;
   double v[7];
-  for (int c = 0; c < scan.cols; ++c)
+  for (int c = 0; c < count; ++c)
     for (int r = 0; r < scan.rows; ++r) {
       if (!in.next(line)) fail(in, "file ends inside the scan");
       bool bad = false;
@@ -191,7 +213,7 @@ RangeGrid readPtxScan(const std::string& path, const PtxScan& scan) {
       if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
         fail(in, "non-finite coordinate");
       if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;  // no return
-      grid.cell[static_cast<size_t>(r) * scan.cols + c] = static_cast<int32_t>(grid.points.size());
+      grid.cell[static_cast<size_t>(r) * count + c] = static_cast<int32_t>(grid.points.size());
       grid.points.emplace_back(v[0], v[1], v[2]);
     }
   return grid;

@@ -6,6 +6,7 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/DepthSequence.h"
 #include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/surface/ColumnBands.h"
 
 namespace rangefuse::io {
 namespace {
@@ -106,6 +107,20 @@ ConfFile readScanList(const std::string& path, const InputLimits& limits,
   locatePtxScans(conf, path, limits);
   locateDepthImages(conf, source);
   return conf;
+}
+
+ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
+  ConfFile out;
+  out.warnings = conf.warnings;
+  for (const ConfScan& s : conf.scans) {
+    const int bands = s.ptx ? bandCount(s.ptx->cols, s.ptx->rows, maxCells) : 1;
+    for (int b = 0; b < bands; ++b) {
+      out.scans.push_back(s);
+      out.scans.back().band = b;
+      out.scans.back().bands = bands;
+    }
+  }
+  return out;
 }
 
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {

@@ -93,7 +93,7 @@ EvaluationStats evaluateClosestSurfaceField(const FuseOptions& o, FusedField& fi
   std::vector<ViewIndex> views;
   for (const auto& s : field.scans) views.emplace_back(s.surface);
   ConsensusParams params;
-  params.quorum = o.quorum >= 0 ? o.quorum : autoQuorum(field.scans.size());
+  params.quorum = o.quorum >= 0 ? o.quorum : autoQuorum(field.scanCount);
   params.minViews = minViews;
   params.sameDistance = o.sameDistance * o.voxel;
   params.sameCosine = std::cos(o.sameAngle * M_PI / 180);
@@ -273,6 +273,7 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.limits = o.limits;
   s.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
   s.threads = o.threads;
+  s.bandCells = static_cast<uint64_t>(o.bandCells);
   if (closestSurface(o)) s.routeReach = routeReach(o);
   if (methodInfo(o.method).hypotheses)
     s.robust =
@@ -281,7 +282,6 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   return s;
 }
 
-/// Streamed field at the .conf poses; scans gets the names, paths and poses only.
 /// Streamed field of the .conf's scans at `poses` (the .conf's when null); scans gets the
 /// names, paths and poses only.
 bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,

@@ -174,6 +174,13 @@ std::vector<FuseParameter> makeTable() {
        must<double>(
            &FuseOptions::mergeCells, [](double v) { return v >= 0 && finite(v); },
            "must be a number of voxels >= 0 (0: never merge)")},
+      {"band-cells", "band_cells", R::Result, false,
+       "PTX scans of more cells than this are read and prepared in bands of columns, each by "
+       "any rank, so no rank holds a whole station (0: never split)",
+       at(&FuseOptions::bandCells),
+       must<double>(
+           &FuseOptions::bandCells, [](double v) { return v >= 0 && v < 9e18; },
+           "must be a number of cells >= 0 (0: never split)")},
       {"normal-passes", "normal_passes", R::Result, false,
        "neighbour-averaging passes over vertex normals",
        [](FuseOptions& o) -> OptionValue { return &o.surface.normalPasses; },

@@ -236,6 +236,7 @@ class RebuiltField : public RegistrationField {
       return *field_.store;
     }
     field_.scans.resize(which.size());
+    field_.scanCount = which.size();
     routePlaced(scans_, which, poses, field_.layout, routeReach(o_), comm_,
                 [&](size_t k, PrismScan& part) { field_.scans[k] = std::move(part); });
     collectivelyOrThrow(comm_, [&] {

@@ -6,6 +6,7 @@
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/surface/ColumnBands.h"
 #include "rangefuse/surface/GridMerging.h"
 
 namespace rangefuse {
@@ -90,8 +91,24 @@ SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const Surfa
   return SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
 }
 
+/// One band of a large PTX scan: the rules from the scan's sample, then the band's own columns.
+PrismScan prepareBand(const io::ConfScan& c, const SurfaceOptions& options, double eps) {
+  const io::PtxScan& ptx = *c.ptx;
+  const ColumnReader read = [&](int first, int count) {
+    return io::readPtxColumns(c.path, ptx, first, count);
+  };
+  const BandRules rules = bandRules(read, ptx.cols, ptx.rows, options);
+  PrismScan s;
+  s.surface = buildBandSurface(read, rules, c.band, c.bands, options);
+  s.limits = computePrismLimits(s.surface, eps);
+  if (options.sightMap)
+    s.sight = std::make_shared<SightMap>(SightMap::fromStation(s.surface, rules.angular));
+  return s;
+}
+
 PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
                       const InputLimits& limits, double eps) {
+  if (c.bands > 1) return prepareBand(c, options, eps);
   PrismScan s;
   const RangeGrid grid = io::readScanGrid(c, limits);
   s.surface = buildScanSurface(grid, Pose{}, options);
@@ -222,6 +239,21 @@ PrismScan placeScan(PrismScan s, const Pose& pose) {
     s.sight->place(pose);
   }
   return s;
+}
+
+PrismScan joinScans(std::vector<PrismScan>&& parts) {
+  PrismScan out = std::move(parts.front());
+  ScanSurface& s = out.surface;
+  for (size_t k = 1; k < parts.size(); ++k) {
+    const ScanSurface& p = parts[k].surface;
+    const auto base = static_cast<int32_t>(s.points.size());
+    s.points.insert(s.points.end(), p.points.begin(), p.points.end());
+    s.normals.insert(s.normals.end(), p.normals.begin(), p.normals.end());
+    s.confidence.insert(s.confidence.end(), p.confidence.begin(), p.confidence.end());
+    for (Triangle t : p.triangles) s.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    out.limits.insert(out.limits.end(), parts[k].limits.begin(), parts[k].limits.end());
+  }
+  return out;
 }
 
 }  // namespace rangefuse

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -79,9 +80,14 @@ class ScanShare {
   uint64_t keptBytes_ = 0;
 };
 
+/// The bytes each scan reads: its file's, or its share of a PTX file's scan.
 std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
   std::vector<uint64_t> bytes;
   for (const auto& c : conf.scans) {
+    if (c.ptx) {
+      bytes.push_back((c.ptx->end - c.ptx->offset) / static_cast<uint64_t>(c.bands));
+      continue;
+    }
     std::error_code ec;
     const auto n = std::filesystem::file_size(c.path, ec);
     bytes.push_back(ec ? 0 : static_cast<uint64_t>(n));  // unreadable: the read says why
@@ -114,8 +120,9 @@ struct SightMaps {
   std::map<size_t, SightMap> mine;
   std::vector<SightMap> all;
 
-  /// Collective: every rank's maps, in scan order, into all.
-  void share(size_t scans, MPI_Comm comm) {
+  /// Collective: every rank's maps into all, one per scan (`scanOf`: the scan of each entry;
+  /// a scan read in bands gets their maps joined).
+  void share(const std::vector<size_t>& scanOf, MPI_Comm comm) {
     std::vector<char> bytes;
     for (const auto& [i, m] : mine) {
       const uint64_t index = i;
@@ -123,12 +130,12 @@ struct SightMaps {
       m.pack(bytes);
     }
     mine.clear();
-    all.assign(scans, SightMap{});
+    all.assign(scanOf.empty() ? 0 : scanOf.back() + 1, SightMap{});
     for (const auto& part : mpi::allgatherBytes(bytes, comm))
       for (size_t pos = 0; pos < part.size();) {
         uint64_t index;
         mpi::unpack(part, pos, &index, 1);
-        all[index] = SightMap::unpack(part, pos);
+        all[scanOf[index]].join(SightMap::unpack(part, pos));
       }
   }
 };
@@ -185,14 +192,28 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
                       [&] { layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm); });
 }
 
+/// Parts (sorted by entry) of one scan's bands joined into one part indexed by the scan: an
+/// image whatever its bands, so a voxel takes its nearest triangle of them all.
+IndexedScans joinBands(IndexedScans&& parts, const std::vector<size_t>& scanOf) {
+  IndexedScans joined;
+  for (size_t first = 0, end; first < parts.size(); first = end) {
+    const size_t scan = scanOf[parts[first].first];
+    std::vector<PrismScan> bands;
+    for (end = first; end < parts.size() && scanOf[parts[end].first] == scan; ++end)
+      bands.push_back(std::move(parts[end].second));
+    joined.emplace_back(scan, joinScans(std::move(bands)));
+  }
+  return joined;
+}
+
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
-bool integrateShare(const io::ConfFile& conf, ScanShare& share, const std::vector<size_t>& windows,
-                    double reach, int threads, SurfaceHypotheses* hypotheses, MPI_Comm comm,
-                    Progress& progress, FusedField& field, RankCounters& counters,
-                    RoutingStats& routing) {
+bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf, ScanShare& share,
+                    const std::vector<size_t>& windows, double reach, int threads,
+                    SurfaceHypotheses* hypotheses, MPI_Comm comm, Progress& progress,
+                    FusedField& field, RankCounters& counters, RoutingStats& routing) {
   BrickStore& store = *field.store;
-  if (reach > 0) field.scans.resize(conf.scans.size());
+  if (reach > 0) field.scans.resize(field.scanCount);
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
   PrismIntegrator integrator(store, threads, hypotheses);
   routing.bytes.assign(ranks, 0);
@@ -214,10 +235,10 @@ bool integrateShare(const io::ConfFile& conf, ScanShare& share, const std::vecto
       return false;
     IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
     std::move(received.begin(), received.end(), std::back_inserter(parts));
-    // One reader per scan, so each scan index comes once: scan order is all the field needs.
+    // One reader per entry, so each index comes once: scan order is all the field needs.
     std::sort(parts.begin(), parts.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (auto& [i, part] : parts) {
+    for (auto& [i, part] : joinBands(std::move(parts), scanOf)) {
       faultPoint("field");
       if (reach > 0) {
         field.scans[i] = std::move(part);
@@ -254,6 +275,13 @@ std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int r
   return ends;
 }
 
+std::vector<size_t> wholeScanWindows(std::vector<size_t> ends, const std::vector<size_t>& scanOf) {
+  for (size_t& e : ends)
+    while (e < scanOf.size() && e > 0 && scanOf[e] == scanOf[e - 1]) ++e;
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  return ends;
+}
+
 std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks) {
   std::vector<int> reader(fileBytes.size(), 0);
   std::vector<uint64_t> load(ranks, 0);
@@ -272,9 +300,15 @@ std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks
   return reader;
 }
 
-bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Comm comm,
+bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_Comm comm,
                         Progress& progress, FusedField& field, RankCounters& counters) {
   const int me = mpi::rank(comm), ranks = mpi::size(comm);
+  // From here on a band of a large scan is an entry of its own, read by any rank; brick owners
+  // join a scan's bands again before adding them.
+  const io::ConfFile conf = io::splitIntoBands(scans, o.bandCells);
+  std::vector<size_t> scanOf;
+  for (const io::ConfScan& c : conf.scans)
+    scanOf.push_back(scanOf.empty() ? 0 : scanOf.back() + (c.band == 0));
   ScanShare share(o, conf, assignReaders(fileSizes(conf), ranks), me);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
@@ -284,12 +318,15 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles, bytes,
                  sights ? &*sights : nullptr))
     return false;
-  if (sights) sights->share(conf.scans.size(), comm);
+  if (sights) sights->share(scanOf, comm);
   malloc_trim(0);  // what reading freed goes back to the system before the field is allocated
-  progress.stage("read", std::to_string(conf.scans.size()) + " scans, " +
-                             std::to_string(triangles) + " triangles; scans kept per rank " +
+  std::string read = std::to_string(scans.scans.size()) + " scans";
+  if (conf.scans.size() > scans.scans.size())
+    read += " (" + std::to_string(conf.scans.size()) + " with large ones in bands)";
+  progress.stage("read", read + ", " + std::to_string(triangles) +
+                             " triangles; scans kept per rank " +
                              std::to_string(share.keptCount()) + " (rank 0)");
-  field.scanCount = conf.scans.size();
+  field.scanCount = scans.scans.size();
   field.scanTriangles = triangles;
   VoxelGrid grid;
   if (!collectively(comm, [&] { grid = gridAround(box, o.voxel, o.brick, o.eps); }) ||
@@ -302,8 +339,9 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& conf, MPI_Co
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
   if (o.robust) hypotheses.emplace(*field.store, *o.robust);
-  const std::vector<size_t> windows = routingWindows(bytes, ranks, o.keepBytes / 4);
-  if (!integrateShare(conf, share, windows, o.routeReach, o.threads,
+  const std::vector<size_t> windows =
+      wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4), scanOf);
+  if (!integrateShare(conf, scanOf, share, windows, o.routeReach, o.threads,
                       hypotheses ? &*hypotheses : nullptr, comm, progress, field, counters,
                       routing))
     return false;

@@ -92,6 +92,19 @@ void SightMap::place(const Pose& pose) {
   toScan_ = pose.inverse();
 }
 
+void SightMap::join(SightMap&& other) {
+  if (depth_.empty()) {
+    *this = std::move(other);
+    return;
+  }
+  if (other.depth_.empty()) return;
+  if (other.rays_ != rays_ || other.width_ != width_ || other.height_ != height_ ||
+      other.au_ != au_ || other.bu_ != bu_ || other.av_ != av_ || other.bv_ != bv_)
+    throw std::logic_error("SightMap::join: the maps are on different rasters");
+  for (size_t k = 0; k < depth_.size(); ++k)
+    if (std::isnan(depth_[k]) || other.depth_[k] < depth_[k]) depth_[k] = other.depth_[k];
+}
+
 void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                          const Eigen::Vector3d& c) {
   auto keepNearest = [&](int x, int y, double depth) {

@@ -51,21 +51,25 @@ bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Ve
 
 }  // namespace
 
-double lateralSpacing(const RangeGrid& grid) {
+double lateralSpacing(const RangeGrid& grid, int downEvery) {
   // Squares keep the order, so the median step is the root of the median square: one root.
-  return std::sqrt(
-      internal::medianNeighbourStep(grid, [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::sqrt(internal::medianNeighbourStep(
+      grid,
+      [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
         const Eigen::Vector3d d = b - a, u = grid.towardSensor(a);
         return (d - d.dot(u) * u).squaredNorm();
-      }));
+      },
+      downEvery));
 }
 
-double angularSpacing(const RangeGrid& grid) {
+double angularSpacing(const RangeGrid& grid, int downEvery) {
   // The chord between unit directions: the angle, to within a part in 10^6 at these steps.
-  return std::sqrt(
-      internal::medianNeighbourStep(grid, [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::sqrt(internal::medianNeighbourStep(
+      grid,
+      [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
         return (a.normalized() - b.normalized()).squaredNorm();
-      }));
+      },
+      downEvery));
 }
 
 int mergeFactor(double spacing, double target, int shortSide) {

@@ -19,16 +19,21 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
     }
   }
   TriangleMesh mesh = triangulateGrid(grid, options);
-  std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
+  const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
+  return orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
+}
+
+ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,
+                            const Sensor& sensor, const Pose& pose) {
   ScanSurface s;
   s.triangles = std::move(mesh.faces);
-  s.sensor = grid.sensor().placed(pose);
+  s.sensor = sensor.placed(pose);
   s.points.reserve(mesh.vertices.size());
   s.normals.reserve(mesh.vertices.size());
   s.confidence.reserve(mesh.vertices.size());
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Eigen::Vector3d& p = mesh.vertices[i];
-    s.confidence.push_back(std::max(0.0, normals[i].dot(grid.towardSensor(p))));
+    s.confidence.push_back(std::max(0.0, normals[i].dot(sensor.toward(p))));
     s.points.push_back(pose.apply(p));
     s.normals.push_back(pose.rotate(normals[i]));
   }

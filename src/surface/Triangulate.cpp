@@ -39,8 +39,9 @@ double angleBetween(double a, double b) {
 
 namespace internal {
 
-bool wrapsAround(const RangeGrid& g) {
-  if (!g.spherical || g.cols < 8) return false;
+bool wrapsAround(const RangeGrid& g, int turnColumns) {
+  const int cols = turnColumns < 0 ? g.cols : turnColumns;
+  if (!g.spherical || cols < 8) return false;
   std::vector<double> azimuth(g.cols), steps;
   for (int c = 0; c < g.cols; ++c) azimuth[c] = columnAzimuth(g, c);
   for (int c = 0; c + 1 < g.cols; ++c)
@@ -52,7 +53,7 @@ bool wrapsAround(const RangeGrid& g) {
   if (!(std::abs(step) > 0)) return false;
   // A full turn: the columns' steps add up to 2 pi and the seam is about one step wide.
   const double seam = angleBetween(azimuth.front(), azimuth.back());
-  return std::abs(g.cols * std::abs(step) - 2 * M_PI) <= 2 * std::abs(step) && seam * step > 0 &&
+  return std::abs(cols * std::abs(step) - 2 * M_PI) <= 2 * std::abs(step) && seam * step > 0 &&
          std::abs(seam) <= 1.5 * std::abs(step);
 }
 
@@ -72,15 +73,27 @@ bool facesSensor(const RangeGrid& g) {
 
 }  // namespace internal
 
-double gridSpacing(const RangeGrid& grid) {
+double gridSpacing(const RangeGrid& grid, int downEvery) {
   // Squares keep the order, so the median step is the root of the median square: one root.
   return std::sqrt(internal::medianNeighbourStep(
       grid,
-      [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).squaredNorm(); }));
+      [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).squaredNorm(); },
+      downEvery));
+}
+
+GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options) {
+  // (r,c),(r,c+1),(r+1,c) has its normal toward +z, the sensor side (NOTES.md), in Stanford
+  // and pinhole grids; a station's columns may turn either way, so the cells vote.
+  return {options.maxEdgeFactor * gridSpacing(grid), options.minCosine, internal::facesSensor(grid),
+          internal::wrapsAround(grid)};
 }
 
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options) {
-  const double maxEdge = options.maxEdgeFactor * gridSpacing(grid);
+  return triangulateGrid(grid, gridTriangulation(grid, options));
+}
+
+TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rules,
+                             std::vector<int>* cellColumns) {
   std::vector<int32_t> remap(grid.points.size(), -1);
   TriangleMesh mesh;
   auto use = [&](int32_t i) {
@@ -90,22 +103,23 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& option
     }
     return remap[i];
   };
+  int column = 0;
   auto emit = [&](int32_t a, int32_t b, int32_t c) {
     if (a < 0 || b < 0 || c < 0) return;
-    if (!keepTriangle(grid, grid.points[a], grid.points[b], grid.points[c], maxEdge,
-                      options.minCosine))
+    if (!keepTriangle(grid, grid.points[a], grid.points[b], grid.points[c], rules.maxEdge,
+                      rules.minCosine))
       return;
     mesh.faces.push_back({use(a), use(b), use(c)});
+    if (cellColumns) cellColumns->push_back(column);
   };
-  // (r,c),(r,c+1),(r+1,c) has its normal toward +z, the sensor side (NOTES.md), in Stanford
-  // and pinhole grids; a station's columns may turn either way, so the cells vote.
-  const bool forward = internal::facesSensor(grid);
-  auto cell = [&](int32_t a, int32_t b, int32_t c) { forward ? emit(a, b, c) : emit(a, c, b); };
+  auto cell = [&](int32_t a, int32_t b, int32_t c) {
+    rules.forward ? emit(a, b, c) : emit(a, c, b);
+  };
   // A full turn closes: the last column's neighbour is the first.
-  const int columns = internal::wrapsAround(grid) ? grid.cols : grid.cols - 1;
+  const int columns = rules.wraps ? grid.cols : grid.cols - 1;
   for (int r = 0; r + 1 < grid.rows; ++r)
-    for (int c = 0; c < columns; ++c) {
-      const int next = c + 1 < grid.cols ? c + 1 : 0;
+    for (column = 0; column < columns; ++column) {
+      const int c = column, next = c + 1 < grid.cols ? c + 1 : 0;
       cell(grid.at(r, c), grid.at(r, next), grid.at(r + 1, c));
       cell(grid.at(r, next), grid.at(r + 1, next), grid.at(r + 1, c));
     }

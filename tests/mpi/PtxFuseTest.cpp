@@ -135,6 +135,35 @@ TEST(PtxFuse, ThreeStationsInARoomFuseCloseToTheRoom) {
   }
 }
 
+TEST(PtxFuse, StationsReadInBandsFuseTheSameOnAnyRankCountAndAsCloseToTheRoom) {
+  // Each station of 96 000 cells becomes three bands of 160 columns, read by either rank.
+  const std::string dir = test::sharedTempPath("ptx-bands");
+  const double voxel = 0.05;
+  writeStations(roomStations(voxel), dir, "room.ptx");
+  FuseOptions whole = fuseOptions(dir + "/room.ptx", dir + "/whole.ply");
+  whole.voxel = voxel;
+  whole.bandCells = 0;
+  ASSERT_EQ(runFuse(whole, MPI_COMM_WORLD), 0);
+  FuseOptions banded = whole;
+  banded.bandCells = 40000;
+  banded.out = dir + "/two.ply";
+  ASSERT_EQ(runFuse(banded, MPI_COMM_WORLD), 0);
+  if (mpi::rank() != 0) return;
+  EXPECT_EQ(io::splitIntoBands(io::readScanList(banded.scans), 40000).scans.size(), 9u);
+  banded.out = dir + "/one.ply";
+  ASSERT_EQ(runFuse(banded, MPI_COMM_SELF), 0);
+  EXPECT_EQ(bytes(dir + "/one.ply"), bytes(dir + "/two.ply"));
+  const CompareSettings compare{voxel, 3 * voxel, 50000, 1};
+  const MeshComparison a = compareMeshes(io::readMeshPly(whole.out), makeRoom(), compare);
+  const MeshComparison b = compareMeshes(io::readMeshPly(banded.out), makeRoom(), compare);
+  std::printf("room whole / in bands: accuracy mean %.4f / %.4f voxel, recall %.4f / %.4f\n",
+              a.accuracy.mean / voxel, b.accuracy.mean / voxel, a.recall, b.recall);
+  EXPECT_NEAR(b.accuracy.mean, a.accuracy.mean, 0.01 * voxel);
+  EXPECT_NEAR(b.recall, a.recall, 0.005);
+  EXPECT_GT(b.precision, 0.99);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(PtxFuse, AGhostOneStationSawIsRemovedByWhatTheOthersSawThrough) {
   // Station 0 sees a block of its cells at 60 % of their range: a surface floating in the room
   // (someone walking past), which the other stations look through. Prism fusion keeps it;
@@ -147,24 +176,30 @@ TEST(PtxFuse, AGhostOneStationSawIsRemovedByWhatTheOthersSawThrough) {
     for (int c = 200; c < 250; ++c)
       if (const int32_t i = ghosted.at(r, c); i >= 0) ghosted.points[i] *= 0.6;
   writeStations(set, dir, "ghost.ptx");
-  double spurious[2] = {0, 0};
-  for (const FieldMethod method : {FieldMethod::Prism, FieldMethod::Robust}) {
+  // Prism, robust, and robust with each station read in three bands (a sight map each).
+  const FieldMethod methods[3] = {FieldMethod::Prism, FieldMethod::Robust, FieldMethod::Robust};
+  double spurious[3] = {0, 0, 0};
+  for (int run = 0; run < 3; ++run) {
     FuseOptions o = fuseOptions(dir + "/ghost.ptx", dir + "/ghost.ply");
     o.voxel = voxel;
-    o.method = method;
+    o.method = methods[run];
+    o.bandCells = run == 2 ? 40000 : 0;
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
     const MeshComparison c = compareMeshes(io::readMeshPly(o.out), makeRoom(),
                                            CompareSettings{voxel, 3 * voxel, 50000, 1});
-    spurious[method == FieldMethod::Robust] = c.spuriousAreaFraction;
+    spurious[run] = c.spuriousAreaFraction;
     std::printf("ghost, %s: spurious area %.4f%%, accuracy mean %.3f voxel, recall %.4f\n",
-                method == FieldMethod::Robust ? "robust" : "prism", 100 * c.spuriousAreaFraction,
-                c.accuracy.mean / voxel, c.recall);
+                run == 0   ? "prism"
+                : run == 1 ? "robust"
+                           : "robust in bands",
+                100 * c.spuriousAreaFraction, c.accuracy.mean / voxel, c.recall);
     EXPECT_GT(c.recall, 0.8);  // the room stays
   }
   if (mpi::rank() == 0) {
     EXPECT_GT(spurious[0], 0.005);  // the ghost is there with prism fusion
     EXPECT_LT(spurious[1], 0.1 * spurious[0]);
+    EXPECT_LT(spurious[2], 0.1 * spurious[0]);
     std::filesystem::remove_all(dir);
   }
 }

@@ -24,7 +24,7 @@ FuseOptions changed() {
   o.sameAngle = 30, o.freeMargin = INFINITY, o.controlStride = 4, o.maxIterations = 7;
   o.maxRounds = 2, o.roundTolerance = 0.05, o.checkpointEvery = 30, o.scanMemory = 0;
   o.threads = 3, o.source.format = "tum", o.source.intrinsics = "525,525,319.5,239.5";
-  o.source.maxDepth = 3;
+  o.source.maxDepth = 3, o.bandCells = 1e6;
   return o;
 }
 

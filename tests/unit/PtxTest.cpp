@@ -1,6 +1,8 @@
 // Leica PTX: round trips, a hand-written file against hand-computed world points, bad input.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "TempDir.h"
@@ -35,6 +37,11 @@ std::string message(const std::string& path) {
   return "";
 }
 
+std::string wholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 /// Header of a 2 x 2 scan at the identity.
 const char* kHeader = "2\n2\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
 
@@ -66,6 +73,47 @@ TEST(Ptx, GridsAndPosesRoundTripExactly) {
         EXPECT_EQ(g.points[g.cell[k]], grids[i].points[grids[i].cell[k]]);
       }
     }
+  }
+}
+
+TEST(Ptx, ColumnsReadFromTheirOwnBytesAreTheSameColumnsOfTheWholeScan) {
+  TempDir dir;
+  const std::vector<RangeGrid> grids = {randomGrid(9, 4, 3), randomGrid(6, 7, 4)};
+  const std::string path = dir.file("cols.ptx");
+  io::writePtx(path, grids, {Pose{}, Pose{}});
+  for (const io::PtxScan& scan : io::indexPtx(path)) {
+    ASSERT_EQ(scan.columns.size(), static_cast<size_t>(scan.cols));
+    EXPECT_EQ(scan.columns.front(), scan.offset);
+    const RangeGrid whole = io::readPtxScan(path, scan);
+    for (int first = 0; first <= scan.cols; ++first)
+      for (int count = 0; first + count <= scan.cols; ++count) {
+        const RangeGrid part = io::readPtxColumns(path, scan, first, count);
+        ASSERT_EQ(part.cols, count);
+        ASSERT_EQ(part.rows, scan.rows);
+        for (int r = 0; r < scan.rows; ++r)
+          for (int c = 0; c < count; ++c) {
+            const int32_t a = part.at(r, c), b = whole.at(r, first + c);
+            ASSERT_EQ(a < 0, b < 0) << "row " << r << ", column " << first + c;
+            if (a >= 0) {
+              EXPECT_EQ(part.points[a], whole.points[b]);
+            }
+          }
+      }
+    EXPECT_THROW(io::readPtxColumns(path, scan, scan.cols - 1, 2), std::logic_error);
+  }
+  // A line gone bad after indexing is named by its own line number, read from its column.
+  std::string text = wholeFile(path);
+  const io::PtxScan second = io::indexPtx(path)[1];
+  text.replace(second.columns[2], 1, "x");
+  const std::string bad = dir.write("bad.ptx", text);
+  try {
+    io::readPtxColumns(bad, io::indexPtx(bad)[1], 2, 1);
+    ADD_FAILURE() << "a bad line was read";
+  } catch (const InputError& e) {
+    const uint64_t line = second.line + 2 * second.rows;
+    EXPECT_NE(std::string(e.what()).find("bad.ptx:" + std::to_string(line) + ": expected"),
+              std::string::npos)
+        << e.what();
   }
 }
 

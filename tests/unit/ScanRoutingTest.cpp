@@ -192,3 +192,44 @@ TEST(RoutingWindows, GrowByWholeRoundsOfScansWithinTheBudget) {
   EXPECT_EQ(routingWindows({10, 10, 100, 10, 10}, 2, 40), (std::vector<size_t>{2, 4, 5}));
   EXPECT_TRUE(routingWindows({}, 3, 100).empty());
 }
+
+TEST(ScanRouting, AWindowNeverEndsBetweenTwoBandsOfAScan) {
+  // Entries 1-3 are the bands of scan 1, entries 5-6 those of scan 3.
+  const std::vector<size_t> scanOf = {0, 1, 1, 1, 2, 3, 3};
+  EXPECT_EQ(wholeScanWindows({2, 4, 6, 7}, scanOf), (std::vector<size_t>{4, 7}));
+  EXPECT_EQ(wholeScanWindows({1, 5, 7}, scanOf), (std::vector<size_t>{1, 5, 7}));
+  EXPECT_EQ(wholeScanWindows({3, 7}, scanOf), (std::vector<size_t>{4, 7}));
+  EXPECT_EQ(wholeScanWindows({1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6}),
+            (std::vector<size_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
+TEST(ScanRouting, JoinedPartsAreTheirVerticesAndTrianglesInTurn) {
+  PrismScan a, b;
+  a.surface.points = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
+  a.surface.triangles = {{0, 1, 2}};
+  a.limits = {{-1, 1}};
+  b.surface.points = {Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(6, 0, 0), Eigen::Vector3d(5, 1, 0),
+                      Eigen::Vector3d(6, 1, 0)};
+  b.surface.triangles = {{0, 1, 2}, {1, 3, 2}};
+  b.limits = {{-2, 2}, {-3, 3}};
+  for (PrismScan* s : {&a, &b}) {
+    s->surface.normals.assign(s->surface.points.size(), Eigen::Vector3d::UnitZ());
+    s->surface.confidence.assign(s->surface.points.size(), 0.5);
+  }
+  std::vector<PrismScan> parts;
+  parts.push_back(a), parts.push_back(b);
+  const PrismScan j = joinScans(std::move(parts));
+  ASSERT_EQ(j.surface.points.size(), 7u);
+  ASSERT_EQ(j.surface.triangles.size(), 3u);
+  EXPECT_EQ(j.surface.triangles[2], (Triangle{4, 6, 5}));
+  for (size_t t = 0; t < 3; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const PrismScan& from = t == 0 ? a : b;
+      const size_t tf = t == 0 ? 0 : t - 1;
+      EXPECT_EQ(j.surface.points[j.surface.triangles[t][k]],
+                from.surface.points[from.surface.triangles[tf][k]]);
+    }
+  EXPECT_EQ(j.limits[2], b.limits[1]);
+  EXPECT_EQ(j.surface.normals.size(), 7u);
+  EXPECT_EQ(j.surface.confidence.size(), 7u);
+}

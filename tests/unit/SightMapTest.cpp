@@ -92,6 +92,33 @@ TEST(SightMap, StationClearanceIsTheRangeInFrontOfWhatItSaw) {
   EXPECT_TRUE(std::isnan(m.clearance(pose.t + 3 * (pose.R * Eigen::Vector3d::UnitZ()))));
 }
 
+TEST(SightMap, TheMapsOfAStationsHalvesJoinIntoTheMapOfTheWhole) {
+  // The halves of a station read in bands: the triangles east of the station and the others.
+  const ScanSurface whole = stationSphere();
+  ScanSurface east = whole, west = whole;
+  east.triangles.clear(), west.triangles.clear();
+  for (const Triangle& t : whole.triangles)
+    (whole.points[t[0]].x() > 0 ? east : west).triangles.push_back(t);
+  ASSERT_FALSE(east.triangles.empty());
+  ASSERT_FALSE(west.triangles.empty());
+  const double angle = 2 * M_PI / 180;
+  const SightMap all = SightMap::fromStation(whole, angle);
+  SightMap joined;  // empty: takes the first part whole
+  joined.join(SightMap::fromStation(east, angle));
+  joined.join(SightMap::fromStation(west, angle));
+  std::vector<char> a, b;
+  all.pack(a);
+  joined.pack(b);
+  EXPECT_TRUE(a == b);
+  // Either half alone knows nothing of the other side, nor of the strip along their border.
+  const SightMap eastOnly = SightMap::fromStation(east, angle);
+  EXPECT_TRUE(std::isnan(eastOnly.clearance(Eigen::Vector3d(-3, 0.1, 0.2))));
+  EXPECT_TRUE(std::isnan(eastOnly.clearance(Eigen::Vector3d(0, 3, 0.2))));
+  EXPECT_NEAR(joined.clearance(Eigen::Vector3d(0, 3, 0.2)),
+              all.clearance(Eigen::Vector3d(0, 3, 0.2)), 0);
+  EXPECT_THROW(joined.join(SightMap::fromStation(east, 2 * angle)), std::logic_error);
+}
+
 TEST(SightMap, PackUnpackRoundTrip) {
   SightMap m = SightMap::fromPinholeGrid(planeGrid(30), 2);
   Pose pose;

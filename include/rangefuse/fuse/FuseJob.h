@@ -32,6 +32,7 @@ struct FuseOptions {
   bool normals = true;        ///< write vertex normals
   SurfaceOptions surface;     ///< mergeTarget is set from mergeCells: see surfaceOptions
   double mergeCells = 1;      ///< merge grid cells up to this many voxels (0: never)
+  double bandCells = 4e6;     ///< PTX scans of more cells are read in bands by several ranks
   double quorum = -1;         ///< consensus: summed confidence needed; -1: autoQuorum
   int minViews = 2;           ///< consensus: views a consensus needs (1: the quorum alone)
   double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge

@@ -53,6 +53,9 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
 /// The scan parts received from every rank, in scan order.
 IndexedScans unpackRouted(const std::vector<std::vector<char>>& in);
 
+/// Parts of one scan as one: their vertices and triangles in turn (the first one's sensor).
+PrismScan joinScans(std::vector<PrismScan>&& parts);
+
 /// A scan-frame scan moved to the world by pose (prism limits are rigid-invariant).
 PrismScan placeScan(PrismScan local, const Pose& pose);
 

@@ -24,6 +24,9 @@ struct StreamOptions {
   /// the scans of one routing window, all ranks together (see routingWindows).
   uint64_t keepBytes = 0;
   int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)
+  /// PTX scans of more cells than this (0: none) are read in bands of columns, each by its own
+  /// rank and added to the field as a scan of its own (ColumnBands.h).
+  uint64_t bandCells = 0;
   /// 0: prism fields, parts integrated as they arrive. > 0: closest-surface methods, each
   /// scan's triangles within this reach of a local brick kept in FusedField::scans.
   double routeReach = 0;
@@ -42,12 +45,17 @@ struct StreamOptions {
 std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
                                    uint64_t budget);
 
+/// The windows moved on so that none ends between two bands of one scan (`scanOf`: the scan of
+/// each entry), whose parts a brick owner joins into one image before adding it.
+std::vector<size_t> wholeScanWindows(std::vector<size_t> ends, const std::vector<size_t>& scanOf);
+
 /// The reader rank of each scan: scans are taken in windows of `ranks` consecutive scans and
 /// each window is shared by file size (largest to the least loaded rank).
 std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks);
 
 /// Collective: the prism field of the .conf's scans at the .conf's poses. Contributions reach
-/// every voxel in scan order, then triangle order, so the field is the same on any rank count.
+/// every voxel in scan order (a large scan's bands in turn), then triangle order, so the field
+/// is the same on any rank count.
 /// With routeReach > 0 the field is left empty and field.scans holds the routed triangles
 /// instead. False when any rank failed (printed once).
 bool buildStreamedField(const StreamOptions& options, const io::ConfFile& conf, MPI_Comm comm,

@@ -20,6 +20,8 @@ struct ConfScan {
   std::optional<PtxScan> ptx = std::nullopt;
   /// Set for a depth image (16-bit PNG) of a sequence: the camera that took it.
   std::optional<DepthCamera> depth = std::nullopt;
+  /// A PTX scan too large for one rank is read as `bands` bands of columns; this is `band`.
+  int band = 0, bands = 1;
 };
 
 struct ConfFile {

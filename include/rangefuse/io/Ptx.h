@@ -19,7 +19,9 @@ struct PtxScan {
   uint64_t offset = 0;  ///< byte offset of its first point line
   uint64_t line = 0;    ///< line number of its first point line (from 1), for messages
   int cols = 0, rows = 0;
-  Pose pose;  ///< scanner frame to world, from the transform
+  Pose pose;                      ///< scanner frame to world, from the transform
+  std::vector<uint64_t> columns;  ///< byte offset of each column's first point line
+  uint64_t end = 0;               ///< byte offset just past the scan's last point line
 };
 
 /// The scans of a PTX file: headers parsed, point lines counted but not parsed. Throws
@@ -31,6 +33,10 @@ std::vector<PtxScan> indexPtx(const std::string& path, const InputLimits& limits
 /// c is file line c·rows + r of the scan). Throws InputError naming the file and line for a
 /// line without 4 or 7 numbers, a non-finite number, or an early end.
 RangeGrid readPtxScan(const std::string& path, const PtxScan& scan);
+
+/// Columns [first, first + count) of one scan as a spherical grid of `count` columns, read from
+/// their own bytes only (the index's column offsets), with readPtxScan's checks.
+RangeGrid readPtxColumns(const std::string& path, const PtxScan& scan, int first, int count);
 
 /// Writes scans (each grid's missing cells as "0 0 0") with their poses; the scanner position
 /// and axes are the pose's. Atomic.

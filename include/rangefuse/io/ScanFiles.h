@@ -26,7 +26,11 @@ struct ScanSourceOptions {
 ConfFile readScanList(const std::string& path, const InputLimits& limits = {},
                       const ScanSourceOptions& source = {});
 
-/// The grid of one listed scan, in its own frame.
+/// The list with each PTX scan of more than maxCells cells (0: none) made several entries, one
+/// per band of columns (ColumnBands.h), in order, sharing the scan's name, file and pose.
+ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells);
+
+/// The grid of one listed scan, in its own frame (not of a band: that is read by columns).
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits = {});
 
 }  // namespace rangefuse::io

@@ -35,6 +35,10 @@ class SightMap {
   /// The same map for the scan placed at `pose` (scan to world).
   void place(const Pose& pose);
 
+  /// Adds what `other` saw (a map of another part of the same scan, on the same raster; an
+  /// empty map takes it whole): the nearest depth where both know, else the one that knows.
+  void join(SightMap&& other);
+
   /// How far p (world) lies in front of what the scan saw along its line of sight, against the
   /// nearest depth of the 3 x 3 cells around p's ray (so only clear evidence counts): +inf
   /// where they all saw nothing, NaN where any is unknown.

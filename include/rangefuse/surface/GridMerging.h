@@ -14,11 +14,12 @@ int mergeFactor(double spacing, double target, int shortSide);
 
 /// The median step between grid neighbours across the line of sight (the part along it
 /// removed): the pixel footprint, which range noise does not inflate as it does gridSpacing.
-double lateralSpacing(const RangeGrid& grid);
+/// `downEvery` as in medianNeighbourStep.
+double lateralSpacing(const RangeGrid& grid, int downEvery = 1);
 
 /// The median angle (radians) between grid neighbours' directions from the scan frame's
 /// origin: a station's angular step, whatever the range.
-double angularSpacing(const RangeGrid& grid);
+double angularSpacing(const RangeGrid& grid, int downEvery = 1);
 
 /// The grid with each k x k block of cells merged into one: the mean of the block's points that
 /// lie on the surface of its most central point (within maxEdgeFactor grid steps per cell of

@@ -17,15 +17,17 @@ constexpr size_t kMedianSample = size_t(1) << 18;
 /// sampled on every few rows, about kMedianSample pairs in all: the median of so many steps
 /// moves far less than the decisions it feeds (a merge factor, an edge limit four times as
 /// long), and it was the largest cost of reading a frame. Grids up to that size use every pair.
+/// Pairs down a column are taken in every `downEvery`-th column only: a sample of column pairs
+/// side by side (ColumnBands) counts its first columns, so both directions weigh as in the grid.
 template <class Step>
-double medianNeighbourStep(const RangeGrid& g, Step&& step) {
+double medianNeighbourStep(const RangeGrid& g, Step&& step, int downEvery = 1) {
   const size_t pairs = 2 * g.cell.size();
   const int stride = static_cast<int>(std::max<size_t>(1, pairs / kMedianSample));
   std::vector<double> steps;
   steps.reserve(pairs / stride + 2 * static_cast<size_t>(g.cols));
   for (const auto& [dr, dc] : {std::pair{0, 1}, std::pair{1, 0}})
     for (int r = 0; r + dr < g.rows; r += stride)
-      for (int c = 0; c + dc < g.cols; ++c) {
+      for (int c = 0; c + dc < g.cols; c += dr == 1 ? downEvery : 1) {
         const int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
         if (a >= 0 && b >= 0) steps.push_back(step(g.points[a], g.points[b]));
       }

@@ -31,7 +31,19 @@ struct ScanSurface {
 };
 
 /// Median distance between grid neighbours (the lateral sampling step), or 0 if none.
-double gridSpacing(const RangeGrid& grid);
+/// `downEvery` as in medianNeighbourStep.
+double gridSpacing(const RangeGrid& grid, int downEvery = 1);
+
+/// What triangulateGrid decides about a grid as a whole; given, for a band of a larger grid.
+struct GridTriangulation {
+  double maxEdge = 0;    ///< longest edge kept (maxEdgeFactor x grid spacing)
+  double minCosine = 0;  ///< least cosine with the line of sight kept
+  bool forward = true;   ///< (r,c),(r,c+1),(r+1,c) is wound toward the sensor
+  bool wraps = false;    ///< the last column's neighbour is the first
+};
+
+/// The grid's own triangulation rules: its spacing, winding and seam.
+GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options);
 
 /// Two triangles per full grid cell, filtered by edge length and obliqueness; only the
 /// vertices some triangle uses are kept. Coordinates stay in the scan frame. Triangles are wound
@@ -39,9 +51,20 @@ double gridSpacing(const RangeGrid& grid);
 /// closed across its 0/360 degree seam.
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options);
 
+/// The same under given rules; `cellColumns` (if set) gets each triangle's cell column.
+TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rules,
+                             std::vector<int>* cellColumns = nullptr);
+
+/// The surface of a triangulated grid: normals (scan frame, filtered) turned by the pose,
+/// confidence against `sensor`'s line of sight, points moved to world.
+ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,
+                            const Sensor& sensor, const Pose& pose);
+
 namespace internal {
 /// True when a spherical grid's columns close a full turn about the station's z axis.
-bool wrapsAround(const RangeGrid& grid);
+/// `turnColumns` (default: the grid's) is the column count of the whole turn, for a sample of
+/// a grid's columns whose empty columns separate runs of consecutive ones.
+bool wrapsAround(const RangeGrid& grid, int turnColumns = -1);
 /// True when most cells' triangles (r,c),(r,c+1),(r+1,c) face the sensor as wound.
 bool facesSensor(const RangeGrid& grid);
 }  // namespace internal
