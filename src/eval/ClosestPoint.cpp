@@ -1,11 +1,40 @@
+#include <algorithm>
+#include <cmath>
+
 #include "rangefuse/eval/MeshDistance.h"
 
 namespace rangefuse {
+
+namespace {
+
+/// Where along [a, b] (0 at a) the segment comes closest to p; 0 for a point.
+double alongSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double length2 = (b - a).squaredNorm();
+  return length2 > 0 ? std::clamp((p - a).dot(b - a) / length2, 0.0, 1.0) : 0.0;
+}
+
+/// A triangle without area is its three edges: the closest of their closest points.
+Eigen::Vector3d closestOnEdges(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double s = alongSegment(p, a, b), t = alongSegment(p, b, c), u = alongSegment(p, c, a);
+  const Eigen::Vector3d candidates[3] = {{1 - s, s, 0}, {0, 1 - t, t}, {u, 0, 1 - u}};
+  Eigen::Vector3d best = candidates[0];
+  double nearest = INFINITY;
+  for (const Eigen::Vector3d& w : candidates) {
+    const double d = (p - (w[0] * a + w[1] * b + w[2] * c)).squaredNorm();
+    if (d < nearest) nearest = d, best = w;
+  }
+  return best;
+}
+
+}  // namespace
 
 // Voronoi-region walk over the triangle's vertices, edges and face.
 Eigen::Vector3d closestBarycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  // Marching cubes leaves triangles with two corners at one point, where the walk divides by 0.
+  if (ab.cross(ac).squaredNorm() == 0) return closestOnEdges(p, a, b, c);
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
   const Eigen::Vector3d bp = p - b;

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "FuzzEntries.h"
+#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/Ptx.h"
 #include "rangefuse/io/ScanFiles.h"
@@ -66,8 +67,16 @@ void ptx(const std::string& bytes) {
   const fs::path file = scratch() / "fuzz.ptx";
   writeBytes(file, bytes);
   refusedCleanly([&] {
-    for (const io::PtxScan& scan : io::indexPtx(file.string(), fuzzLimits()))
+    for (const io::PtxScan& scan : io::indexPtx(file.string(), fuzzLimits())) {
       io::readPtxScan(file.string(), scan);
+      // Read and prepared again in two bands of columns, as fuse reads a large station.
+      io::ConfScan band{"fuzz.ptx#1", file.string(), scan.pose, scan};
+      band.bands = 2;
+      SurfaceOptions merged;
+      merged.mergeTarget = 0.5;
+      merged.sightMap = true;
+      for (band.band = 0; band.band < 2; ++band.band) loadScan(band, merged, fuzzLimits(), 0.1);
+    }
   });
 }
 

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <random>
 
 #include "rangefuse/eval/MeshDistance.h"
@@ -49,6 +51,28 @@ TEST(ClosestPoint, MatchesBruteForceInEveryRegion) {
   EXPECT_EQ(closestPointOnTriangle({-1, -1, 0}, a, b, c), a);  // vertex region
   EXPECT_LT((closestPointOnTriangle({0.5, -1, 0}, a, b, c) - Eigen::Vector3d(0.5, 0, 0)).norm(),
             1e-15);
+}
+
+TEST(ClosestPoint, DegenerateTrianglesGiveTheirSegmentsClosestPoint) {
+  // Marching cubes makes triangles with two corners at one point where the surface passes
+  // through a lattice vertex; they were answered with NaN.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-2, 2);
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0.5, 0.25);
+  auto onSegment = [&](const Eigen::Vector3d& p) {
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    return a + t * (b - a);
+  };
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    for (const auto& [x, y, z] : {std::array{a, a, b}, std::array{a, b, a}, std::array{b, a, a},
+                                  std::array{a, b, b}, std::array{b, a, b}, std::array{b, b, a}}) {
+      const Eigen::Vector3d q = closestPointOnTriangle(p, x, y, z);
+      ASSERT_TRUE(q.allFinite()) << p.transpose();
+      EXPECT_NEAR((p - q).norm(), (p - onSegment(p)).norm(), 1e-12);
+    }
+    EXPECT_EQ(closestPointOnTriangle(p, a, a, a), a);
+  }
 }
 
 TEST(MeshDistance, MatchesBruteForceOverAllTriangles) {
