@@ -65,6 +65,7 @@ SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
   const auto& v = surface.points;
   for (const Triangle& t : surface.triangles)
     m.rasterize(m.project(v[t[0]]), m.project(v[t[1]]), m.project(v[t[2]]));
+  m.cropUnknown();
   return m;
 }
 
@@ -85,7 +86,25 @@ SightMap SightMap::fromStation(const ScanSurface& surface, double angle) {
     if (std::max({a.x(), b.x(), c.x()}) - std::min({a.x(), b.x(), c.x()}) < seam)
       m.rasterize(a, b, c);
   }
+  m.cropUnknown();
   return m;
+}
+
+void SightMap::cropUnknown() {
+  int x0 = width_, x1 = -1, y0 = height_, y1 = -1;
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x)
+      if (!std::isnan(depthAt(x, y)))
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  if (x1 < 0) x0 = y0 = 0, x1 = y1 = -1;  // nothing known: an empty raster
+  if (x0 == 0 && y0 == 0 && x1 == width_ - 1 && y1 == height_ - 1) return;
+  SightMap out = *this;
+  out.allocate(x1 - x0 + 1, y1 - y0 + 1, kUnknown);
+  for (int y = y0; y <= y1; ++y)
+    std::copy_n(&depth_[static_cast<size_t>(y) * width_ + x0], out.width_,
+                &out.depth_[static_cast<size_t>(y - y0) * out.width_]);
+  out.bu_ -= x0, out.bv_ -= y0;
+  *this = std::move(out);
 }
 
 void SightMap::place(const Pose& pose) {
@@ -98,11 +117,29 @@ void SightMap::join(SightMap&& other) {
     return;
   }
   if (other.depth_.empty()) return;
-  if (other.rays_ != rays_ || other.width_ != width_ || other.height_ != height_ ||
-      other.au_ != au_ || other.bu_ != bu_ || other.av_ != av_ || other.bv_ != bv_)
+  // Cropped from the same raster, the two differ by whole cells: other's (x, y) is ours + shift.
+  const double sx = bu_ - other.bu_, sy = bv_ - other.bv_;
+  const long dx = std::lround(sx), dy = std::lround(sy);
+  if (other.rays_ != rays_ || other.au_ != au_ || other.av_ != av_ || sx != dx || sy != dy)
     throw std::logic_error("SightMap::join: the maps are on different rasters");
-  for (size_t k = 0; k < depth_.size(); ++k)
-    if (std::isnan(depth_[k]) || other.depth_[k] < depth_[k]) depth_[k] = other.depth_[k];
+  const int x0 = static_cast<int>(std::min<long>(0, dx)),
+            y0 = static_cast<int>(std::min<long>(0, dy));
+  const int x1 = static_cast<int>(std::max<long>(width_, dx + other.width_));
+  const int y1 = static_cast<int>(std::max<long>(height_, dy + other.height_));
+  SightMap out = *this;
+  out.allocate(x1 - x0, y1 - y0, kUnknown);
+  out.bu_ -= x0, out.bv_ -= y0;
+  auto add = [&](const SightMap& m, int ox, int oy) {
+    for (int y = 0; y < m.height_; ++y)
+      for (int x = 0; x < m.width_; ++x) {
+        const float d = m.depthAt(x, y);
+        float& to = out.depthAt(x + ox, y + oy);
+        if (std::isnan(to) || d < to) to = d;
+      }
+  };
+  add(*this, -x0, -y0);
+  add(other, static_cast<int>(dx) - x0, static_cast<int>(dy) - y0);
+  *this = std::move(out);
 }
 
 void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -106,10 +106,13 @@ TEST(SightMap, TheMapsOfAStationsHalvesJoinIntoTheMapOfTheWhole) {
   SightMap joined;  // empty: takes the first part whole
   joined.join(SightMap::fromStation(east, angle));
   joined.join(SightMap::fromStation(west, angle));
-  std::vector<char> a, b;
+  std::vector<char> a, b, half;
   all.pack(a);
   joined.pack(b);
   EXPECT_TRUE(a == b);
+  // A half's map keeps its own azimuths only: about half the whole raster is sent.
+  SightMap::fromStation(east, angle).pack(half);
+  EXPECT_LT(half.size(), 0.6 * a.size());
   // Either half alone knows nothing of the other side, nor of the strip along their border.
   const SightMap eastOnly = SightMap::fromStation(east, angle);
   EXPECT_TRUE(std::isnan(eastOnly.clearance(Eigen::Vector3d(-3, 0.1, 0.2))));

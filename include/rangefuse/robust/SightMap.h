@@ -35,8 +35,9 @@ class SightMap {
   /// The same map for the scan placed at `pose` (scan to world).
   void place(const Pose& pose);
 
-  /// Adds what `other` saw (a map of another part of the same scan, on the same raster; an
-  /// empty map takes it whole): the nearest depth where both know, else the one that knows.
+  /// Adds what `other` saw (a map of another part of the same scan, on the same raster, cropped
+  /// anywhere; an empty map takes it whole): the nearest depth where both know, else the one
+  /// that knows.
   void join(SightMap&& other);
 
   /// How far p (world) lies in front of what the scan saw along its line of sight, against the
@@ -56,6 +57,10 @@ class SightMap {
   Eigen::Vector3d project(const Eigen::Vector3d& q) const;
   void rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
   void allocate(int width, int height, float fill);
+  /// Drops the rows and columns on the raster's borders where nothing is known: clearance
+  /// needs all 3 x 3 cells known, and answers unknown off the raster as for unknown cells, so
+  /// every answer stays the same (a station band's map keeps its own azimuths only).
+  void cropUnknown();
   float& depthAt(int x, int y) { return depth_[static_cast<size_t>(y) * width_ + x]; }
   float depthAt(int x, int y) const { return depth_[static_cast<size_t>(y) * width_ + x]; }
 
