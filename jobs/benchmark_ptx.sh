@@ -3,7 +3,7 @@
 # full turn of COLS x ROWS points (noise 0.3 voxel), written as one ASCII Leica PTX file. Times
 # `rangefuse perturb` (it indexes the file and reads every scan's grid, nothing else of note:
 # the PTX reading speed), then fuses on 2 ranks at VOXEL and measures the mesh against the room.
-# Usage: [BANDS="4000000 0"] bash jobs/benchmark_ptx.sh [STATIONS COLS ROWS VOXEL]
+# Usage: [BANDS="4000000 0"] [METHOD=prism|robust|...] bash jobs/benchmark_ptx.sh [STATIONS COLS ROWS VOXEL]
 #        (default 3 3000 1500 0.01)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,10 +27,10 @@ echo "PTX: $stations stations, $((stations * cols * rows)) points, $((bytes / 10
 # Each fuse runs once per --band-cells value of BANDS: the default splits stations past 4 M
 # cells into bands of columns read by any rank; 0 reads every station whole on one rank.
 for band in ${BANDS:-4000000 0}; do
-  echo "== fuse with --band-cells $band"
+  echo "== fuse --method ${METHOD:-prism} with --band-cells $band"
   start=$(date +%s.%N)
   mpirun -np 2 --bind-to none $bin fuse --scans "$tmp/room/stations.ptx" --voxel "$voxel" \
-    --band-cells "$band" --out "$tmp/m.ply" --max-grid-cells 1000000000 >"$tmp/log"
+    --method "${METHOD:-prism}" --band-cells "$band" --out "$tmp/m.ply" --max-grid-cells 1000000000 >"$tmp/log"
   seconds=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
   grep -E "\] (read|field|mesh|write|done) " "$tmp/log"
   echo "fuse, 2 ranks, read to write: $seconds s"
