@@ -3,7 +3,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 
 #include "rangefuse/volume/VoxelGrid.h"
@@ -87,6 +89,28 @@ class PrismRows {
   Slab slabs_[kSlabs];
   int count_ = 0;
 };
+
+inline bool PrismRows::span(int vb, int vc, int& a0, int& a1) const {
+  double from = lo[along], to = hi[along];
+  for (int k = 0; k < count_; ++k) {
+    const Slab& s = slabs_[k];
+    const double at = s.atRow0 + s.perB * vb + s.perC * vc;
+    if (s.perStep == 0) {
+      if (at < s.lo || at > s.hi) return false;
+      continue;
+    }
+    double t0 = (s.lo - at) * s.perStepInv, t1 = (s.hi - at) * s.perStepInv;
+    if (t0 > t1) std::swap(t0, t1);
+    from = std::max(from, t0);
+    to = std::min(to, t1);
+    if (from > to) return false;
+  }
+  if (!(from <= to)) return false;
+  const double pad = 1e-6;  // lattice units: rounding never cuts a voxel the solve would keep
+  a0 = std::max(lo[along], static_cast<int>(std::ceil(from - pad)));
+  a1 = std::min(hi[along], static_cast<int>(std::floor(to + pad)));
+  return a0 <= a1;
+}
 
 /// Visits the voxels of `rows` (PrismRows of the prism, perhaps with a smaller box) that lie
 /// inside the prism.
