@@ -192,18 +192,17 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
                       [&] { layout = reduceBrickWork(work, grid, o.limits.maxVoxels, comm); });
 }
 
-/// Parts (sorted by entry) of one scan's bands joined into one part indexed by the scan: an
-/// image whatever its bands, so a voxel takes its nearest triangle of them all.
-IndexedScans joinBands(IndexedScans&& parts, const std::vector<size_t>& scanOf) {
-  IndexedScans joined;
-  for (size_t first = 0, end; first < parts.size(); first = end) {
-    const size_t scan = scanOf[parts[first].first];
-    std::vector<PrismScan> bands;
-    for (end = first; end < parts.size() && scanOf[parts[end].first] == scan; ++end)
-      bands.push_back(std::move(parts[end].second));
-    joined.emplace_back(scan, joinScans(std::move(bands)));
+/// The parts (sorted by entry) of each scan, in scan order: a station's bands together, one
+/// image, so that a voxel takes its nearest triangle of them all.
+std::vector<std::pair<size_t, std::vector<PrismScan*>>> partsByScan(
+    IndexedScans& parts, const std::vector<size_t>& scanOf) {
+  std::vector<std::pair<size_t, std::vector<PrismScan*>>> images;
+  for (auto& [i, part] : parts) {
+    if (images.empty() || images.back().first != scanOf[i])
+      images.emplace_back(scanOf[i], std::vector<PrismScan*>{});
+    images.back().second.push_back(&part);
   }
-  return joined;
+  return images;
 }
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
@@ -238,13 +237,15 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
     // One reader per entry, so each index comes once: scan order is all the field needs.
     std::sort(parts.begin(), parts.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (auto& [i, part] : joinBands(std::move(parts), scanOf)) {
+    for (const auto& [i, image] : partsByScan(parts, scanOf)) {
       faultPoint("field");
       if (reach > 0) {
-        field.scans[i] = std::move(part);
+        std::vector<PrismScan> bands;
+        for (PrismScan* part : image) bands.push_back(std::move(*part));
+        field.scans[i] = joinScans(std::move(bands));
         continue;
       }
-      const IntegrationStats st = integrator.addScan(part);
+      const IntegrationStats st = integrator.addImage({image.begin(), image.end()});
       counters.prisms += st.prisms;
       if (alone) routing.copies += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;

@@ -188,16 +188,26 @@ void PrismIntegrator::cutSlabs() {
 }
 
 IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
-  const size_t n = scan.surface.triangles.size(), threads = slabs_.size();
-  reach_.resize(n);
-  parallelFor(threads, static_cast<int>(threads),
-              [&](size_t k) { findReach(scan, n * k / threads, n * (k + 1) / threads); });
-  cutSlabs();
+  return addImage({&scan});
+}
+
+IntegrationStats PrismIntegrator::addImage(const std::vector<const PrismScan*>& parts) {
+  const size_t threads = slabs_.size();
   std::vector<uint64_t> prisms(threads), updates(threads);
-  // Slabs own disjoint voxels of scratch_ and sums: no two threads write the same one.
+  // Each part is cut into slabs of its own; a voxel's sample stays in the touched list of the
+  // slab that first gave it one, and every list is added once all parts are in.
+  for (const PrismScan* scan : parts) {
+    const size_t n = scan->surface.triangles.size();
+    reach_.resize(n);
+    parallelFor(threads, static_cast<int>(threads),
+                [&](size_t k) { findReach(*scan, n * k / threads, n * (k + 1) / threads); });
+    cutSlabs();
+    // Slabs own disjoint voxels of scratch_: no two threads write the same one.
+    parallelFor(threads, static_cast<int>(threads),
+                [&](size_t k) { prisms[k] += rasterizeSlab(*scan, slabs_[k]); });
+  }
   parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
     Slab& slab = slabs_[k];
-    prisms[k] = rasterizeSlab(scan, slab);
     accumulate(slab);
     updates[k] = slab.touched.size();
     slab.touched.clear();

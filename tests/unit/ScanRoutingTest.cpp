@@ -75,6 +75,40 @@ TEST(PrismIntegrator, ThreadsGiveTheSingleThreadSumsEvenWithNothingToAdd) {
   EXPECT_GT(wantStats.voxelUpdates, 0u);
 }
 
+TEST(PrismIntegrator, AnImageInPartsIsTheImageWhole) {
+  // A station's bands reach a brick owner as parts of one image: each voxel must take the
+  // nearest triangle of all of them, as if they were one scan, on any thread count.
+  const PrismScan scan = wavyScan();
+  const size_t n = scan.surface.triangles.size();
+  std::vector<PrismScan> parts(3, scan);
+  for (size_t k = 0; k < 3; ++k) {
+    const auto from = n * k / 3, to = n * (k + 1) / 3;
+    parts[k].surface.triangles.assign(scan.surface.triangles.begin() + from,
+                                      scan.surface.triangles.begin() + to);
+    parts[k].limits.assign(scan.limits.begin() + from, scan.limits.begin() + to);
+  }
+  const std::vector<PrismScan> one{scan};
+  const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 1);
+  auto sums = [&](int threads, bool asOneImage) {
+    BrickStore store(layout, 0);
+    PrismIntegrator integrator(store, threads);
+    if (asOneImage)
+      integrator.addImage({&parts[0], &parts[1], &parts[2]});
+    else
+      for (const PrismScan& p : parts) integrator.addScan(p);
+    return std::vector<VoxelSums>(store.sums().begin(), store.sums().end());
+  };
+  BrickStore whole(layout, 0);
+  PrismIntegrator(whole, 1).addScan(scan);
+  const std::vector<VoxelSums> want(whole.sums().begin(), whole.sums().end());
+  const size_t bytes = want.size() * sizeof(VoxelSums);
+  for (int threads : {1, 3}) {
+    EXPECT_EQ(std::memcmp(sums(threads, true).data(), want.data(), bytes), 0) << threads;
+    // Added as three images, voxels where two parts' prisms meet take two samples.
+    EXPECT_NE(std::memcmp(sums(threads, false).data(), want.data(), bytes), 0) << threads;
+  }
+}
+
 TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
   const PrismScan scan = wavyScan();
   const std::vector<PrismScan> one{scan};

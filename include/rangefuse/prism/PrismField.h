@@ -69,6 +69,9 @@ class PrismIntegrator {
   /// Images' samples go to `hypotheses` (robust fusion) instead of the store's sums.
   PrismIntegrator(BrickStore& store, int threads, SurfaceHypotheses* hypotheses);
   IntegrationStats addScan(const PrismScan& scan);
+  /// One image made of several parts (a station's bands), in order: the same bits as adding
+  /// their triangles joined into one scan, without the copy.
+  IntegrationStats addImage(const std::vector<const PrismScan*>& parts);
 
  private:
   struct Sample {
