@@ -7,7 +7,7 @@
 namespace rangefuse {
 
 Progress::Progress(MPI_Comm comm)
-    : root_(mpi::rank(comm) == 0), start_(MPI_Wtime()), stageStart_(start_) {}
+    : root_(mpi::rank(comm) == 0), start_(MPI_Wtime()), stageStart_(start_), lastLine_(start_) {}
 
 void Progress::stage(const std::string& name, const std::string& message) {
   const double now = MPI_Wtime();
@@ -17,7 +17,15 @@ void Progress::stage(const std::string& name, const std::string& message) {
                 now - stageStart_);
     std::fflush(stdout);
   }
-  stageStart_ = now;
+  stageStart_ = lastLine_ = now;
+}
+
+void Progress::update(const std::string& name, const std::string& message, double every) {
+  const double now = MPI_Wtime();
+  if (!root_ || now - lastLine_ < every) return;
+  std::printf("[%7.2fs] %-10s %s\n", now - start_, name.c_str(), message.c_str());
+  std::fflush(stdout);
+  lastLine_ = now;
 }
 
 double Progress::elapsed() const {

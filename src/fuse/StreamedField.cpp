@@ -142,8 +142,8 @@ struct SightMaps {
 
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
 bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
-               Eigen::AlignedBox3d& box, uint64_t& triangles, std::vector<uint64_t>& bytes,
-               SightMaps* sights) {
+               Progress& progress, Eigen::AlignedBox3d& box, uint64_t& triangles,
+               std::vector<uint64_t>& bytes, SightMaps* sights) {
   std::map<size_t, std::string> warnings;
   triangles = 0;
   bytes.assign(conf.scans.size(), 0);
@@ -151,6 +151,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
         std::vector<size_t> mine;
         for (size_t i = 0; i < conf.scans.size(); ++i)
           if (share.reads(i)) mine.push_back(i);
+        size_t done = 0;
         // As many scans at a time as the rank has threads: one each.
         forEachBatch(mine, threads, [&](const std::vector<size_t>& batch) {
           std::vector<PrismScan> scans = share.read(batch);
@@ -165,6 +166,10 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
             if (sights && s.sight) sights->mine.emplace(i, *s.sight);
             share.offer(i, std::move(s));
           }
+          done += batch.size();
+          if (done < mine.size())  // a large station's bands count as scans here
+            progress.update("read", "rank 0 has prepared " + std::to_string(done) + " of its " +
+                                        std::to_string(mine.size()) + " scans");
         });
       }))
     return false;
@@ -219,7 +224,6 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
   // One rank owns every brick: its scans go to the integrator whole, and the copies it would
   // have routed are the prisms the integrator finds reaching a brick.
   const bool alone = ranks == 1 && reach == 0;
-  double lastLine = progress.elapsed();
   for (size_t w = 0, first = 0; w < windows.size(); first = windows[w++]) {
     const size_t end = windows[w];
     std::vector<std::vector<char>> out(ranks);
@@ -250,11 +254,9 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
       if (alone) routing.copies += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
     }
-    if (progress.isRoot() && progress.elapsed() - lastLine > 10 && end < conf.scans.size()) {
-      lastLine = progress.elapsed();
-      std::printf("[%7.2fs] field      %zu of %zu scans added\n", lastLine, end, conf.scans.size());
-      std::fflush(stdout);
-    }
+    if (end < conf.scans.size())
+      progress.update("field", std::to_string(end) + " of " + std::to_string(conf.scans.size()) +
+                                   " scans added");
   }
   return true;
 }
@@ -316,7 +318,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   std::vector<uint64_t> bytes;
   std::optional<SightMaps> sights;
   if (o.robust) sights.emplace();
-  if (!readShare(conf, share, std::max(1, o.threads), comm, box, triangles, bytes,
+  if (!readShare(conf, share, std::max(1, o.threads), comm, progress, box, triangles, bytes,
                  sights ? &*sights : nullptr))
     return false;
   if (sights) sights->share(scanOf, comm);
