@@ -139,9 +139,10 @@ BandRules bandRules(const ColumnReader& read, int cols, int rows, const SurfaceO
   const RangeGrid merged = rules.k > 1 ? sampledPairs(read, rules, options.maxEdgeFactor,
                                                       std::max(16, positions / rules.k))
                                        : fine;
-  rules.triangulation = gridTriangulation(merged, options);
-  rules.triangulation.maxEdge = options.maxEdgeFactor * gridSpacing(merged, kSamplePeriod);
-  rules.triangulation.wraps = internal::wrapsAround(merged, blockCount(rules));
+  // gridTriangulation's rules, read from the sample of the merged grid.
+  rules.triangulation = {options.maxEdgeFactor * gridSpacing(merged, kSamplePeriod),
+                         options.minCosine, internal::facesSensor(merged),
+                         internal::wrapsAround(merged, blockCount(rules))};
   return rules;
 }
 
