@@ -107,8 +107,8 @@ PrismCubic::PrismCubic(const Prism& prism) {
   Nn = N.dot(prism.n[0]), Kn = K.dot(prism.n[0]), Ln = L.dot(prism.n[0]);
 }
 
-bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
-                        PrismHit& hit) {
+bool solvePrismFoot(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
+                    PrismFoot& foot) {
   const Eigen::Vector3d w = prism.p[0] - x;
   const double c[4] = {cubic.N.dot(w), cubic.Nn + cubic.K.dot(w), cubic.Kn + cubic.L.dot(w),
                        cubic.Ln};
@@ -117,7 +117,7 @@ bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen
   bool found = false;
   for (int k = 0; k < nr; ++k) {
     const double d = roots[k];
-    if (found && std::abs(d) >= std::abs(hit.d)) continue;
+    if (found && std::abs(d) >= std::abs(foot.d)) continue;
     const Eigen::Vector3d m = cubic.N + d * (cubic.K + d * cubic.L);  // T(d)'s normal
     const double area2 = m.squaredNorm();
     if (area2 == 0) continue;
@@ -128,15 +128,27 @@ bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen
     b[2] = 1 - b[0] - b[1];
     const double tol = -1e-9;
     if (b[0] < tol || b[1] < tol || b[2] < tol) continue;
-    hit.d = d;
-    hit.bary = b;
+    foot.d = d;
+    foot.bary = b;
     found = true;
   }
-  if (!found) return false;
-  const Eigen::Vector3d& b = hit.bary;
+  return found;
+}
+
+void completeHit(const Prism& prism, const PrismFoot& foot, PrismHit& hit) {
+  const Eigen::Vector3d& b = foot.bary;
+  hit.d = foot.d;
+  hit.bary = b;
   hit.closest = b[0] * prism.p[0] + b[1] * prism.p[1] + b[2] * prism.p[2];
-  hit.gradient = (b[0] * prism.n[0] + b[1] * prism.n[1] + b[2] * prism.n[2]).normalized();
-  hit.weight = b[0] * prism.w[0] + b[1] * prism.w[1] + b[2] * prism.w[2];
+  hit.gradient = footGradient(prism, b);
+  hit.weight = footWeight(prism, b);
+}
+
+bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
+                        PrismHit& hit) {
+  PrismFoot foot;
+  if (!solvePrismFoot(prism, cubic, x, foot)) return false;
+  completeHit(prism, foot, hit);
   return true;
 }
 

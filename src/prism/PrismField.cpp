@@ -121,7 +121,8 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   const VoxelGrid& grid = store_.grid();
   BrickCoord lastBrick(-1, -1, -1);
   int64_t lastLocal = -1;
-  auto visit = [&](const VoxelIndex& v, const PrismHit& hit) {
+  Prism prism;
+  auto visit = [&](const VoxelIndex& v, const PrismFoot& foot) {
     const BrickCoord b = brickOf(v, grid.brick);
     if (b != lastBrick) {
       lastBrick = b;
@@ -131,12 +132,12 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     const size_t at = store_.offset(lastLocal, lastBrick, v);
     Sample& s = scratch_[at];
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
-    if (!(std::abs(hit.d) < std::abs(s.d))) return;
+    if (!(std::abs(foot.d) < std::abs(s.d))) return;
     if (s.d == kEmpty) slab.touched.push_back(at);
-    s = Sample{static_cast<float>(hit.d),
-               static_cast<float>(hit.weight),
-               {static_cast<float>(hit.gradient.x()), static_cast<float>(hit.gradient.y()),
-                static_cast<float>(hit.gradient.z())}};
+    const Eigen::Vector3d g = footGradient(prism, foot.bary);
+    s = Sample{static_cast<float>(foot.d),
+               static_cast<float>(footWeight(prism, foot.bary)),
+               {static_cast<float>(g.x()), static_cast<float>(g.y()), static_cast<float>(g.z())}};
   };
   uint64_t counted = 0;
   for (size_t t = 0; t < scan.surface.triangles.size(); ++t) {
@@ -144,7 +145,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     if (!r.local) continue;
     if (r.zLo >= slab.zLo && r.zLo <= slab.zHi) ++counted;
     if (r.zLo > slab.zHi || r.zHi < slab.zLo) continue;
-    const Prism prism = scanPrism(scan, t);
+    prism = scanPrism(scan, t);
     internal::PrismRows rows(prism, grid);
     rows.lo.z() = std::max(rows.lo.z(), slab.zLo);
     rows.hi.z() = std::min(rows.hi.z(), slab.zHi);

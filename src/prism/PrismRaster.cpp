@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rangefuse/prism/Prism.h"
+#include "rangefuse/prism/PrismRaster.h"
 
 namespace rangefuse {
 namespace internal {

@@ -4,7 +4,7 @@
 #include <map>
 #include <random>
 
-#include "rangefuse/prism/Prism.h"
+#include "rangefuse/prism/PrismRaster.h"
 
 using namespace rangefuse;
 
@@ -176,10 +176,55 @@ TEST(Prism, RowRasterizationFindsExactlyTheBruteForceVoxels) {
     rasterizePrismBruteForce(prism, grid, [&](const VoxelIndex& v, const PrismHit& h) {
       slow[{v.x(), v.y(), v.z()}] = h.d;
     });
-    ASSERT_EQ(fast, slow) << "triangle " << t;
+    // The same voxels; distances to rounding (the rows solve in batches, the reference alone).
+    ASSERT_EQ(fast.size(), slow.size()) << "triangle " << t;
+    for (const auto& [voxel, d] : slow) {
+      ASSERT_EQ(fast.count(voxel), 1u) << "triangle " << t;
+      ASSERT_NEAR(fast[voxel], d, 1e-12) << "triangle " << t;
+    }
     total += slow.size();
   }
   EXPECT_GT(total, 3000u);  // the comparison covered real work
+}
+
+TEST(Prism, BatchedFeetMatchOnePointAtATime) {
+  // Straight, tilted (past the quick path) and flat (no area) prisms, points inside, beside,
+  // above and below: solveFeet must decide as solvePrismFoot does, and find the same foot.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> pos(-1, 1), u01(0, 1);
+  int inside = 0, outside = 0;
+  for (int t = 0; t < 600; ++t) {
+    const double tilt = t % 3 == 0 ? 0.02 : t % 3 == 1 ? 0.3 : 0.9;
+    std::array<Eigen::Vector3d, 3> p = kTri, n;
+    for (auto& v : p) v.z() += 0.1 * pos(rng);
+    if (t % 50 == 0) p[2] = 0.5 * (p[0] + p[1]);  // a triangle without area
+    for (auto& v : n)
+      v = (Eigen::Vector3d::UnitZ() + tilt * Eigen::Vector3d(pos(rng), pos(rng), pos(rng)))
+              .normalized();
+    const Prism prism = makePrism(p, n, kW, 0.5);
+    const internal::PrismCubic cubic(prism);
+    Eigen::Vector3d points[internal::kFootBatch];
+    const int count = 1 + t % internal::kFootBatch;
+    for (int i = 0; i < count; ++i)
+      points[i] = Eigen::Vector3d(1.4 * u01(rng) - 0.2, 1.4 * u01(rng) - 0.2, 0.7 * pos(rng));
+    PrismFoot feet[internal::kFootBatch];
+    bool in[internal::kFootBatch];
+    internal::solveFeet(prism, cubic, points, count, feet, in);
+    for (int i = 0; i < count; ++i) {
+      PrismFoot one;
+      const bool alone = internal::solvePrismFoot(prism, cubic, points[i], one);
+      ASSERT_EQ(in[i], alone) << "prism " << t << " point " << i;
+      if (!alone) {
+        ++outside;
+        continue;
+      }
+      ++inside;
+      EXPECT_NEAR(feet[i].d, one.d, 1e-12) << "prism " << t << " point " << i;
+      EXPECT_LT((feet[i].bary - one.bary).norm(), 1e-9) << "prism " << t << " point " << i;
+    }
+  }
+  EXPECT_GT(inside, 500);  // both answers were tried often
+  EXPECT_GT(outside, 500);
 }
 
 TEST(Prism, QuickExitOnlyWhereEveryEdgeSurfaceMeetingIsOutsideTheEnvelope) {

@@ -6,9 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
-
-#include "rangefuse/volume/VoxelGrid.h"
 
 namespace rangefuse {
 
@@ -42,7 +39,22 @@ Eigen::AlignedBox3d prismBounds(const Prism& prism);
 /// Returns false when x lies outside the prism.
 bool solvePrismDistance(const Prism& prism, const Eigen::Vector3d& x, PrismHit& hit);
 
-using PrismVisitor = std::function<void(const VoxelIndex&, const PrismHit&)>;
+/// Where a point meets a prism: its distance along the interpolated normal and the
+/// barycentric coordinates of its foot; what rasterisation needs before a voxel keeps it.
+struct PrismFoot {
+  double d = 0;
+  Eigen::Vector3d bary;
+};
+
+/// The interpolated normal at a foot, normalised: the gradient of the signed field.
+inline Eigen::Vector3d footGradient(const Prism& prism, const Eigen::Vector3d& b) {
+  return (b[0] * prism.n[0] + b[1] * prism.n[1] + b[2] * prism.n[2]).normalized();
+}
+
+/// The confidence at a foot (Eq. 13's interpolation).
+inline double footWeight(const Prism& prism, const Eigen::Vector3d& b) {
+  return b[0] * prism.w[0] + b[1] * prism.w[1] + b[2] * prism.w[2];
+}
 
 namespace internal {
 
@@ -63,90 +75,30 @@ bool crossingBeyond(const Eigen::Vector3d& A, const Eigen::Vector3d& B, const Ei
 bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
                         PrismHit& hit);
 
-/// The voxel rows a prism may cross: rows run along the longest side of the prism's box, and
-/// each is cut to where it lies between five slabs that hold the prism's six corner points
-/// (and so the whole prism, a blend of its corners): across its two end triangles and its
-/// three sides. Cheap (a few products a row) and never too short, so the exact solve at each
-/// voxel left decides, as it does for every voxel of the box.
-class PrismRows {
- public:
-  PrismRows(const Prism& prism, const VoxelGrid& grid);
+/// The foot of x in the prism (the root of smallest |d| whose iso-triangle holds x), false
+/// when x lies outside: solvePrismDistance without the closest point, gradient and weight.
+bool solvePrismFoot(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
+                    PrismFoot& foot);
 
-  bool empty() const { return (lo.array() > hi.array()).any(); }
-  /// Voxels [a0, a1] along `along` of the row at (vb, vc) on the two other axes, false if none.
-  bool span(int vb, int vc, int& a0, int& a1) const;
+/// Most feet solveFeet takes at once.
+constexpr int kFootBatch = 16;
 
-  int along = 0, b = 1, c = 2;  ///< the rows' axis and the two fixed ones
-  VoxelIndex lo, hi;            ///< voxels of the prism's box
+/// The feet of n <= kFootBatch points, as solvePrismFoot finds them (inside[i] says whether
+/// points[i] lies in the prism), in one pass per step over all points: the points' solves
+/// are independent, so the processor overlaps them instead of waiting on one chain of
+/// divisions and branches at a time. Every point takes a fixed number of Newton steps from
+/// the linear root; one whose cubic may have several roots in range, or whose last step is
+/// not at rounding (bracketedRoot's test), is solved by solvePrismFoot.
+void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d* points, int n,
+               PrismFoot* feet, bool* inside);
 
- private:
-  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along);
-  /// perStepInv is 1 / perStep (0 when perStep is), as a product is cheaper than a division.
-  struct Slab {
-    double lo, hi, atRow0, perB, perC, perStep, perStepInv;
-  };
-  static constexpr int kSlabs = 5;
-  Slab slabs_[kSlabs];
-  int count_ = 0;
-};
+/// Fills the rest of a hit from its foot (the same bits as solvePrismDistance).
+void completeHit(const Prism& prism, const PrismFoot& foot, PrismHit& hit);
 
-inline bool PrismRows::span(int vb, int vc, int& a0, int& a1) const {
-  double from = lo[along], to = hi[along];
-  for (int k = 0; k < count_; ++k) {
-    const Slab& s = slabs_[k];
-    const double at = s.atRow0 + s.perB * vb + s.perC * vc;
-    if (s.perStep == 0) {
-      if (at < s.lo || at > s.hi) return false;
-      continue;
-    }
-    double t0 = (s.lo - at) * s.perStepInv, t1 = (s.hi - at) * s.perStepInv;
-    if (t0 > t1) std::swap(t0, t1);
-    from = std::max(from, t0);
-    to = std::min(to, t1);
-    if (from > to) return false;
-  }
-  if (!(from <= to)) return false;
-  const double pad = 1e-6;  // lattice units: rounding never cuts a voxel the solve would keep
-  a0 = std::max(lo[along], static_cast<int>(std::ceil(from - pad)));
-  a1 = std::min(hi[along], static_cast<int>(std::floor(to + pad)));
-  return a0 <= a1;
-}
-
-/// Visits the voxels of `rows` (PrismRows of the prism, perhaps with a smaller box) that lie
-/// inside the prism.
-template <class Visit>
-void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& rows,
-                   Visit&& visit) {
-  if (rows.empty()) return;
-  const PrismCubic cubic(prism);
-  PrismHit hit;
-  VoxelIndex v;
-  int a0, a1;
-  for (v[rows.b] = rows.lo[rows.b]; v[rows.b] <= rows.hi[rows.b]; ++v[rows.b])
-    for (v[rows.c] = rows.lo[rows.c]; v[rows.c] <= rows.hi[rows.c]; ++v[rows.c]) {
-      if (!rows.span(v[rows.b], v[rows.c], a0, a1)) continue;
-      for (v[rows.along] = a0; v[rows.along] <= a1; ++v[rows.along])
-        if (solvePrismDistance(prism, cubic, grid.centre(v), hit)) visit(v, hit);
-    }
-}
-
-}  // namespace internal
-
-/// Visits every voxel centre inside the prism: visit(VoxelIndex, PrismHit), each once. Rows
-/// of the bounding box are cut to the prism's slabs (internal::PrismRows), so most outside
-/// voxels are never solved for.
-template <class Visit>
-void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
-  internal::rasterizeRows(prism, grid, internal::PrismRows(prism, grid), visit);
-}
-
-/// Reference for rasterizePrism: solves at every voxel of the bounding box.
-void rasterizePrismBruteForce(const Prism& prism, const VoxelGrid& grid, const PrismVisitor& visit);
-
-namespace internal {
 /// Real roots of c0 + c1 x + c2 x^2 + c3 x^3 in [lo, hi], ascending; robust to any
 /// leading coefficient being zero.
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]);
+
 }  // namespace internal
 
 }  // namespace rangefuse

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "rangefuse/core/Limits.h"
-#include "rangefuse/prism/Prism.h"
+#include "rangefuse/prism/PrismRaster.h"
 #include "rangefuse/robust/SightMap.h"
 #include "rangefuse/robust/SurfaceHypotheses.h"
 #include "rangefuse/surface/ScanSurface.h"

@@ -1,0 +1,114 @@
+// Rasterisation of fundamental prisms: the voxels a prism holds, found row by row.
+#pragma once
+
+#include <functional>
+
+#include "rangefuse/prism/Prism.h"
+#include "rangefuse/volume/VoxelGrid.h"
+
+namespace rangefuse {
+
+using PrismVisitor = std::function<void(const VoxelIndex&, const PrismHit&)>;
+
+namespace internal {
+
+/// The voxel rows a prism may cross: rows run along the longest side of the prism's box, and
+/// each is cut to where it lies between five slabs that hold the prism's six corner points
+/// (and so the whole prism, a blend of its corners): across its two end triangles and its
+/// three sides. Cheap (a few products a row) and never too short, so the exact solve at each
+/// voxel left decides, as it does for every voxel of the box.
+class PrismRows {
+ public:
+  PrismRows(const Prism& prism, const VoxelGrid& grid);
+
+  bool empty() const { return (lo.array() > hi.array()).any(); }
+  /// Voxels [a0, a1] along `along` of the row at (vb, vc) on the two other axes, false if none.
+  bool span(int vb, int vc, int& a0, int& a1) const;
+
+  int along = 0, b = 1, c = 2;  ///< the rows' axis and the two fixed ones
+  VoxelIndex lo, hi;            ///< voxels of the prism's box
+
+ private:
+  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along);
+  /// perStepInv is 1 / perStep (0 when perStep is), as a product is cheaper than a division.
+  struct Slab {
+    double lo, hi, atRow0, perB, perC, perStep, perStepInv;
+  };
+  static constexpr int kSlabs = 5;
+  Slab slabs_[kSlabs];
+  int count_ = 0;
+};
+
+inline bool PrismRows::span(int vb, int vc, int& a0, int& a1) const {
+  double from = lo[along], to = hi[along];
+  for (int k = 0; k < count_; ++k) {
+    const Slab& s = slabs_[k];
+    const double at = s.atRow0 + s.perB * vb + s.perC * vc;
+    if (s.perStep == 0) {
+      if (at < s.lo || at > s.hi) return false;
+      continue;
+    }
+    double t0 = (s.lo - at) * s.perStepInv, t1 = (s.hi - at) * s.perStepInv;
+    if (t0 > t1) std::swap(t0, t1);
+    from = std::max(from, t0);
+    to = std::min(to, t1);
+    if (from > to) return false;
+  }
+  if (!(from <= to)) return false;
+  const double pad = 1e-6;  // lattice units: rounding never cuts a voxel the solve would keep
+  a0 = std::max(lo[along], static_cast<int>(std::ceil(from - pad)));
+  a1 = std::min(hi[along], static_cast<int>(std::floor(to + pad)));
+  return a0 <= a1;
+}
+
+/// Visits the voxels of `rows` (PrismRows of the prism, perhaps with a smaller box) that lie
+/// inside the prism: visit(VoxelIndex, PrismFoot).
+template <class Visit>
+void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& rows,
+                   Visit&& visit) {
+  if (rows.empty()) return;
+  const PrismCubic cubic(prism);
+  VoxelIndex voxels[kFootBatch];
+  Eigen::Vector3d centres[kFootBatch];
+  PrismFoot feet[kFootBatch];
+  bool inside[kFootBatch];
+  int n = 0;
+  const auto flush = [&] {
+    solveFeet(prism, cubic, centres, n, feet, inside);
+    for (int i = 0; i < n; ++i)
+      if (inside[i]) visit(voxels[i], feet[i]);
+    n = 0;
+  };
+  VoxelIndex v;
+  int a0, a1;
+  for (v[rows.b] = rows.lo[rows.b]; v[rows.b] <= rows.hi[rows.b]; ++v[rows.b])
+    for (v[rows.c] = rows.lo[rows.c]; v[rows.c] <= rows.hi[rows.c]; ++v[rows.c]) {
+      if (!rows.span(v[rows.b], v[rows.c], a0, a1)) continue;
+      for (v[rows.along] = a0; v[rows.along] <= a1; ++v[rows.along]) {
+        voxels[n] = v;
+        centres[n] = grid.centre(v);
+        if (++n == kFootBatch) flush();
+      }
+    }
+  if (n > 0) flush();
+}
+
+}  // namespace internal
+
+/// Visits every voxel centre inside the prism: visit(VoxelIndex, PrismHit), each once. Rows
+/// of the bounding box are cut to the prism's slabs (internal::PrismRows), so most outside
+/// voxels are never solved for.
+template <class Visit>
+void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
+  PrismHit hit;
+  internal::rasterizeRows(prism, grid, internal::PrismRows(prism, grid),
+                          [&](const VoxelIndex& v, const PrismFoot& foot) {
+                            internal::completeHit(prism, foot, hit);
+                            visit(v, hit);
+                          });
+}
+
+/// Reference for rasterizePrism: solves at every voxel of the bounding box.
+void rasterizePrismBruteForce(const Prism& prism, const VoxelGrid& grid, const PrismVisitor& visit);
+
+}  // namespace rangefuse
