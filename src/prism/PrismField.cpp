@@ -122,14 +122,20 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   BrickCoord lastBrick(-1, -1, -1);
   int64_t lastLocal = -1;
   Prism prism;
-  auto visit = [&](const VoxelIndex& v, const PrismFoot& foot) {
+  // A voxel's sample is fetched while the batch it joins is solved (it is rarely cached: an
+  // image's voxels are spread over the whole field); voxels of other ranks' bricks are skipped.
+  auto slotOf = [&](const VoxelIndex& v) -> int64_t {
     const BrickCoord b = brickOf(v, grid.brick);
     if (b != lastBrick) {
       lastBrick = b;
       lastLocal = store_.localBrick(mortonEncode(b));
     }
-    if (lastLocal < 0) return;
+    if (lastLocal < 0) return -1;
     const size_t at = store_.offset(lastLocal, lastBrick, v);
+    __builtin_prefetch(&scratch_[at]);
+    return static_cast<int64_t>(at);
+  };
+  auto visit = [&](const VoxelIndex&, int64_t at, const PrismFoot& foot) {
     Sample& s = scratch_[at];
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
     if (!(std::abs(foot.d) < std::abs(s.d))) return;
@@ -149,7 +155,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     internal::PrismRows rows(prism, grid);
     rows.lo.z() = std::max(rows.lo.z(), slab.zLo);
     rows.hi.z() = std::min(rows.hi.z(), slab.zHi);
-    internal::rasterizeRows(prism, grid, rows, visit);
+    internal::rasterizeRows(prism, grid, rows, slotOf, visit);
   }
   return counted;
 }

@@ -1,6 +1,7 @@
 // Rasterisation of fundamental prisms: the voxels a prism holds, found row by row.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 
 #include "rangefuse/prism/Prism.h"
@@ -62,13 +63,15 @@ inline bool PrismRows::span(int vb, int vc, int& a0, int& a1) const {
 }
 
 /// Visits the voxels of `rows` (PrismRows of the prism, perhaps with a smaller box) that lie
-/// inside the prism: visit(VoxelIndex, PrismFoot).
-template <class Visit>
+/// inside the prism: slotOf(VoxelIndex) is asked first, as a voxel joins a batch of feet to
+/// solve (a negative answer skips it), then visit(VoxelIndex, slot, PrismFoot) for those inside.
+template <class SlotOf, class Visit>
 void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& rows,
-                   Visit&& visit) {
+                   SlotOf&& slotOf, Visit&& visit) {
   if (rows.empty()) return;
   const PrismCubic cubic(prism);
   VoxelIndex voxels[kFootBatch];
+  int64_t slots[kFootBatch];
   Eigen::Vector3d centres[kFootBatch];
   PrismFoot feet[kFootBatch];
   bool inside[kFootBatch];
@@ -76,7 +79,7 @@ void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& r
   const auto flush = [&] {
     solveFeet(prism, cubic, centres, n, feet, inside);
     for (int i = 0; i < n; ++i)
-      if (inside[i]) visit(voxels[i], feet[i]);
+      if (inside[i]) visit(voxels[i], slots[i], feet[i]);
     n = 0;
   };
   VoxelIndex v;
@@ -85,7 +88,10 @@ void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& r
     for (v[rows.c] = rows.lo[rows.c]; v[rows.c] <= rows.hi[rows.c]; ++v[rows.c]) {
       if (!rows.span(v[rows.b], v[rows.c], a0, a1)) continue;
       for (v[rows.along] = a0; v[rows.along] <= a1; ++v[rows.along]) {
+        const int64_t slot = slotOf(v);
+        if (slot < 0) continue;
         voxels[n] = v;
+        slots[n] = slot;
         centres[n] = grid.centre(v);
         if (++n == kFootBatch) flush();
       }
@@ -101,11 +107,12 @@ void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& r
 template <class Visit>
 void rasterizePrism(const Prism& prism, const VoxelGrid& grid, Visit&& visit) {
   PrismHit hit;
-  internal::rasterizeRows(prism, grid, internal::PrismRows(prism, grid),
-                          [&](const VoxelIndex& v, const PrismFoot& foot) {
-                            internal::completeHit(prism, foot, hit);
-                            visit(v, hit);
-                          });
+  internal::rasterizeRows(
+      prism, grid, internal::PrismRows(prism, grid), [](const VoxelIndex&) -> int64_t { return 0; },
+      [&](const VoxelIndex& v, int64_t, const PrismFoot& foot) {
+        internal::completeHit(prism, foot, hit);
+        visit(v, hit);
+      });
 }
 
 /// Reference for rasterizePrism: solves at every voxel of the bounding box.
