@@ -140,7 +140,8 @@ BandRules bandRules(const ColumnReader& read, int cols, int rows, const SurfaceO
                                                       std::max(16, positions / rules.k))
                                        : fine;
   // gridTriangulation's rules, read from the sample of the merged grid.
-  rules.triangulation = {options.maxEdgeFactor * gridSpacing(merged, kSamplePeriod),
+  rules.triangulation = {mergedEdgeLimit(gridSpacing(merged, kSamplePeriod), rules.step, rules.k,
+                                         options.maxEdgeFactor),
                          options.minCosine, internal::facesSensor(merged),
                          internal::wrapsAround(merged, blockCount(rules))};
   return rules;

@@ -79,6 +79,10 @@ int mergeFactor(double spacing, double target, int shortSide) {
   return static_cast<int>(std::min<double>(largest, std::floor(target / spacing)));
 }
 
+double mergedEdgeLimit(double mergedStep, double fineStep, int k, double maxEdgeFactor) {
+  return maxEdgeFactor * std::max(mergedStep, k * fineStep);
+}
+
 RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFactor) {
   if (k <= 1) return g;
   RangeGrid out;

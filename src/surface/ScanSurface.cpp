@@ -5,22 +5,31 @@
 #include "rangefuse/surface/GridMerging.h"
 
 namespace rangefuse {
+namespace {
+
+/// The grid triangulated by `rules`, with filtered normals, placed by `pose`.
+ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, const Pose& pose,
+                      int normalPasses) {
+  TriangleMesh mesh = triangulateGrid(grid, rules);
+  const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, normalPasses);
+  return orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
+}
+
+}  // namespace
 
 ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
                              const SurfaceOptions& options) {
-  if (options.mergeTarget > 0) {
-    const int k =
-        mergeFactor(lateralSpacing(grid), options.mergeTarget, std::min(grid.cols, grid.rows));
-    SurfaceOptions merged = options;
-    merged.mergeTarget = 0;
-    if (k > 1) {
-      const RangeGrid coarse = mergeCells(grid, k, gridSpacing(grid), options.maxEdgeFactor);
-      return buildScanSurface(coarse, pose, merged);
-    }
+  const int k = options.mergeTarget > 0 ? mergeFactor(lateralSpacing(grid), options.mergeTarget,
+                                                      std::min(grid.cols, grid.rows))
+                                        : 1;
+  if (k > 1) {
+    const double fineStep = gridSpacing(grid);
+    const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor);
+    GridTriangulation rules = gridTriangulation(coarse, options);
+    rules.maxEdge = mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor);
+    return surfaceOf(coarse, rules, pose, options.normalPasses);
   }
-  TriangleMesh mesh = triangulateGrid(grid, options);
-  const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
-  return orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
+  return surfaceOf(grid, gridTriangulation(grid, options), pose, options.normalPasses);
 }
 
 ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,

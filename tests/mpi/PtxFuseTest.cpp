@@ -10,6 +10,7 @@
 #include "rangefuse/eval/Comparison.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/io/ScanFiles.h"
@@ -37,10 +38,10 @@ FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
   return o;
 }
 
-/// Three stations of 480 x 200 points in the synthetic room, noise 0.3 voxel.
-SyntheticSet roomStations(double voxel) {
+/// Three stations of (480 x 200) * density^2 points in the synthetic room, noise 0.3 voxel.
+SyntheticSet roomStations(double voxel, int density = 1) {
   ScanSettings s;
-  s.views = 3, s.width = 480, s.height = 200, s.voxel = voxel, s.noise = 0.3;
+  s.views = 3, s.width = 480 * density, s.height = 200 * density, s.voxel = voxel, s.noise = 0.3;
   s.path = ViewPath::Stations;
   return scanMesh(makeRoom(), s);
 }
@@ -161,6 +162,39 @@ TEST(PtxFuse, StationsReadInBandsFuseTheSameOnAnyRankCountAndAsCloseToTheRoom) {
   EXPECT_NEAR(b.accuracy.mean, a.accuracy.mean, 0.01 * voxel);
   EXPECT_NEAR(b.recall, a.recall, 0.005);
   EXPECT_GT(b.precision, 0.99);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PtxFuse, DenseStationsMergedToTheVoxelKeepTheirAccuracy) {
+  // Twice the angular resolution: cells about 2 cm apart on the walls against 5 cm voxels, so
+  // --merge-cells 1 merges the spherical grids in blocks of 2 x 2 (their azimuths and
+  // elevations stay a station's: the seam still closes).
+  const std::string dir = test::sharedTempPath("ptx-dense");
+  const double voxel = 0.05;
+  writeStations(roomStations(voxel, 2), dir, "room.ptx");
+  const CompareSettings compare{voxel, 3 * voxel, 50000, 1};
+  MeshComparison c[2];
+  uint64_t triangles[2];
+  for (int merge = 0; merge < 2; ++merge) {
+    FuseOptions o = fuseOptions(dir + "/room.ptx", dir + "/m" + std::to_string(merge) + ".ply");
+    o.voxel = voxel;
+    o.mergeCells = merge;
+    o.report = dir + "/m" + std::to_string(merge) + ".json";
+    ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+    if (mpi::rank() != 0) continue;
+    c[merge] = compareMeshes(io::readMeshPly(o.out), makeRoom(), compare);
+    triangles[merge] = io::readJson(o.report)["inputs"]["scan_triangles"].get<uint64_t>();
+  }
+  if (mpi::rank() != 0) return;
+  std::printf(
+      "dense stations: %llu triangles, chamfer %.4f voxel, recall %.4f; merged %llu, "
+      "%.4f, %.4f\n",
+      static_cast<unsigned long long>(triangles[0]), c[0].chamfer / voxel, c[0].recall,
+      static_cast<unsigned long long>(triangles[1]), c[1].chamfer / voxel, c[1].recall);
+  EXPECT_LT(triangles[1] * 3, triangles[0]);
+  EXPECT_LE(c[1].chamfer, std::max(1.1 * c[0].chamfer, c[0].chamfer + 0.01 * voxel));
+  EXPECT_GT(c[1].precision, 0.99);
+  EXPECT_NEAR(c[1].recall, c[0].recall, 0.01);
   std::filesystem::remove_all(dir);
 }
 

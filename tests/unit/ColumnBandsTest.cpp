@@ -108,7 +108,8 @@ TEST(ColumnBands, TheSampledRulesAreTheWholeGridsOwn) {
     const int k = o.mergeTarget > 0 ? mergeFactor(lateral, o.mergeTarget, g.rows) : 1;
     EXPECT_EQ(rules.k, k);
     const RangeGrid merged = mergeCells(g, k, gridSpacing(g), o.maxEdgeFactor);
-    const GridTriangulation whole = gridTriangulation(merged, o);
+    GridTriangulation whole = gridTriangulation(merged, o);  // buildScanSurface's rules
+    whole.maxEdge = mergedEdgeLimit(gridSpacing(merged), gridSpacing(g), k, o.maxEdgeFactor);
     EXPECT_TRUE(rules.triangulation.wraps);
     EXPECT_EQ(rules.triangulation.wraps, whole.wraps);
     EXPECT_EQ(rules.triangulation.forward, whole.forward);

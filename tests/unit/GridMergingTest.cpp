@@ -1,6 +1,8 @@
 // Merging range-grid cells: known answers on planes, depth edges and pinhole pixels.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "rangefuse/surface/GridMerging.h"
 #include "rangefuse/surface/ScanSurface.h"
 
@@ -94,6 +96,41 @@ TEST(GridMerging, ABlockAcrossADepthEdgeKeepsItsCentresSide) {
     EXPECT_NEAR(planeOffset(m.points[m.at(R, 1)]), 0, 1e-12) << "block row " << R;
     EXPECT_GT(std::abs(planeOffset(m.points[m.at(R, 2)])), 0.5);
   }
+}
+
+TEST(GridMerging, AMergedNoisyGrazingFloorKeepsTheTrianglesOfTheFineGrid) {
+  // A wall facing the sensor over 70 % of the rows, then a floor receding from it (steps along
+  // the rows six times the wall's), with range noise above a cell's step. The noise lengthens
+  // the fine grid's median step, averaging removes it, and the merged grid's own median alone
+  // would drop the floor's long triangles, which the fine grid keeps.
+  RangeGrid g;
+  g.cols = 90, g.rows = 120;
+  g.cell.assign(static_cast<size_t>(g.cols) * g.rows, -1);
+  uint32_t state = 1;
+  const auto noise = [&] {  // uniform in [-1, 1], the same on every platform
+    state = state * 1664525u + 1013904223u;
+    return 2.0 * (state >> 8) / double(1u << 24) - 1;
+  };
+  const int floorFrom = 84;
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const int f = std::max(0, r - floorFrom);
+      g.cell[static_cast<size_t>(r) * g.cols + c] = static_cast<int32_t>(g.points.size());
+      g.points.emplace_back(0.01 * c, 0.01 * (r - f) + 0.02 * f, -5 - 0.057 * f + 0.03 * noise());
+    }
+  const auto floorShare = [&](const ScanSurface& s, double cells) {
+    size_t n = 0;
+    for (const Triangle& t : s.triangles) n += s.points[t[0]].z() < -5.2;
+    return n / (2 * cells);
+  };
+  SurfaceOptions o;
+  const double fine = floorShare(buildScanSurface(g, Pose{}, o), 89.0 * (g.rows - floorFrom - 5));
+  o.mergeTarget = 3.5 * lateralSpacing(g);
+  ASSERT_EQ(mergeFactor(lateralSpacing(g), o.mergeTarget, g.cols), 3);
+  const double merged = floorShare(buildScanSurface(g, Pose{}, o), 29.0 * (g.rows - floorFrom) / 3);
+  std::printf("floor triangles kept: fine %.3f, merged %.3f\n", fine, merged);
+  EXPECT_GT(fine, 0.5);
+  EXPECT_GT(merged, 0.8 * fine);
 }
 
 }  // namespace

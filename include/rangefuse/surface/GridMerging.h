@@ -21,6 +21,13 @@ double lateralSpacing(const RangeGrid& grid, int downEvery = 1);
 /// origin: a station's angular step, whatever the range.
 double angularSpacing(const RangeGrid& grid, int downEvery = 1);
 
+/// The longest triangle edge a grid merged in blocks of k keeps: maxEdgeFactor times the
+/// larger of its own step and k fine steps. Averaging removes range noise, which had lengthened
+/// the fine grid's median step (twice over at noise of a cell's size), so the merged grid's own
+/// step alone would drop oblique triangles that the fine grid keeps: far floors seen by a
+/// scanner station.
+double mergedEdgeLimit(double mergedStep, double fineStep, int k, double maxEdgeFactor);
+
 /// The grid with each k x k block of cells merged into one: the mean of the block's points that
 /// lie on the surface of its most central point (within maxEdgeFactor grid steps per cell of
 /// separation, the triangulation's own test), so that a block across a depth edge keeps only the
