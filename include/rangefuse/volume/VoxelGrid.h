@@ -39,6 +39,9 @@ struct VoxelGrid {
 
 /// Floor division, for brick coordinates of negative voxel indices.
 inline int floorDiv(int a, int b) {
+  // Bricks of 8 (the default) or any power of two: a shift, not a division (a voxel's brick is
+  // asked at every voxel a prism holds). GCC and Clang shift negative ints arithmetically.
+  if ((b & (b - 1)) == 0) return a >> __builtin_ctz(static_cast<unsigned>(b));
   return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
