@@ -35,6 +35,17 @@ done
 cmp "$tmp/tum1.ply" "$tmp/tum2.ply"
 cmp "$tmp/tum1.ply" "$tmp/tum3.ply"
 echo "depth sequence (TUM, robust): 1, 2 and 3 ranks give identical meshes"
+# Scanner stations in one PTX file, dense enough to be merged and read in bands of columns.
+"$bin" scan --shape room --path stations --views 2 --width 480 --height 200 --voxel 0.08 \
+  --noise 0.3 --format ptx --out "$tmp/room" >/dev/null
+for n in 1 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/room/stations.ptx" --voxel 0.08 \
+    --band-cells 30000 --out "$tmp/room$n.ply" >"$tmp/log$n"
+done
+grep -q "with large ones in bands" "$tmp/log1"
+cmp "$tmp/room1.ply" "$tmp/room2.ply"
+cmp "$tmp/room1.ply" "$tmp/room3.ply"
+echo "stations (PTX, merged, in bands): 1, 2 and 3 ranks give identical meshes"
 # Registration: identical poses and meshes too.
 "$bin" scan --shape composite --views 6 --width 120 --height 90 --voxel 1 --rot-deg 2 \
   --trans-vox 2 --out "$tmp/synth" >/dev/null
