@@ -64,8 +64,19 @@ void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxe
   std::vector<BrickWork> part(parts);
   parallelFor(parts, threads, [&](size_t k) {
     BrickWork& mine = parts == 1 ? work : part[k];
-    for (size_t t = n * k / parts; t < n * (k + 1) / parts; ++t)
-      addBoxWork(grid, prismBounds(scanPrism(scan, t)), maxVoxels, mine);
+    // Neighbouring triangles (grid order) mostly touch the same bricks: added once a run.
+    BrickCoord runLo, runHi, lo, hi;
+    uint64_t run = 0;
+    for (size_t t = n * k / parts; t < n * (k + 1) / parts; ++t) {
+      if (!bricksOfBox(grid, prismBounds(scanPrism(scan, t)), lo, hi)) continue;
+      if (run > 0 && lo == runLo && hi == runHi) {
+        ++run;
+        continue;
+      }
+      if (run > 0) addBrickWork(grid, runLo, runHi, run, maxVoxels, mine);
+      runLo = lo, runHi = hi, run = 1;
+    }
+    if (run > 0) addBrickWork(grid, runLo, runHi, run, maxVoxels, mine);
   });
   if (parts > 1)
     for (const BrickWork& p : part) addWork(p, grid, maxVoxels, work);

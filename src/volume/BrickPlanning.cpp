@@ -68,19 +68,19 @@ bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoo
   return true;
 }
 
-void addBoxWork(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, uint64_t maxVoxels,
-                BrickWork& work) {
-  BrickCoord lo, hi, b;
-  if (!bricksOfBox(grid, box, lo, hi)) return;
+void addBrickWork(const VoxelGrid& grid, const BrickCoord& lo, const BrickCoord& hi, uint64_t count,
+                  uint64_t maxVoxels, BrickWork& work) {
   // One huge box or many small ones: either way refused before the map grows.
+  const double perBrick = static_cast<double>(grid.brick) * grid.brick * grid.brick;
   const double voxels =
       (static_cast<double>(work.size()) + (hi - lo + BrickCoord::Ones()).cast<double>().prod()) *
-      std::pow(grid.brick, 3);
+      perBrick;
   if (voxels > static_cast<double>(maxVoxels))
     checkVoxels(grid, "voxels needed near the surface (estimate):", voxels, maxVoxels);
+  BrickCoord b;
   for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
     for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
-      for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) ++work[mortonEncode(b)];
+      for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) work[mortonEncode(b)] += count;
 }
 
 void addWork(const BrickWork& part, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work) {

@@ -42,7 +42,7 @@ VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, 
 /// guarantee), so that the scans can be added to a field on this grid.
 bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, double eps);
 
-/// Adds one to the work of every brick a prism of the scan touches (see addBoxWork), with the
+/// Adds one to the work of every brick a prism of the scan touches (see addBrickWork), with the
 /// triangles shared among `threads`.
 void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
                   int threads = 1);

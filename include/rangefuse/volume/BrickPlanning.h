@@ -29,13 +29,13 @@ bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoo
                  BrickCoord& hi);
 
 /// Adds the work of `part` (planned apart, e.g. on another thread) to `work`; refuses the sum
-/// as addBoxWork does.
+/// as addBrickWork does.
 void addWork(const BrickWork& part, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work);
 
-/// Adds one to the work of every brick `box` touches. Throws InputError, before the map
+/// Adds `count` to the work of every brick in [lo, hi]. Throws InputError, before the map
 /// grows, when the bricks would hold more than maxVoxels voxels.
-void addBoxWork(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, uint64_t maxVoxels,
-                BrickWork& work);
+void addBrickWork(const VoxelGrid& grid, const BrickCoord& lo, const BrickCoord& hi, uint64_t count,
+                  uint64_t maxVoxels, BrickWork& work);
 
 /// The bricks of `work`, Morton-sorted and split over `ranks` runs of near-equal work.
 BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ranks);
