@@ -96,13 +96,16 @@ int monotonicRoot(const double c[4], double lo, double hi, double roots[3]) {
 
 }  // namespace
 
-int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {
+bool cubicMonotonicIn(const double c[4], double lo, double hi) {
   // Most prisms are nearly straight: the slope then keeps c1's sign over the whole range
-  // (|c1| beats the other terms of the derivative), so there is one root at most.
+  // (|c1| beats the other terms of the derivative).
   const double r = std::max(std::abs(lo), std::abs(hi));
-  if (std::abs(c[1]) > 1.01 * (2 * std::abs(c[2]) * r + 3 * std::abs(c[3]) * r * r))
-    return monotonicRoot(c, lo, hi, roots);
-  if (slopeKeepsSign(c, lo, hi)) return monotonicRoot(c, lo, hi, roots);
+  if (std::abs(c[1]) > 1.01 * (2 * std::abs(c[2]) * r + 3 * std::abs(c[3]) * r * r)) return true;
+  return slopeKeepsSign(c, lo, hi);
+}
+
+int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {
+  if (cubicMonotonicIn(c, lo, hi)) return monotonicRoot(c, lo, hi, roots);
   double knots[4] = {lo};
   int nk = 1 + criticalPoints(c, lo, hi, knots + 1);
   knots[nk++] = hi;

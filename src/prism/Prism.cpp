@@ -107,6 +107,17 @@ PrismCubic::PrismCubic(const Prism& prism) {
   Nn = N.dot(prism.n[0]), Kn = K.dot(prism.n[0]), Ln = L.dot(prism.n[0]);
 }
 
+Eigen::Vector3d isoBarycentric(const Prism& prism, const PrismCubic& cubic,
+                               const Eigen::Vector3d& x, double d) {
+  const Eigen::Vector3d m = cubic.N + d * (cubic.K + d * cubic.L);  // T(d)'s normal
+  const Eigen::Vector3d q1 = prism.p[0] - x + d * prism.n[0], q2 = prism.p[1] - x + d * prism.n[1],
+                        q3 = prism.p[2] - x + d * prism.n[2];  // T(d) - x
+  Eigen::Vector3d b(q2.cross(q3).dot(m), q3.cross(q1).dot(m), 0);
+  b /= m.squaredNorm();
+  b[2] = 1 - b[0] - b[1];
+  return b;
+}
+
 bool solvePrismFoot(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
                     PrismFoot& foot) {
   const Eigen::Vector3d w = prism.p[0] - x;
@@ -118,16 +129,8 @@ bool solvePrismFoot(const Prism& prism, const PrismCubic& cubic, const Eigen::Ve
   for (int k = 0; k < nr; ++k) {
     const double d = roots[k];
     if (found && std::abs(d) >= std::abs(foot.d)) continue;
-    const Eigen::Vector3d m = cubic.N + d * (cubic.K + d * cubic.L);  // T(d)'s normal
-    const double area2 = m.squaredNorm();
-    if (area2 == 0) continue;
-    const Eigen::Vector3d q1 = w + d * prism.n[0], q2 = prism.p[1] - x + d * prism.n[1],
-                          q3 = prism.p[2] - x + d * prism.n[2];  // T(d) - x
-    Eigen::Vector3d b(q2.cross(q3).dot(m), q3.cross(q1).dot(m), 0);
-    b /= area2;
-    b[2] = 1 - b[0] - b[1];
-    const double tol = -1e-9;
-    if (b[0] < tol || b[1] < tol || b[2] < tol) continue;
+    const Eigen::Vector3d b = isoBarycentric(prism, cubic, x, d);
+    if (!baryInside(b)) continue;
     foot.d = d;
     foot.bary = b;
     found = true;

@@ -1,7 +1,7 @@
+#include "rangefuse/prism/PrismRaster.h"
+
 #include <algorithm>
 #include <cmath>
-
-#include "rangefuse/prism/PrismRaster.h"
 
 namespace rangefuse {
 namespace internal {

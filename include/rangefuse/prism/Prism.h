@@ -95,9 +95,24 @@ void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3
 /// Fills the rest of a hit from its foot (the same bits as solvePrismDistance).
 void completeHit(const Prism& prism, const PrismFoot& foot, PrismHit& hit);
 
+/// Barycentric coordinates of x in the iso-triangle T(d); not finite when T(d) has no area.
+Eigen::Vector3d isoBarycentric(const Prism& prism, const PrismCubic& cubic,
+                               const Eigen::Vector3d& x, double d);
+
+/// True when barycentric coordinates lie in the triangle, to a tolerance of 1e-9 (false for
+/// any that is not a number).
+inline bool baryInside(const Eigen::Vector3d& b) {
+  const double tol = -1e-9;
+  return b[0] >= tol && b[1] >= tol && b[2] >= tol;
+}
+
 /// Real roots of c0 + c1 x + c2 x^2 + c3 x^3 in [lo, hi], ascending; robust to any
 /// leading coefficient being zero.
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]);
+
+/// True when the cubic's slope keeps one strict sign over [lo, hi], so that one root at most
+/// lies there (cubicRootsInRange's quick path).
+bool cubicMonotonicIn(const double c[4], double lo, double hi);
 
 }  // namespace internal
 
