@@ -29,12 +29,22 @@ void coefficients(const Prism& prism, const PrismCubic& cubic, const Eigen::Vect
   }
 }
 
+/// True when d, a root Newton converged to, lies in [lo, hi] and no other root lies as near the
+/// generator: the cubic is monotonic from -|d| to |d|. A cubic that turns in the envelope (a
+/// tilted prism's, far from the generator) then needs no search of all its roots when the
+/// nearest one's iso-triangle holds the point, which solvePrismFoot would pick.
+bool nearestRootInside(const double c[4], double d, double lo, double hi) {
+  if (!(d >= lo && d <= hi)) return false;
+  const double r = std::abs(d);
+  return cubicMonotonicIn(c, std::max(lo, -r), std::min(hi, r));
+}
+
 }  // namespace
 
 void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d* points, int n,
                PrismFoot* feet, bool* inside) {
   double c[kFootBatch][4], d[kFootBatch];
-  bool settled[kFootBatch], root[kFootBatch];
+  bool root[kFootBatch];
   const double lo = prism.dMin, hi = prism.dMax;
   coefficients(prism, cubic, points, n, c);
   // Each loop below runs over every point without branching on it: the points' chains of
@@ -48,23 +58,28 @@ void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3
     for (int i = 0; i < n; ++i)
       d[i] = std::clamp(d[i] - cubicAt(c[i], d[i]) / slopeAt(c[i], d[i]), lo, hi);
   // After the last step the error is about f''/(2 f') times its square (bracketedRoot's test).
+  bool converged[kFootBatch], tiny[kFootBatch];
   for (int i = 0; i < n; ++i) {
     const double tol = 1e-15 * (1 + std::abs(d[i]));
     const double slope = slopeAt(c[i], d[i]), last = cubicAt(c[i], d[i]) / slope;
     const double curvature = 6 * c[i][3] * d[i] + 2 * c[i][2];
-    settled[i] = std::abs(curvature) * last * last <= 2 * tol * std::abs(slope);  // NaN: false
+    converged[i] = std::abs(curvature) * last * last <= 2 * tol * std::abs(slope);  // NaN: false
+    tiny[i] = std::abs(last) <= 1e-9 * (hi - lo);  // a root, not a clamped end of a line
     d[i] -= last;
   }
-  for (int i = 0; i < n; ++i) settled[i] = settled[i] && cubicMonotonicIn(c[i], lo, hi);
   Eigen::Vector3d b[kFootBatch];
   for (int i = 0; i < n; ++i) b[i] = isoBarycentric(prism, cubic, points[i], d[i]);
   for (int i = 0; i < n; ++i) {
-    if (!settled[i]) {
+    if (converged[i] && cubicMonotonicIn(c[i], lo, hi)) {
+      inside[i] = root[i] && baryInside(b[i]);  // false without area (coordinates not finite)
+      if (inside[i]) feet[i] = PrismFoot{d[i], b[i]};
+    } else if (converged[i] && tiny[i] && nearestRootInside(c[i], d[i], lo, hi) &&
+               baryInside(b[i])) {
+      inside[i] = true;
+      feet[i] = PrismFoot{d[i], b[i]};
+    } else {
       inside[i] = solvePrismFoot(prism, cubic, points[i], feet[i]);
-      continue;
     }
-    inside[i] = root[i] && baryInside(b[i]);  // false without area (coordinates not finite)
-    if (inside[i]) feet[i] = PrismFoot{d[i], b[i]};
   }
 }
 
