@@ -41,7 +41,9 @@ PrismRows::PrismRows(const Prism& prism, const VoxelGrid& grid) {
     // Left unnormalised (no root): the margin scales with |m|, bounded above by its 1-norm.
     const Eigen::Vector3d& m = dir;
     const double margin = widen * m.lpNorm<1>();
-    Slab& s = slabs_[count_++];
+    // A slab whose step along the rows has no finite inverse changes nothing along a row.
+    const double perStepInv = 1 / (grid.voxel * m[along]);
+    Slab& s = std::isfinite(perStepInv) ? slabs_[count_++] : flat_[flatCount_++];
     s.lo = s.hi = m.dot(corners[0]);
     for (const auto& k : corners) {
       s.lo = std::min(s.lo, m.dot(k));
@@ -49,8 +51,7 @@ PrismRows::PrismRows(const Prism& prism, const VoxelGrid& grid) {
     }
     s.lo -= margin, s.hi += margin;
     s.atRow0 = m.dot(fromP0);
-    s.perStep = grid.voxel * m[along];
-    s.perStepInv = s.perStep != 0 ? 1 / s.perStep : 0;
+    s.perStepInv = perStepInv;
     s.perB = grid.voxel * m[b];
     s.perC = grid.voxel * m[c];
   }

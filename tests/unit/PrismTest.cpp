@@ -168,6 +168,11 @@ TEST(Prism, RowRasterizationFindsExactlyTheBruteForceVoxels) {
     for (auto& v : p) v = Eigen::Vector3d(pos(rng), pos(rng), pos(rng) * 0.3);
     Eigen::Vector3d fn = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
     for (auto& v : n) v = (fn + Eigen::Vector3d(tilt(rng), tilt(rng), tilt(rng))).normalized();
+    if (t % 10 == 0) {  // flat on the lattice, straight normals: side slabs parallel to the rows
+      for (auto& v : p) v.z() = 0.25 * (t / 10 % 4);
+      n.fill(Eigen::Vector3d::UnitZ());
+      if (t % 20 == 0) std::swap(p[1], p[2]);  // and facing down
+    }
     Prism prism = makePrism(p, n, kW, 3 * grid.voxel);
     std::map<std::array<int, 3>, double> fast, slow;
     rasterizePrism(prism, grid, [&](const VoxelIndex& v, const PrismHit& h) {
