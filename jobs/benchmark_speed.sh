@@ -4,7 +4,7 @@
 # (depth conversion / integrate / extract; its Python loading left out), with the Chamfer
 # distance of both meshes to bun_zipper.ply. Sets: the bunny mesh re-scanned, 24 x 320x240 at
 # 1 mm and 48 x 1024x1024 at 0.5 mm (kept in the cache folder), and the real bunny at 0.5 mm
-# (ours only: its Cyberware grids have no pinhole for Open3D's depth images).
+# (its Cyberware grids have no pinhole: open3d_tsdf.py sees each from a far pinhole).
 # Usage: bash jobs/benchmark_speed.sh [EXTRA FUSE OPTIONS...]   e.g. --merge-cells 0, --threads 1
 # (rangefuse runs as one process without mpirun, so it may use every core, as Open3D does).
 # Environment: CACHE (default /tmp/rangefuse-bench).
@@ -61,6 +61,6 @@ run() {
 extra=("$@")
 s24=$(make_set 24 320 240 0.001 0.5)
 run "synthetic bunny, 24 x 320x240, 1 mm" "$s24/truth.conf" 0.001 "$s24"
-run "real bunny, 10 scans, 0.5 mm" tests/data/bunny/bun.conf 0.0005
+run "real bunny, 10 scans, 0.5 mm" tests/data/bunny/bun.conf 0.0005 tests/data/bunny/bun.conf
 s48=$(make_set 48 1024 1024 0.0005 0.3)
 run "bunny re-scanned, 48 x 1024x1024, 0.5 mm" "$s48/truth.conf" 0.0005 "$s48"
