@@ -89,7 +89,7 @@ bool crossingBeyond(const Eigen::Vector3d& A, const Eigen::Vector3d& B, const Ei
                     const Eigen::Vector3d& nb, const Eigen::Vector3d& ni, double eps) {
   const double nn = ni.squaredNorm();
   if (!(nn > 0)) return false;
-  // One reciprocal, not a division a projection: the bound's 1e-6 margin covers the rounding.
+  // One reciprocal, not a division per projection: the bound's 1e-6 margin covers the rounding.
   const double inv = 1 / nn;
   auto across = [&](const Eigen::Vector3d& x) { return x - (x.dot(ni) * inv) * ni; };
   const Eigen::Vector3d a = across(A), b = across(B);

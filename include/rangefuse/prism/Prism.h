@@ -87,8 +87,9 @@ constexpr int kFootBatch = 16;
 /// points[i] lies in the prism), in one pass per step over all points: the points' solves
 /// are independent, so the processor overlaps them instead of waiting on one chain of
 /// divisions and branches at a time. Every point takes a fixed number of Newton steps from
-/// the linear root; one whose cubic may have several roots in range, or whose last step is
-/// not at rounding (bracketedRoot's test), is solved by solvePrismFoot.
+/// the linear root; one whose last step is not at rounding (bracketedRoot's test), or whose
+/// cubic may have several roots in range and is not shown monotonic from -|d| to |d| around
+/// a root d whose iso-triangle holds it, is solved by solvePrismFoot.
 void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d* points, int n,
                PrismFoot* feet, bool* inside);
 

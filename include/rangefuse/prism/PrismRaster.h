@@ -30,8 +30,9 @@ class PrismRows {
   VoxelIndex lo, hi;            ///< voxels of the prism's box
 
  private:
-  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along);
-  /// kept is perStepInv = 1 / perStep, as a product is cheaper than a division.
+  /// The prism lies where lo <= atRow0 + perB vb + perC vc + perStep a <= hi (a: along).
+  /// perStep is kept as its inverse (a product is cheaper than a division); a slab whose
+  /// inverse is not finite does not vary along a row and goes to flat_.
   struct Slab {
     double lo, hi, atRow0, perB, perC, perStepInv;
   };
