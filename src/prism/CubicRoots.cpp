@@ -104,6 +104,27 @@ bool cubicMonotonicIn(const double c[4], double lo, double hi) {
   return slopeKeepsSign(c, lo, hi);
 }
 
+int rootBrackets(const double c[4], double lo, double hi, double& a, double& b) {
+  double knots[4] = {lo};
+  int nk = 1 + criticalPoints(c, lo, hi, knots + 1);
+  knots[nk++] = hi;
+  int n = 0;
+  double fa = evalCubic(c, lo);
+  for (int i = 1; i < nk; ++i) {
+    const double fb = evalCubic(c, knots[i]);
+    // A root on a knot, or a value that is not a number: the caller searches.
+    if (fa == 0 || fb == 0 || !std::isfinite(fa) || !std::isfinite(fb)) return -1;
+    if ((fa < 0) != (fb < 0)) ++n, a = knots[i - 1], b = knots[i];
+    fa = fb;
+  }
+  return n;
+}
+
+double rootBetween(const double c[4], double a, double b) {
+  const double fa = evalCubic(c, a), fb = evalCubic(c, b);
+  return bracketedRoot(c, a, b, fa, a - fa * (b - a) / (fb - fa));  // secant start
+}
+
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {
   if (cubicMonotonicIn(c, lo, hi)) return monotonicRoot(c, lo, hi, roots);
   double knots[4] = {lo};

@@ -59,6 +59,32 @@ TEST(CubicRoots, EveryRootInRangeAgainstDenseSampling) {
   EXPECT_GT(roots, 1000);
 }
 
+TEST(CubicRoots, RootBracketsCountEveryRootAndHoldTheLast) {
+  // Cubics that turn in range, as a tilted prism's do far from its generator: the count must
+  // be cubicRootsInRange's, and the last bracket must hold its last root.
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int turning = 0, several = 0;
+  for (int t = 0; t < 4000; ++t) {
+    const double c[4] = {0.5 * u(rng), 0.3 * u(rng), u(rng), u(rng)};
+    double r[3], a = 0, b = 0;
+    const int n = internal::cubicRootsInRange(c, -1, 1, r),
+              m = internal::rootBrackets(c, -1, 1, a, b);
+    ASSERT_EQ(m, n) << "cubic " << t;
+    if (!internal::cubicMonotonicIn(c, -1, 1)) ++turning;
+    if (n > 1) ++several;
+    if (n > 0) {
+      EXPECT_LE(a, r[n - 1]) << "cubic " << t;
+      EXPECT_GE(b, r[n - 1]) << "cubic " << t;
+    }
+  }
+  EXPECT_GT(turning, 2000);
+  EXPECT_GT(several, 200);
+  double a, b;
+  const double root[4] = {0, 1, 0, -1};  // x - x^3: roots -1, 0, 1; -1 on the range's end
+  EXPECT_EQ(internal::rootBrackets(root, -1, 2, a, b), -1);
+}
+
 TEST(Prism, CubicIsTheDeterminantOfTheIsoTriangle) {
   // Eq. 6's det[T(d) - x], expanded once per prism, against the determinant itself.
   std::mt19937 rng(9);

@@ -111,6 +111,15 @@ inline bool baryInside(const Eigen::Vector3d& b) {
 /// leading coefficient being zero.
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]);
 
+/// How many roots the cubic has in [lo, hi], one in each of its monotonic pieces there whose
+/// ends differ in sign, and [a, b], the last such piece; -1 when that does not settle it (a
+/// value of zero at an end of a piece, or one that is not finite).
+int rootBrackets(const double c[4], double lo, double hi, double& a, double& b);
+
+/// The root in [a, b] of a cubic monotonic there whose ends differ in sign (a bracket of
+/// rootBrackets), as cubicRootsInRange finds it.
+double rootBetween(const double c[4], double a, double b);
+
 /// True when the cubic's slope keeps one strict sign over [lo, hi], so that one root at most
 /// lies there (cubicRootsInRange's quick path).
 bool cubicMonotonicIn(const double c[4], double lo, double hi);
