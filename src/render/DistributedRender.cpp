@@ -9,7 +9,7 @@ namespace {
 
 /// For each pixel, the rank whose crossing is nearest (the lowest rank on a tie); every rank
 /// gets the answer.
-std::vector<int> nearestRanks(const std::vector<RayHit>& hits, MPI_Comm comm) {
+std::vector<int> nearestRanks(const std::vector<PixelHit>& hits, MPI_Comm comm) {
   struct DepthRank {
     double t;
     int rank;
@@ -38,7 +38,7 @@ Image renderDistributed(const BrickStore& store, float minWeight, const ViewSett
     const int64_t i = layout.find(mortonEncode(b));
     return i >= 0 && layout.ownerOf(i) == me;
   };
-  const std::vector<RayHit> hits = castRays(near, near.bounds(), view, mine);
+  const std::vector<PixelHit> hits = castRays(near, near.bounds(), view, mine);
   const std::vector<int> winner = nearestRanks(hits, comm);
   Image img(view.width, view.height, 0);
   for (size_t i = 0; i < hits.size(); ++i)

@@ -74,9 +74,9 @@ double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen
 
 }  // namespace
 
-std::vector<RayHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
+std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
                              const ViewSettings& view, const BrickFilter& counts) {
-  std::vector<RayHit> hits(static_cast<size_t>(view.width) * view.height);
+  std::vector<PixelHit> hits(static_cast<size_t>(view.width) * view.height);
   if (bounds.isEmpty()) return hits;
   const Camera cam = makeCamera(bounds, view);
   const double aspect = double(view.width) / view.height;
@@ -90,7 +90,7 @@ std::vector<RayHit> castRays(const SparseField& field, const Eigen::AlignedBox3d
       if (std::isnan(t)) continue;
       const Eigen::Vector3d n = field.gradient(o - t * cam.toCamera);
       const double shade = 0.15 + 0.85 * std::max(0.0, n.dot(cam.toCamera));
-      RayHit& h = hits[static_cast<size_t>(y) * view.width + x];
+      PixelHit& h = hits[static_cast<size_t>(y) * view.width + x];
       h.t = t;
       h.rgb = {static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
                static_cast<uint8_t>(205 * shade)};
@@ -99,11 +99,11 @@ std::vector<RayHit> castRays(const SparseField& field, const Eigen::AlignedBox3d
 }
 
 Image renderField(const SparseField& field, const ViewSettings& view) {
-  const std::vector<RayHit> hits = castRays(field, field.bounds(), view, nullptr);
+  const std::vector<PixelHit> hits = castRays(field, field.bounds(), view, nullptr);
   Image img(view.width, view.height, 255);
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) {
-      const RayHit& h = hits[static_cast<size_t>(y) * view.width + x];
+      const PixelHit& h = hits[static_cast<size_t>(y) * view.width + x];
       if (!std::isnan(h.t)) img.set(x, y, h.rgb[0], h.rgb[1], h.rgb[2]);
     }
   return img;

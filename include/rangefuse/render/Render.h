@@ -24,14 +24,14 @@ struct ViewSettings {
 using BrickFilter = std::function<bool(const BrickCoord&)>;
 
 /// The first surface crossing of one pixel's ray: its depth (NaN: none) and shaded colour.
-struct RayHit {
+struct PixelHit {
   double t = NAN;
   std::array<uint8_t, 3> rgb{};
 };
 
 /// One ray per pixel of a view framing `bounds`, cast through `field` to the first
 /// outside-to-inside crossing whose later sample lies in a brick `counts` accepts.
-std::vector<RayHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
+std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
                              const ViewSettings& view, const BrickFilter& counts);
 
 /// Casts a ray per pixel to the first outside-to-inside zero crossing of the trilinear
