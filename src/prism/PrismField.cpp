@@ -12,8 +12,6 @@
 namespace rangefuse {
 namespace {
 
-constexpr float kEmpty = INFINITY;
-
 Eigen::AlignedBox3d pointBounds(const std::vector<PrismScan>& scans) {
   Eigen::AlignedBox3d box;
   for (const auto& s : scans) box.extend(pointBounds(s));
@@ -95,8 +93,18 @@ PrismIntegrator::PrismIntegrator(BrickStore& store, int threads)
 PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypotheses* hypotheses)
     : store_(store),
       hypotheses_(hypotheses),
-      scratch_(store.sums().size(), Sample{kEmpty, 0, {0, 0, 0}}),
-      slabs_(std::max(1, threads)) {}
+      latest_(store.sums().size(), 0),
+      slabs_(std::max(1, threads)) {
+  // A slab's list holds at most the rank's voxels: its positions must fit latest_'s entries.
+  if (store.sums().size() > std::numeric_limits<uint32_t>::max())
+    throw InputError("a field of " + std::to_string(store.sums().size()) +
+                     " voxels on one rank: more than 2^32 (use more ranks)");
+}
+
+PrismIntegrator::Sample* PrismIntegrator::sampleOf(Slab& slab, size_t at) const {
+  const uint32_t i = latest_[at];
+  return i < slab.samples.size() && slab.samples[i].at == at ? &slab.samples[i] : nullptr;
+}
 
 bool PrismIntegrator::touchesOwnedBrick(const BrickCoord& lo, const BrickCoord& hi) const {
   BrickCoord b;
@@ -143,18 +151,22 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     }
     if (lastLocal < 0) return -1;
     const size_t at = store_.offset(lastLocal, lastBrick, v);
-    __builtin_prefetch(&scratch_[at]);
+    __builtin_prefetch(&latest_[at]);
     return static_cast<int64_t>(at);
   };
   auto visit = [&](const VoxelIndex&, int64_t at, const PrismFoot& foot) {
-    Sample& s = scratch_[at];
+    Sample* s = sampleOf(slab, static_cast<size_t>(at));
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
-    if (!(std::abs(foot.d) < std::abs(s.d))) return;
-    if (s.d == kEmpty) slab.touched.push_back(at);
+    if (s && !(std::abs(foot.d) < std::abs(s->d))) return;
+    if (!s) {
+      latest_[at] = static_cast<uint32_t>(slab.samples.size());
+      s = &slab.samples.emplace_back();
+    }
     const Eigen::Vector3d g = footGradient(prism, foot.bary);
-    s = Sample{static_cast<float>(foot.d),
-               static_cast<float>(footWeight(prism, foot.bary)),
-               {static_cast<float>(g.x()), static_cast<float>(g.y()), static_cast<float>(g.z())}};
+    *s = Sample{static_cast<size_t>(at),
+                static_cast<float>(foot.d),
+                static_cast<float>(footWeight(prism, foot.bary)),
+                {static_cast<float>(g.x()), static_cast<float>(g.y()), static_cast<float>(g.z())}};
   };
   uint64_t counted = 0;
   for (size_t t = 0; t < scan.surface.triangles.size(); ++t) {
@@ -173,13 +185,11 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
 
 void PrismIntegrator::accumulate(Slab& slab) {
   auto& sums = store_.sums();
-  for (size_t off : slab.touched) {
-    Sample& s = scratch_[off];
+  for (const Sample& s : slab.samples) {
     if (hypotheses_)
-      hypotheses_->add(off, s.d, s.w, s.f);
+      hypotheses_->add(s.at, s.d, s.w, s.f);
     else
-      sums[off].add(s.d, s.w, s.f);
-    s.d = kEmpty;
+      sums[s.at].add(s.d, s.w, s.f);
   }
 }
 
@@ -212,23 +222,24 @@ IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
 IntegrationStats PrismIntegrator::addImage(const std::vector<const PrismScan*>& parts) {
   const size_t threads = slabs_.size();
   std::vector<uint64_t> prisms(threads), updates(threads);
-  // Each part is cut into slabs of its own; a voxel's sample stays in the touched list of the
-  // slab that first gave it one, and every list is added once all parts are in.
+  // The slabs are cut at the first part's quantiles and kept for the others: a voxel's sample
+  // must stay in one slab's list for the whole image (the parts of a station are bands of its
+  // columns, alike along z). Every list is added once all parts are in.
   for (const PrismScan* scan : parts) {
     const size_t n = scan->surface.triangles.size();
     reach_.resize(n);
     parallelFor(threads, static_cast<int>(threads),
                 [&](size_t k) { findReach(*scan, n * k / threads, n * (k + 1) / threads); });
-    cutSlabs();
-    // Slabs own disjoint voxels of scratch_: no two threads write the same one.
+    if (scan == parts.front()) cutSlabs();
+    // Slabs own disjoint voxels (of latest_ too): no two threads write the same one.
     parallelFor(threads, static_cast<int>(threads),
                 [&](size_t k) { prisms[k] += rasterizeSlab(*scan, slabs_[k]); });
   }
   parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
     Slab& slab = slabs_[k];
     accumulate(slab);
-    updates[k] = slab.touched.size();
-    slab.touched.clear();
+    updates[k] = slab.samples.size();
+    slab.samples.clear();
   });
   IntegrationStats stats;
   for (size_t k = 0; k < threads; ++k) {

@@ -62,7 +62,8 @@ struct IntegrationStats {
 /// smallest |d|; that value is then added, weighted, to the running sums. With several threads
 /// each takes a slab of voxels along z (cut per image, so that each gets as many of its prisms)
 /// and every prism that reaches it, so each voxel still sees the image's triangles in order:
-/// the same bits as one thread.
+/// the same bits as one thread. An image's values are kept in a list per slab, not in an array
+/// over the field: 4 bytes a voxel (where its latest value lies) instead of a value's 20.
 class PrismIntegrator {
  public:
   explicit PrismIntegrator(BrickStore& store, int threads = 1);
@@ -74,13 +75,15 @@ class PrismIntegrator {
   IntegrationStats addImage(const std::vector<const PrismScan*>& parts);
 
  private:
+  /// The value the image gives voxel `at` (its offset in the sums).
   struct Sample {
+    size_t at;
     float d, w, f[3];
   };
-  /// One thread's share: voxels with z in [zLo, zHi], and those it gave a value.
+  /// One thread's share: voxels with z in [zLo, zHi], and the values this image gives them.
   struct Slab {
     int zLo = 0, zHi = -1;
-    std::vector<size_t> touched;
+    std::vector<Sample> samples;
   };
   /// A prism's voxel layers along z, and whether its box reaches a local brick at all.
   struct Reach {
@@ -91,11 +94,15 @@ class PrismIntegrator {
   void findReach(const PrismScan& scan, size_t first, size_t end);
   void cutSlabs();
   uint64_t rasterizeSlab(const PrismScan& scan, Slab& slab);
+  /// The sample this image gives voxel `at` in the slab's list, or null if none yet.
+  Sample* sampleOf(Slab& slab, size_t at) const;
   void accumulate(Slab& slab);
 
   BrickStore& store_;
   SurfaceHypotheses* hypotheses_ = nullptr;
-  std::vector<Sample, HugePageAllocator<Sample>> scratch_;
+  /// Per voxel, where in its slab's list its latest sample was put; a stale entry (another
+  /// image's) is told apart because the list does not hold this voxel there.
+  std::vector<uint32_t, HugePageAllocator<uint32_t>> latest_;
   std::vector<Slab> slabs_;
   std::vector<Reach> reach_;  ///< per triangle of the scan being added
 };
