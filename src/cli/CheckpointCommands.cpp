@@ -9,6 +9,7 @@
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
 
 namespace po = boost::program_options;
 
@@ -27,7 +28,7 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
       }))
     return 1;
   const float minWeight = meta.parameters.value("min_weight", 0.0f);
-  MeshPart part = extractDistributedMesh(*store, minWeight, comm);
+  MeshPart part = extractDistributedMesh(*store, minWeight, comm, nullptr, threadsPerRank(comm));
   if (normals) addPartNormals(part, comm);
   if (!io::writeMeshPartPly(out, part, comm)) return 1;
   if (mpi::rank(comm) == 0)

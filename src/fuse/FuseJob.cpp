@@ -329,7 +329,7 @@ namespace {
 int finish(const FuseOptions& o, MPI_Comm comm, Progress& progress, const LoadedScans& scans,
            FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
   MeshStats ms;
-  MeshPart mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms);
+  MeshPart mesh = extractDistributedMesh(*field.store, o.minWeight, comm, &ms, o.threads);
   counters.haloBricks = ms.haloBricksReceived;
   counters.triangles = ms.localTriangles;
   progress.stage("mesh", std::to_string(mesh.totalFaces) + " triangles, " +

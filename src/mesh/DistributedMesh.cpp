@@ -1,5 +1,6 @@
 #include "rangefuse/mesh/DistributedMesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -7,6 +8,7 @@
 #include "rangefuse/mesh/MarchingCubes.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
 
 namespace rangefuse {
 namespace {
@@ -90,14 +92,26 @@ std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWe
 }
 
 MeshPart extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
-                                MeshStats* stats) {
+                                MeshStats* stats, int threads) {
+  const size_t n = store.brickCount();
+  const size_t parts =
+      std::clamp<size_t>(static_cast<size_t>(std::max(1, threads)), 1, std::max<size_t>(1, n));
+  std::vector<std::vector<float>> distances(n);
+  parallelFor(parts, threads, [&](size_t k) {
+    for (size_t b = n * k / parts; b < n * (k + 1) / parts; ++b)
+      distances[b] = brickDistances(store, b, minWeight);
+  });
   BrickValues local;
-  for (size_t b = 0; b < store.brickCount(); ++b)
-    local[store.code(b)] = brickDistances(store, b, minWeight);
+  for (size_t b = 0; b < n; ++b) local[store.code(b)] = std::move(distances[b]);
   const BrickValues halo = exchangeHalo(store, local, comm);
-  MeshPiece piece;
-  for (size_t b = 0; b < store.brickCount(); ++b)
-    extractBlock(blockFor(store.code(b), store.grid().brick, local, halo), store.grid(), piece);
+  // Runs of bricks in order, one piece each, joined as if one piece had taken every cube.
+  std::vector<MeshPiece> pieces(parts);
+  parallelFor(parts, threads, [&](size_t k) {
+    for (size_t b = n * k / parts; b < n * (k + 1) / parts; ++b)
+      extractBlock(blockFor(store.code(b), store.grid().brick, local, halo), store.grid(),
+                   pieces[k]);
+  });
+  MeshPiece piece = joinPieces(std::move(pieces));
   if (stats) {
     stats->haloBricksReceived = halo.size();
     stats->localTriangles = piece.faces.size();

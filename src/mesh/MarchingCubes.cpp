@@ -51,6 +51,30 @@ void extractBlock(const FieldBlock& block, const VoxelGrid& grid, MeshPiece& pie
       }
 }
 
+MeshPiece joinPieces(std::vector<MeshPiece> pieces) {
+  if (pieces.empty()) return {};
+  MeshPiece all = std::move(pieces.front());
+  size_t keys = 0;
+  for (const MeshPiece& p : pieces) keys += p.keys.size();
+  all.index.reserve(keys);
+  for (size_t j = 1; j < pieces.size(); ++j) {
+    const MeshPiece& p = pieces[j];
+    // A piece numbers its vertices by first use, so its new ones come in the order they would
+    // have been met had the cubes before it been in the same piece.
+    std::vector<int32_t> to(p.keys.size());
+    for (size_t i = 0; i < p.keys.size(); ++i) {
+      auto [it, isNew] = all.index.emplace(p.keys[i], static_cast<int32_t>(all.keys.size()));
+      if (isNew) {
+        all.keys.push_back(p.keys[i]);
+        all.positions.push_back(p.positions[i]);
+      }
+      to[i] = it->second;
+    }
+    for (const Triangle& f : p.faces) all.faces.push_back({to[f[0]], to[f[1]], to[f[2]]});
+  }
+  return all;
+}
+
 TriangleMesh mergePieces(const std::vector<MeshPiece>& pieces) {
   TriangleMesh mesh;
   std::unordered_map<uint64_t, int32_t> global;

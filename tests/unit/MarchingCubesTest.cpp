@@ -69,6 +69,36 @@ TEST(MarchingCubes, SphereIsClosedWithCorrectVolume) {
   EXPECT_NEAR(enclosedVolume(mesh) / exact, 1.0, 0.01);  // positive: normals point outward
 }
 
+TEST(MarchingCubes, JoinedPiecesAreThePieceOfAllTheirBlocks) {
+  // Blocks (octants of a sphere) taken by one piece in order, against runs of them taken by
+  // pieces of their own (as threads do) and joined: the same keys, positions and faces.
+  const FieldBlock whole = sphereBlock(16, Eigen::Vector3d(8.3, 7.6, 8.1), 5.2);
+  std::vector<FieldBlock> blocks(8);
+  for (int o = 0; o < 8; ++o) {
+    FieldBlock& b = blocks[o];
+    b.base = VoxelIndex(8 * (o & 1), 8 * ((o >> 1) & 1), 8 * (o >> 2));
+    b.cells = 8;
+    for (int z = 0; z <= 8; ++z)
+      for (int y = 0; y <= 8; ++y)
+        for (int x = 0; x <= 8; ++x)
+          b.values.push_back(whole.at(b.base.x() + x, b.base.y() + y, b.base.z() + z));
+  }
+  const VoxelGrid grid;
+  MeshPiece one;
+  for (const FieldBlock& b : blocks) extractBlock(b, grid, one);
+  for (const std::vector<int>& ends : {std::vector<int>{8}, {3, 8}, {1, 2, 6, 8}, {0, 5, 8, 8}}) {
+    std::vector<MeshPiece> pieces(ends.size());
+    for (size_t k = 0, b = 0; k < ends.size(); ++k)
+      for (; b < static_cast<size_t>(ends[k]); ++b) extractBlock(blocks[b], grid, pieces[k]);
+    const MeshPiece joined = joinPieces(std::move(pieces));
+    EXPECT_EQ(joined.keys, one.keys);
+    EXPECT_EQ(joined.positions, one.positions);
+    EXPECT_EQ(joined.faces, one.faces);
+    ASSERT_EQ(joined.index.size(), one.index.size());
+    for (const auto& [key, i] : one.index) EXPECT_EQ(joined.index.at(key), i);
+  }
+}
+
 TEST(MarchingCubes, SplittingIntoPiecesGivesTheSameMesh) {
   const Eigen::Vector3d c(8.3, 7.6, 8.1);
   FieldBlock whole = sphereBlock(16, c, 5.2);

@@ -20,8 +20,9 @@ std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWe
 /// Each rank extracts the cubes whose min corner lies in its bricks, reading the +1 layer
 /// from neighbour bricks (exchanged between ranks), and returns its part of the stitched
 /// mesh: vertices named by global lattice edge, so there are no duplicates or cracks, each
-/// owned by one rank and numbered as one rank would number the whole mesh.
+/// owned by one rank and numbered as one rank would number the whole mesh. `threads` share a
+/// rank's bricks; any count gives the same mesh.
 MeshPart extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
-                                MeshStats* stats = nullptr);
+                                MeshStats* stats = nullptr, int threads = 1);
 
 }  // namespace rangefuse

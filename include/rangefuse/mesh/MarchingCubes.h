@@ -50,6 +50,10 @@ struct MeshPiece {
 /// Adds the triangles of every cube of the block that has all eight corners observed.
 void extractBlock(const FieldBlock& block, const VoxelGrid& grid, MeshPiece& piece);
 
+/// Joins pieces given in cube order into the piece extractBlock would have made of all their
+/// cubes: the same vertices, numbered in order of first use, and the same faces.
+MeshPiece joinPieces(std::vector<MeshPiece> pieces);
+
 /// Joins pieces given in global cube order into one mesh; vertices are numbered in order
 /// of first use, so the result does not depend on how the cubes were split into pieces.
 TriangleMesh mergePieces(const std::vector<MeshPiece>& pieces);
