@@ -11,8 +11,8 @@ int32_t vertexFor(const FieldBlock& block, const VoxelGrid& grid, const VoxelInd
       cell + VoxelIndex((e.corner >> 0) & 1, (e.corner >> 1) & 1, (e.corner >> 2) & 1);
   const VoxelIndex v = block.base + local;
   const uint64_t key = edgeKey(v, e.axis);
-  auto [it, isNew] = piece.index.emplace(key, static_cast<int32_t>(piece.keys.size()));
-  if (!isNew) return it->second;
+  const auto [at, isNew] = piece.index.emplace(key, static_cast<int32_t>(piece.keys.size()));
+  if (!isNew) return at;
   VoxelIndex lo = local, hi = local;
   hi[e.axis] += 1;
   const double d0 = block.at(lo.x(), lo.y(), lo.z()), d1 = block.at(hi.x(), hi.y(), hi.z());
@@ -20,7 +20,7 @@ int32_t vertexFor(const FieldBlock& block, const VoxelGrid& grid, const VoxelInd
   p[e.axis] += grid.voxel * (d0 / (d0 - d1));
   piece.keys.push_back(key);
   piece.positions.push_back(p);
-  return it->second;
+  return at;
 }
 
 }  // namespace
@@ -63,12 +63,12 @@ MeshPiece joinPieces(std::vector<MeshPiece> pieces) {
     // have been met had the cubes before it been in the same piece.
     std::vector<int32_t> to(p.keys.size());
     for (size_t i = 0; i < p.keys.size(); ++i) {
-      auto [it, isNew] = all.index.emplace(p.keys[i], static_cast<int32_t>(all.keys.size()));
+      const auto [at, isNew] = all.index.emplace(p.keys[i], static_cast<int32_t>(all.keys.size()));
       if (isNew) {
         all.keys.push_back(p.keys[i]);
         all.positions.push_back(p.positions[i]);
       }
-      to[i] = it->second;
+      to[i] = at;
     }
     for (const Triangle& f : p.faces) all.faces.push_back({to[f[0]], to[f[1]], to[f[2]]});
   }

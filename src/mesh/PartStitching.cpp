@@ -55,8 +55,8 @@ std::vector<std::vector<int>> sharingRanks(const MeshPiece& piece, const BrickLa
     for (size_t pos = 0; pos < in[q].size();) {
       uint64_t key;
       mpi::unpack(in[q], pos, &key, 1);
-      const auto it = piece.index.find(key);
-      if (it != piece.index.end()) users[it->second].push_back(q);
+      const int32_t at = piece.index.find(key);
+      if (at >= 0) users[at].push_back(q);
     }
   return users;
 }

@@ -95,7 +95,7 @@ TEST(MarchingCubes, JoinedPiecesAreThePieceOfAllTheirBlocks) {
     EXPECT_EQ(joined.positions, one.positions);
     EXPECT_EQ(joined.faces, one.faces);
     ASSERT_EQ(joined.index.size(), one.index.size());
-    for (const auto& [key, i] : one.index) EXPECT_EQ(joined.index.at(key), i);
+    for (size_t i = 0; i < one.keys.size(); ++i) EXPECT_EQ(joined.index.at(one.keys[i]), i);
   }
 }
 

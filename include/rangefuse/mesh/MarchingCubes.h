@@ -4,10 +4,10 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/mesh/EdgeIndex.h"
 #include "rangefuse/volume/VoxelGrid.h"
 
 namespace rangefuse {
@@ -44,7 +44,7 @@ struct MeshPiece {
   std::vector<uint64_t> keys;
   std::vector<Eigen::Vector3d> positions;
   std::vector<Triangle> faces;  ///< indices into keys/positions
-  std::unordered_map<uint64_t, int32_t> index;
+  EdgeIndex index;
 };
 
 /// Adds the triangles of every cube of the block that has all eight corners observed.
