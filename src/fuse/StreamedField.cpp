@@ -42,14 +42,10 @@ class ScanShare {
     return out;
   }
 
-  /// Calls fn with scan i placed: the kept copy (not copied again), or one read anew.
-  template <class Fn>
-  void use(size_t i, Fn&& fn) const {
+  /// The kept copy of scan i, or null when it must be read again.
+  const PrismScan* kept(size_t i) const {
     auto it = kept_.find(i);
-    if (it != kept_.end())
-      fn(it->second);
-    else
-      fn(read(i));
+    return it == kept_.end() ? nullptr : &it->second;
   }
 
   /// Scan i placed, for its last use: a kept scan is handed over and forgotten.
@@ -186,11 +182,21 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
                const VoxelGrid& grid, MPI_Comm comm, BrickLayout& layout) {
   BrickWork work;
   if (!collectively(comm, [&] {
+        // Kept scans whole, a share on each thread (one parallel section, not one a scan);
+        // the others are read again one at a time, each on all threads.
+        std::vector<const PrismScan*> kept;
         for (size_t i = 0; i < conf.scans.size(); ++i)
-          if (share.reads(i))
-            share.use(i, [&](const PrismScan& s) {
-              addPrismWork(s, grid, o.limits.maxVoxels, work, o.threads);
-            });
+          if (share.reads(i) && share.kept(i)) kept.push_back(share.kept(i));
+        const size_t parts = static_cast<size_t>(std::max(1, o.threads));
+        std::vector<BrickWork> part(parts);
+        parallelFor(parts, o.threads, [&](size_t k) {
+          for (size_t j = k; j < kept.size(); j += parts)
+            addPrismWork(*kept[j], grid, o.limits.maxVoxels, part[k], 1);
+        });
+        for (const BrickWork& p : part) addWork(p, grid, o.limits.maxVoxels, work);
+        for (size_t i = 0; i < conf.scans.size(); ++i)
+          if (share.reads(i) && !share.kept(i))
+            addPrismWork(share.read(i), grid, o.limits.maxVoxels, work, o.threads);
       }))
     return false;
   return collectively(comm,
