@@ -224,7 +224,8 @@ IntegrationStats PrismIntegrator::addImage(const std::vector<const PrismScan*>& 
   std::vector<uint64_t> prisms(threads), updates(threads);
   // The slabs are cut at the first part's quantiles and kept for the others: a voxel's sample
   // must stay in one slab's list for the whole image (the parts of a station are bands of its
-  // columns, alike along z). Every list is added once all parts are in.
+  // columns, alike along z). Every list is added once all parts are in, by its own thread
+  // right after the last part (the slabs' voxels are disjoint in the sums too).
   for (const PrismScan* scan : parts) {
     const size_t n = scan->surface.triangles.size();
     reach_.resize(n);
@@ -232,15 +233,15 @@ IntegrationStats PrismIntegrator::addImage(const std::vector<const PrismScan*>& 
                 [&](size_t k) { findReach(*scan, n * k / threads, n * (k + 1) / threads); });
     if (scan == parts.front()) cutSlabs();
     // Slabs own disjoint voxels (of latest_ too): no two threads write the same one.
-    parallelFor(threads, static_cast<int>(threads),
-                [&](size_t k) { prisms[k] += rasterizeSlab(*scan, slabs_[k]); });
+    parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
+      Slab& slab = slabs_[k];
+      prisms[k] += rasterizeSlab(*scan, slab);
+      if (scan != parts.back()) return;
+      accumulate(slab);
+      updates[k] = slab.samples.size();
+      slab.samples.clear();
+    });
   }
-  parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
-    Slab& slab = slabs_[k];
-    accumulate(slab);
-    updates[k] = slab.samples.size();
-    slab.samples.clear();
-  });
   IntegrationStats stats;
   for (size_t k = 0; k < threads; ++k) {
     stats.prisms += prisms[k];
