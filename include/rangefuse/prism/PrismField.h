@@ -102,7 +102,7 @@ class PrismIntegrator {
   SurfaceHypotheses* hypotheses_ = nullptr;
   /// Per voxel, where in its slab's list its latest sample was put; a stale entry (another
   /// image's) is told apart because the list does not hold this voxel there.
-  std::vector<uint32_t, HugePageAllocator<uint32_t>> latest_;
+  std::vector<uint32_t> latest_;
   std::vector<Slab> slabs_;
   std::vector<Reach> reach_;  ///< per triangle of the scan being added
 };

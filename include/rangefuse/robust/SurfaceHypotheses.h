@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "rangefuse/core/HugePages.h"
 #include "rangefuse/robust/SightMap.h"
 #include "rangefuse/volume/BrickStore.h"
 

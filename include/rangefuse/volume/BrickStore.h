@@ -5,7 +5,6 @@
 #include <unordered_map>
 #include <vector>
 
-#include "rangefuse/core/HugePages.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse {
@@ -34,7 +33,7 @@ struct VoxelSums {
 
 class BrickStore {
  public:
-  using Sums = std::vector<VoxelSums, HugePageAllocator<VoxelSums>>;
+  using Sums = std::vector<VoxelSums>;
 
   /// Keeps its own copy of the layout (codes and owners: small next to the voxels).
   BrickStore(const BrickLayout& layout, int rank);
