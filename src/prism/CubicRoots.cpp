@@ -120,9 +120,10 @@ int rootBrackets(const double c[4], double lo, double hi, double& a, double& b) 
   return n;
 }
 
-double rootBetween(const double c[4], double a, double b) {
+double rootBetween(const double c[4], double a, double b, double guess) {
   const double fa = evalCubic(c, a), fb = evalCubic(c, b);
-  return bracketedRoot(c, a, b, fa, a - fa * (b - a) / (fb - fa));  // secant start
+  const double start = guess > a && guess < b ? guess : a - fa * (b - a) / (fb - fa);  // secant
+  return bracketedRoot(c, a, b, fa, start);
 }
 
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {

@@ -40,21 +40,21 @@ bool nearestRootInside(const double c[4], double d, double lo, double hi) {
 }
 
 /// The foot of a point whose cubic turns in [lo, hi] (or whose Newton steps did not settle):
-/// most such cubics still have one root there, which is `root` (one Newton converged to, or
-/// null) when it lies in that root's piece, else is found in the piece; the few cubics with
-/// several roots in range are searched in full.
+/// most such cubics still have one root there: `newton`, the last Newton step, when it settled
+/// (a root) in that root's piece, else the root found in the piece from it; the few cubics
+/// with several roots in range are searched in full.
 void solveTurning(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
-                  const double c[4], const double* root, const Eigen::Vector3d& bary,
+                  const double c[4], double newton, bool settled, const Eigen::Vector3d& bary,
                   PrismFoot& foot, bool& inside) {
   double a, b;
   const int roots = rootBrackets(c, prism.dMin, prism.dMax, a, b);
   if (roots == 0) {
     inside = false;
-  } else if (roots == 1 && root && *root >= a && *root <= b) {
+  } else if (roots == 1 && settled && newton >= a && newton <= b) {
     inside = baryInside(bary);
-    if (inside) foot = PrismFoot{*root, bary};
+    if (inside) foot = PrismFoot{newton, bary};
   } else if (roots == 1) {
-    const double d = rootBetween(c, a, b);
+    const double d = rootBetween(c, a, b, newton);
     const Eigen::Vector3d at = isoBarycentric(prism, cubic, x, d);
     inside = baryInside(at);
     if (inside) foot = PrismFoot{d, at};
@@ -102,8 +102,8 @@ void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3
       inside[i] = true;
       feet[i] = PrismFoot{d[i], b[i]};
     } else {
-      solveTurning(prism, cubic, points[i], c[i], converged[i] && tiny[i] ? d + i : nullptr, b[i],
-                   feet[i], inside[i]);
+      solveTurning(prism, cubic, points[i], c[i], d[i], converged[i] && tiny[i], b[i], feet[i],
+                   inside[i]);
     }
   }
 }

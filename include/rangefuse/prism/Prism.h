@@ -117,8 +117,8 @@ int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]);
 int rootBrackets(const double c[4], double lo, double hi, double& a, double& b);
 
 /// The root in [a, b] of a cubic monotonic there whose ends differ in sign (a bracket of
-/// rootBrackets), as cubicRootsInRange finds it.
-double rootBetween(const double c[4], double a, double b);
+/// rootBrackets), searched from `guess` when it lies inside, else from the secant.
+double rootBetween(const double c[4], double a, double b, double guess);
 
 /// True when the cubic's slope keeps one strict sign over [lo, hi], so that one root at most
 /// lies there (cubicRootsInRange's quick path).
