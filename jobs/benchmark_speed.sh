@@ -30,7 +30,13 @@ make_set() {
   fi
   echo "$dir"
 }
-done_at() { grep "] done " "$1" | sed 's/^\[ *\([0-9.]*\)s\].*/\1/'; }
+# stage REPORT NAME: a stage's seconds from a run report (the log rounds to 10 ms);
+# stage REPORT wall: the whole run's.
+stage() {
+  python3 -c 'import json, sys
+r = json.load(open(sys.argv[1]))
+print(r["wall_seconds"] if sys.argv[2] == "wall" else r["per_rank"][0]["stage_seconds"][sys.argv[2]])' "$1" "$2"
+}
 # faster_open3d SET VOXEL: the line of the faster of two Open3D runs (by its compute seconds).
 faster_open3d() {
   local a b
@@ -40,25 +46,26 @@ faster_open3d() {
     ca = a; sub(/.*compute /, "", ca); cb = b; sub(/.*compute /, "", cb)
     print (cb + 0 < ca + 0) ? b : a }'
 }
-seconds() { grep "] $1 " "$2" | grep -v "scans added" | sed 's/.*(\([0-9.]*\)s)$/\1/'; }
 chamfer() { $bin eval --mesh "$1" --reference "$reference" --voxel "$2" | awk '/^chamfer/ { print substr($3, 2) }'; }
 
 echo "| input | triangles | rangefuse read / field / mesh (s) | read to write (s) | ns a voxel update | peak MiB | Chamfer (voxel) | Open3D depth conversion / integrate / extract (s) | Open3D peak MiB | Open3D Chamfer | (field + mesh) / (integrate + extract) | read to write / Open3D compute |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 # run NAME CONF VOXEL [SET_DIR]
 run() {
-  local name=$1 conf=$2 voxel=$3 set=${4:-} log=$tmp/log
-  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" "${extra[@]}" >"$log"
-  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" "${extra[@]}" >"$log.2"
-  if awk -v a="$(done_at "$log.2")" -v b="$(done_at "$log")" 'BEGIN { exit !(a < b) }'; then
+  local name=$1 conf=$2 voxel=$3 set=${4:-} log=$tmp/log rep=$tmp/report.json
+  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" --report "$rep" "${extra[@]}" >"$log"
+  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" --report "$rep.2" \
+    "${extra[@]}" >"$log.2"
+  if awk -v a="$(stage "$rep.2" wall)" -v b="$(stage "$rep" wall)" 'BEGIN { exit !(a < b) }'; then
     mv "$log.2" "$log"
+    mv "$rep.2" "$rep"
   fi
   local r f m tri updates ns total peak
-  r=$(seconds read "$log") f=$(seconds field "$log") m=$(seconds mesh "$log")
+  r=$(stage "$rep" read) f=$(stage "$rep" field) m=$(stage "$rep" mesh)
   tri=$(grep "] read " "$log" | sed 's/.*scans, \([0-9]*\) triangles.*/\1/')
   updates=$(grep "] field " "$log" | grep -v "scans added" | sed 's/.*voxels updated per rank \([0-9]*\).*/\1/')
   ns=$(awk -v f="$f" -v u="$updates" 'BEGIN { printf "%.0f", 1e9 * f / u }')
-  total=$(done_at "$log")
+  total=$(stage "$rep" wall)
   peak=$(grep "] done " "$log" | sed 's/.*(MiB) \([0-9]*\).*/\1/')
   local o3d="—" o3dc="—" o3dm="—" ratio="—" whole="—"
   if [[ -n $set ]] && /usr/bin/python3 -c "import open3d" 2>/dev/null; then
@@ -73,6 +80,7 @@ run() {
     ratio=$(awk -v a="$f" -v b="$m" -v c="$i" -v d="$e" 'BEGIN { printf "%.2f", (a + b) / (c + d) }')
     whole=$(awk -v t="$total" -v a="$c" -v b="$i" -v d="$e" 'BEGIN { printf "%.2f", t / (a + b + d) }')
   fi
+  r=$(printf %.3f "$r") f=$(printf %.3f "$f") m=$(printf %.3f "$m") total=$(printf %.2f "$total")
   echo "| $name | $tri | $r / $f / $m | $total | $ns | $peak | $(chamfer "$tmp/ours.ply" "$voxel") | $o3d | $o3dm | $o3dc | $ratio | $whole |"
 }
 extra=("$@")

@@ -137,8 +137,8 @@ def main():
     extract = time.perf_counter() - t0
     o3d.io.write_triangle_mesh(out, mesh)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(f"open3d: load {load:.2f} s (python), depth conversion {convert:.2f} s, integrate "
-          f"{integrate:.2f} s, extract {extract:.2f} s, compute {convert + integrate + extract:.2f} s, "
+    print(f"open3d: load {load:.3f} s (python), depth conversion {convert:.3f} s, integrate "
+          f"{integrate:.3f} s, extract {extract:.3f} s, compute {convert + integrate + extract:.3f} s, "
           f"peak memory {peak:.0f} MiB, {len(mesh.triangles)} triangles")
 
 

@@ -185,11 +185,16 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
 
 void PrismIntegrator::accumulate(Slab& slab) {
   auto& sums = store_.sums();
-  for (const Sample& s : slab.samples) {
-    if (hypotheses_)
+  const std::vector<Sample>& samples = slab.samples;
+  const size_t n = samples.size(), ahead = 16;  // the sums are spread over the rank's field
+  for (size_t i = 0; i < n; ++i) {
+    const Sample& s = samples[i];
+    if (hypotheses_) {
       hypotheses_->add(s.at, s.d, s.w, s.f);
-    else
-      sums[s.at].add(s.d, s.w, s.f);
+      continue;
+    }
+    if (i + ahead < n) __builtin_prefetch(&sums[samples[i + ahead].at]);
+    sums[s.at].add(s.d, s.w, s.f);
   }
 }
 
