@@ -40,6 +40,21 @@ void expectClosedOriented(const TriangleMesh& m) {
   }
 }
 
+/// The eight 8^3-cube blocks of a 16^3-cube block, in z-major order of their corners.
+std::vector<FieldBlock> octants(const FieldBlock& whole) {
+  std::vector<FieldBlock> blocks(8);
+  for (int o = 0; o < 8; ++o) {
+    FieldBlock& b = blocks[o];
+    b.base = VoxelIndex(8 * (o & 1), 8 * ((o >> 1) & 1), 8 * (o >> 2));
+    b.cells = 8;
+    for (int z = 0; z <= 8; ++z)
+      for (int y = 0; y <= 8; ++y)
+        for (int x = 0; x <= 8; ++x)
+          b.values.push_back(whole.at(b.base.x() + x, b.base.y() + y, b.base.z() + z));
+  }
+  return blocks;
+}
+
 }  // namespace
 
 TEST(CubeTable, EveryCrossingEdgeAndOnlyThoseCarryVertices) {
@@ -72,17 +87,8 @@ TEST(MarchingCubes, SphereIsClosedWithCorrectVolume) {
 TEST(MarchingCubes, JoinedPiecesAreThePieceOfAllTheirBlocks) {
   // Blocks (octants of a sphere) taken by one piece in order, against runs of them taken by
   // pieces of their own (as threads do) and joined: the same keys, positions and faces.
-  const FieldBlock whole = sphereBlock(16, Eigen::Vector3d(8.3, 7.6, 8.1), 5.2);
-  std::vector<FieldBlock> blocks(8);
-  for (int o = 0; o < 8; ++o) {
-    FieldBlock& b = blocks[o];
-    b.base = VoxelIndex(8 * (o & 1), 8 * ((o >> 1) & 1), 8 * (o >> 2));
-    b.cells = 8;
-    for (int z = 0; z <= 8; ++z)
-      for (int y = 0; y <= 8; ++y)
-        for (int x = 0; x <= 8; ++x)
-          b.values.push_back(whole.at(b.base.x() + x, b.base.y() + y, b.base.z() + z));
-  }
+  const std::vector<FieldBlock> blocks =
+      octants(sphereBlock(16, Eigen::Vector3d(8.3, 7.6, 8.1), 5.2));
   const VoxelGrid grid;
   MeshPiece one;
   for (const FieldBlock& b : blocks) extractBlock(b, grid, one);
@@ -107,18 +113,10 @@ TEST(MarchingCubes, SplittingIntoPiecesGivesTheSameMesh) {
   extractBlock(whole, grid, one);
   // Octants of 8^3 cubes, in z-major order, reproduce the whole extraction's cube order
   // only up to permutation; compare as sets of triangles by vertex position.
-  std::vector<MeshPiece> octants(8);
-  for (int o = 0; o < 8; ++o) {
-    FieldBlock b;
-    b.base = VoxelIndex(8 * (o & 1), 8 * ((o >> 1) & 1), 8 * (o >> 2));
-    b.cells = 8;
-    for (int z = 0; z <= 8; ++z)
-      for (int y = 0; y <= 8; ++y)
-        for (int x = 0; x <= 8; ++x)
-          b.values.push_back(whole.at(b.base.x() + x, b.base.y() + y, b.base.z() + z));
-    extractBlock(b, grid, octants[o]);
-  }
-  TriangleMesh a = mergePieces({one}), b = mergePieces(octants);
+  const std::vector<FieldBlock> blocks = octants(whole);
+  std::vector<MeshPiece> pieces(8);
+  for (int o = 0; o < 8; ++o) extractBlock(blocks[o], grid, pieces[o]);
+  TriangleMesh a = mergePieces({one}), b = mergePieces(pieces);
   EXPECT_EQ(a.vertices.size(), b.vertices.size());  // no duplicates at the seams
   ASSERT_EQ(a.faces.size(), b.faces.size());
   expectClosedOriented(b);
