@@ -75,7 +75,7 @@ double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen
 }  // namespace
 
 std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
-                             const ViewSettings& view, const BrickFilter& counts) {
+                               const ViewSettings& view, const BrickFilter& counts) {
   std::vector<PixelHit> hits(static_cast<size_t>(view.width) * view.height);
   if (bounds.isEmpty()) return hits;
   const Camera cam = makeCamera(bounds, view);

@@ -32,7 +32,7 @@ struct PixelHit {
 /// One ray per pixel of a view framing `bounds`, cast through `field` to the first
 /// outside-to-inside crossing whose later sample lies in a brick `counts` accepts.
 std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
-                             const ViewSettings& view, const BrickFilter& counts);
+                               const ViewSettings& view, const BrickFilter& counts);
 
 /// Casts a ray per pixel to the first outside-to-inside zero crossing of the trilinear
 /// distance, shaded by the stored gradient at the nearest voxel. Empty bricks are skipped.
