@@ -185,8 +185,14 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
         // Kept scans whole, a share on each thread (one parallel section, not one a scan);
         // the others are read again one at a time, each on all threads.
         std::vector<const PrismScan*> kept;
-        for (size_t i = 0; i < conf.scans.size(); ++i)
-          if (share.reads(i) && share.kept(i)) kept.push_back(share.kept(i));
+        std::vector<size_t> unkept;
+        for (size_t i = 0; i < conf.scans.size(); ++i) {
+          if (!share.reads(i)) continue;
+          if (const PrismScan* s = share.kept(i))
+            kept.push_back(s);
+          else
+            unkept.push_back(i);
+        }
         const size_t parts = static_cast<size_t>(std::max(1, o.threads));
         std::vector<BrickWork> part(parts);
         parallelFor(parts, o.threads, [&](size_t k) {
@@ -194,9 +200,8 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
             addPrismWork(*kept[j], grid, o.limits.maxVoxels, part[k], 1);
         });
         for (const BrickWork& p : part) addWork(p, grid, o.limits.maxVoxels, work);
-        for (size_t i = 0; i < conf.scans.size(); ++i)
-          if (share.reads(i) && !share.kept(i))
-            addPrismWork(share.read(i), grid, o.limits.maxVoxels, work, o.threads);
+        for (size_t i : unkept)
+          addPrismWork(share.read(i), grid, o.limits.maxVoxels, work, o.threads);
       }))
     return false;
   return collectively(comm,

@@ -94,8 +94,7 @@ std::vector<float> brickDistances(const BrickStore& store, size_t b, float minWe
 MeshPart extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Comm comm,
                                 MeshStats* stats, int threads) {
   const size_t n = store.brickCount();
-  const size_t parts =
-      std::clamp<size_t>(static_cast<size_t>(std::max(1, threads)), 1, std::max<size_t>(1, n));
+  const size_t parts = std::max<size_t>(1, std::min<size_t>(std::max(1, threads), n));
   std::vector<std::vector<float>> distances(n);
   parallelFor(parts, threads, [&](size_t k) {
     for (size_t b = n * k / parts; b < n * (k + 1) / parts; ++b)

@@ -121,9 +121,9 @@ int rootBrackets(const double c[4], double lo, double hi, double& a, double& b) 
 }
 
 double rootBetween(const double c[4], double a, double b, double guess) {
-  const double fa = evalCubic(c, a), fb = evalCubic(c, b);
-  const double start = guess > a && guess < b ? guess : a - fa * (b - a) / (fb - fa);  // secant
-  return bracketedRoot(c, a, b, fa, start);
+  const double fa = evalCubic(c, a);
+  if (guess > a && guess < b) return bracketedRoot(c, a, b, fa, guess);
+  return bracketedRoot(c, a, b, fa, a - fa * (b - a) / (evalCubic(c, b) - fa));  // secant start
 }
 
 int cubicRootsInRange(const double c[4], double lo, double hi, double roots[3]) {

@@ -1,6 +1,7 @@
 // Vertex numbers by lattice edge key, for marching cubes: every triangle corner asks for one.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <utility>
@@ -15,17 +16,17 @@ class EdgeIndex {
   /// The number of `key`, after inserting `value` for it if it had none; true if it did not.
   std::pair<int32_t, bool> emplace(uint64_t key, int32_t value) {
     if (2 * (size_ + 1) > slots_.size()) rehash(std::max<size_t>(64, 2 * slots_.size()));
-    Slot* s = slotOf(key);
-    if (s->key == key) return {s->value, false};
-    *s = Slot{key, value};
+    Slot& s = slots_[slotOf(key)];
+    if (s.key == key) return {s.value, false};
+    s = Slot{key, value};
     ++size_;
     return {value, true};
   }
   /// The number of `key`, or -1.
   int32_t find(uint64_t key) const {
     if (slots_.empty()) return -1;
-    const Slot* s = const_cast<EdgeIndex*>(this)->slotOf(key);
-    return s->key == key ? s->value : -1;
+    const Slot& s = slots_[slotOf(key)];
+    return s.key == key ? s.value : -1;
   }
   /// The number of `key`; throws std::out_of_range if it has none.
   int32_t at(uint64_t key) const {
@@ -53,16 +54,16 @@ class EdgeIndex {
     return static_cast<size_t>(k ^ (k >> 33));
   }
   /// The slot holding `key`, else the empty one where it would go.
-  Slot* slotOf(uint64_t key) {
+  size_t slotOf(uint64_t key) const {
     const size_t mask = slots_.size() - 1;
     for (size_t i = mix(key) & mask;; i = (i + 1) & mask)
-      if (slots_[i].key == key || slots_[i].key == kNone) return &slots_[i];
+      if (slots_[i].key == key || slots_[i].key == kNone) return i;
   }
   void rehash(size_t count) {
     std::vector<Slot> old(count);
     old.swap(slots_);
     for (const Slot& s : old)
-      if (s.key != kNone) *slotOf(s.key) = s;
+      if (s.key != kNone) slots_[slotOf(s.key)] = s;
   }
 
   std::vector<Slot> slots_;
