@@ -252,6 +252,9 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
     // One reader per entry, so each index comes once: scan order is all the field needs.
     std::sort(parts.begin(), parts.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
+    // The window's images go to the integrator together: its threads need not wait for each
+    // other between images.
+    std::vector<PrismIntegrator::Image> images;
     for (const auto& [i, image] : partsByScan(parts, scanOf)) {
       faultPoint("field");
       if (reach > 0) {
@@ -260,11 +263,12 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
         field.scans[i] = joinScans(std::move(bands));
         continue;
       }
-      const IntegrationStats st = integrator.addImage({image.begin(), image.end()});
-      counters.prisms += st.prisms;
-      if (alone) routing.copies += st.prisms;
-      counters.voxelUpdates += st.voxelUpdates;
+      images.emplace_back(image.begin(), image.end());
     }
+    const IntegrationStats st = integrator.addImages(images);
+    counters.prisms += st.prisms;
+    if (alone) routing.copies += st.prisms;
+    counters.voxelUpdates += st.voxelUpdates;
     if (end < conf.scans.size())
       progress.update("field", std::to_string(end) + " of " + std::to_string(conf.scans.size()) +
                                    " scans added");

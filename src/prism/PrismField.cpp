@@ -87,6 +87,27 @@ BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& gri
   return layoutFromWork(work, grid, ranks);
 }
 
+namespace {
+
+/// The voxel layers along z of triangle t's prism: those of voxelRange(prismBounds(prism)),
+/// with the same arithmetic, from its six corners' z alone (empty if zLo > zHi).
+void prismLayers(const PrismScan& scan, size_t t, const VoxelGrid& grid, int& zLo, int& zHi) {
+  const ScanSurface& s = scan.surface;
+  const Triangle& tri = s.triangles[t];
+  const double dMin = scan.limits[t][0], dMax = scan.limits[t][1];
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int i = 0; i < 3; ++i) {
+    const double z = s.points[tri[i]].z(), n = s.normals[tri[i]].z();
+    const double a = z + dMin * n, b = z + dMax * n;
+    lo = std::min(lo, std::min(a, b));
+    hi = std::max(hi, std::max(a, b));
+  }
+  zLo = static_cast<int>(std::ceil((lo - grid.origin.z()) / grid.voxel));
+  zHi = static_cast<int>(std::floor((hi - grid.origin.z()) / grid.voxel));
+}
+
+}  // namespace
+
 PrismIntegrator::PrismIntegrator(BrickStore& store, int threads)
     : PrismIntegrator(store, threads, nullptr) {}
 
@@ -99,6 +120,12 @@ PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypothes
   if (store.sums().size() > std::numeric_limits<uint32_t>::max())
     throw InputError("a field of " + std::to_string(store.sums().size()) +
                      " voxels on one rank: more than 2^32 (use more ranks)");
+  int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+  for (size_t b = 0; b < store.brickCount(); ++b) {
+    const int z = mortonDecode(store.code(b)).z();
+    lo = std::min(lo, z), hi = std::max(hi, z);
+  }
+  if (lo <= hi) zFirst_ = lo * store.grid().brick, zLayers_ = (hi - lo + 1) * store.grid().brick;
 }
 
 PrismIntegrator::Sample* PrismIntegrator::sampleOf(Slab& slab, size_t at) const {
@@ -113,25 +140,6 @@ bool PrismIntegrator::touchesOwnedBrick(const BrickCoord& lo, const BrickCoord& 
       for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x())
         if (store_.localBrick(mortonEncode(b)) >= 0) return true;
   return false;
-}
-
-void PrismIntegrator::findReach(const PrismScan& scan, size_t first, size_t end) {
-  VoxelIndex lo, hi;
-  // Neighbouring triangles (grid order) mostly reach the same bricks: the answer is known.
-  const int B = store_.grid().brick;
-  BrickCoord lastLo(1, 1, 1), lastHi(0, 0, 0);
-  bool lastLocal = false;
-  for (size_t t = first; t < end; ++t) {
-    store_.grid().voxelRange(prismBounds(scanPrism(scan, t)), lo, hi);
-    bool local = false;
-    if (!(lo.array() > hi.array()).any()) {
-      const BrickCoord bLo = brickOf(lo, B), bHi = brickOf(hi, B);
-      if (bLo != lastLo || bHi != lastHi)
-        lastLocal = touchesOwnedBrick(bLo, bHi), lastLo = bLo, lastHi = bHi;
-      local = lastLocal;
-    }
-    reach_[t] = {lo.z(), hi.z(), local};
-  }
 }
 
 /// Rasterizes the scan's prisms within the slab; returns the prisms counted here (those that
@@ -168,14 +176,22 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
                 static_cast<float>(footWeight(prism, foot.bary)),
                 {static_cast<float>(g.x()), static_cast<float>(g.y()), static_cast<float>(g.z())}};
   };
+  // Neighbouring triangles (grid order) mostly reach the same bricks: the answer is known.
+  BrickCoord reachLo(1, 1, 1), reachHi(0, 0, 0);
+  bool reachLocal = false;
   uint64_t counted = 0;
   for (size_t t = 0; t < scan.surface.triangles.size(); ++t) {
-    const Reach& r = reach_[t];
-    if (!r.local) continue;
-    if (r.zLo >= slab.zLo && r.zLo <= slab.zHi) ++counted;
-    if (r.zLo > slab.zHi || r.zHi < slab.zLo) continue;
+    int zLo, zHi;
+    prismLayers(scan, t, grid, zLo, zHi);
+    if (zLo > slab.zHi || zHi < slab.zLo || zLo > zHi) continue;
     prism = scanPrism(scan, t);
     internal::PrismRows rows(prism, grid);
+    if (rows.empty()) continue;
+    const BrickCoord bLo = brickOf(rows.lo, grid.brick), bHi = brickOf(rows.hi, grid.brick);
+    if (bLo != reachLo || bHi != reachHi)
+      reachLocal = touchesOwnedBrick(bLo, bHi), reachLo = bLo, reachHi = bHi;
+    if (!reachLocal) continue;
+    if (zLo >= slab.zLo) ++counted;
     rows.lo.z() = std::max(rows.lo.z(), slab.zLo);
     rows.hi.z() = std::min(rows.hi.z(), slab.zHi);
     internal::rasterizeRows(prism, grid, rows, slotOf, visit);
@@ -198,59 +214,76 @@ void PrismIntegrator::accumulate(Slab& slab) {
   }
 }
 
-void PrismIntegrator::cutSlabs() {
-  // A view sees a part of the object: cut at the quantiles of this scan's own prisms.
-  std::vector<int> mids;
-  for (const Reach& r : reach_)
-    if (r.local && r.zLo <= r.zHi) mids.push_back(r.zLo + (r.zHi - r.zLo) / 2);
-  int from = std::numeric_limits<int>::min();
-  for (size_t k = 0; k + 1 < slabs_.size(); ++k) {
-    int cut = from;
-    if (!mids.empty()) {
-      auto at = mids.begin() + mids.size() * (k + 1) / slabs_.size();
-      std::nth_element(mids.begin(), at, mids.end());
-      cut = std::max(from, *at);
-    }
-    if (cut > from)
+void PrismIntegrator::cutSlabs(const std::vector<Image>& images) {
+  // The images see parts of the object: cut at the quantiles of their prisms' middle layers,
+  // counted per layer of the rank's bricks (a prism beyond them counts at the nearer end).
+  const size_t threads = slabs_.size();
+  slabs_.back().zLo = std::numeric_limits<int>::min();
+  slabs_.back().zHi = std::numeric_limits<int>::max();
+  if (threads == 1) return;
+  std::vector<std::vector<uint64_t>> counts(threads, std::vector<uint64_t>(zLayers_ + 1, 0));
+  std::vector<std::pair<const PrismScan*, size_t>> parts;
+  for (const Image& image : images)
+    for (const PrismScan* part : image) parts.emplace_back(part, part->surface.triangles.size());
+  parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
+    for (const auto& [scan, n] : parts)
+      for (size_t t = n * k / threads; t < n * (k + 1) / threads; ++t) {
+        int zLo, zHi;
+        prismLayers(*scan, t, store_.grid(), zLo, zHi);
+        if (zLo <= zHi) ++counts[k][std::clamp(zLo + (zHi - zLo) / 2 - zFirst_, 0, zLayers_)];
+      }
+  });
+  uint64_t total = 0;
+  for (size_t k = 1; k < threads; ++k)
+    for (int z = 0; z <= zLayers_; ++z) counts[0][z] += counts[k][z];
+  for (uint64_t c : counts[0]) total += c;
+  // Slab k ends before the layer where the count first passes k+1 shares; an empty slab is
+  // one whose cut repeats the last (no prisms there).
+  int from = std::numeric_limits<int>::min(), z = 0;
+  uint64_t below = 0;
+  for (size_t k = 0; k + 1 < threads; ++k) {
+    const uint64_t share = total * (k + 1) / threads;
+    while (z <= zLayers_ && below + counts[0][z] <= share) below += counts[0][z++];
+    const int cut = std::max(from, zFirst_ + z);
+    if (total > 0 && cut > from)
       slabs_[k].zLo = from, slabs_[k].zHi = cut - 1;
     else
-      slabs_[k].zLo = 0, slabs_[k].zHi = -1;  // empty (no prisms here, or a repeated quantile)
-    from = cut;
+      slabs_[k].zLo = 0, slabs_[k].zHi = -1;
+    if (total > 0) from = cut;
   }
-  slabs_.back().zLo = from, slabs_.back().zHi = std::numeric_limits<int>::max();
+  slabs_.back().zLo = from;
+}
+
+IntegrationStats PrismIntegrator::integrateSlab(const std::vector<Image>& images, Slab& slab) {
+  IntegrationStats stats;
+  for (const Image& image : images) {
+    for (const PrismScan* part : image) stats.prisms += rasterizeSlab(*part, slab);
+    accumulate(slab);
+    stats.voxelUpdates += slab.samples.size();
+    slab.samples.clear();
+  }
+  return stats;
 }
 
 IntegrationStats PrismIntegrator::addScan(const PrismScan& scan) {
-  return addImage({&scan});
+  return addImages({{&scan}});
 }
 
-IntegrationStats PrismIntegrator::addImage(const std::vector<const PrismScan*>& parts) {
+IntegrationStats PrismIntegrator::addImage(const Image& parts) {
+  return addImages({parts});
+}
+
+IntegrationStats PrismIntegrator::addImages(const std::vector<Image>& images) {
   const size_t threads = slabs_.size();
-  std::vector<uint64_t> prisms(threads), updates(threads);
-  // The slabs are cut at the first part's quantiles and kept for the others: a voxel's sample
-  // must stay in one slab's list for the whole image (the parts of a station are bands of its
-  // columns, alike along z). Every list is added once all parts are in, by its own thread
-  // right after the last part (the slabs' voxels are disjoint in the sums too).
-  for (const PrismScan* scan : parts) {
-    const size_t n = scan->surface.triangles.size();
-    reach_.resize(n);
-    parallelFor(threads, static_cast<int>(threads),
-                [&](size_t k) { findReach(*scan, n * k / threads, n * (k + 1) / threads); });
-    if (scan == parts.front()) cutSlabs();
-    // Slabs own disjoint voxels (of latest_ too): no two threads write the same one.
-    parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
-      Slab& slab = slabs_[k];
-      prisms[k] += rasterizeSlab(*scan, slab);
-      if (scan != parts.back()) return;
-      accumulate(slab);
-      updates[k] = slab.samples.size();
-      slab.samples.clear();
-    });
-  }
+  cutSlabs(images);
+  std::vector<IntegrationStats> part(threads);
+  // Slabs own disjoint voxels (of latest_ and of the sums): no two threads write the same one.
+  parallelFor(threads, static_cast<int>(threads),
+              [&](size_t k) { part[k] = integrateSlab(images, slabs_[k]); });
   IntegrationStats stats;
-  for (size_t k = 0; k < threads; ++k) {
-    stats.prisms += prisms[k];
-    stats.voxelUpdates += updates[k];
+  for (const IntegrationStats& p : part) {
+    stats.prisms += p.prisms;
+    stats.voxelUpdates += p.voxelUpdates;
   }
   return stats;
 }

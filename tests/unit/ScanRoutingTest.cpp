@@ -44,34 +44,46 @@ std::set<int> ownersOf(const Prism& p, const BrickLayout& layout) {
 }
 
 TEST(PrismIntegrator, ThreadsGiveTheSingleThreadSumsEvenWithNothingToAdd) {
-  // Rank 1 of 3 owns a third of the bricks; the scan is added twice (two images), then a scan
-  // far from every brick (no prism reaches the rank: every slab but one is empty).
+  // Rank 1 of 3 owns a third of the bricks; three overlapping images (so that the order in
+  // which a voxel's samples are added shows in its sums' bits), then a scan far from every
+  // brick (no prism reaches the rank: every slab but one is empty). Added one at a time, then
+  // as one batch (each thread goes through the batch on its own).
   const PrismScan scan = wavyScan();
   const std::vector<PrismScan> one{scan};
   const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 3);
-  PrismScan far = scan;
+  PrismScan lifted = scan, tilted = scan, far = scan;
+  for (auto& p : lifted.surface.points) p.z() += 0.3;
+  for (auto& p : tilted.surface.points) p.z() += 0.05 * p.x() - 0.5;
   for (auto& p : far.surface.points) p.z() += 1000;
+  const std::vector<const PrismScan*> images{&scan, &lifted, &tilted, &far};
   std::vector<VoxelSums> want;
   IntegrationStats wantStats;
-  for (int threads : {1, 3, 8}) {
-    BrickStore store(layout, 1);
-    PrismIntegrator integrator(store, threads);
-    IntegrationStats total;
-    for (const PrismScan* s : std::vector<const PrismScan*>{&scan, &scan, &far}) {
-      const IntegrationStats st = integrator.addScan(*s);
-      total.prisms += st.prisms;
-      total.voxelUpdates += st.voxelUpdates;
+  for (int threads : {1, 3, 8})
+    for (bool batch : {false, true}) {
+      BrickStore store(layout, 1);
+      PrismIntegrator integrator(store, threads);
+      IntegrationStats total;
+      if (batch) {
+        std::vector<PrismIntegrator::Image> all;
+        for (const PrismScan* s : images) all.push_back({s});
+        total = integrator.addImages(all);
+      }
+      for (const PrismScan* s : batch ? std::vector<const PrismScan*>{} : images) {
+        const IntegrationStats st = integrator.addScan(*s);
+        total.prisms += st.prisms;
+        total.voxelUpdates += st.voxelUpdates;
+      }
+      const std::vector<VoxelSums> got(store.sums().begin(), store.sums().end());
+      if (threads == 1 && !batch) {
+        want = got, wantStats = total;
+        continue;
+      }
+      ASSERT_EQ(got.size(), want.size());
+      EXPECT_EQ(std::memcmp(got.data(), want.data(), got.size() * sizeof(VoxelSums)), 0)
+          << threads << " " << batch;
+      EXPECT_EQ(total.prisms, wantStats.prisms) << threads << " " << batch;
+      EXPECT_EQ(total.voxelUpdates, wantStats.voxelUpdates) << threads << " " << batch;
     }
-    const std::vector<VoxelSums> got(store.sums().begin(), store.sums().end());
-    if (threads == 1) {
-      want = got, wantStats = total;
-      continue;
-    }
-    ASSERT_EQ(got.size(), want.size());
-    EXPECT_EQ(std::memcmp(got.data(), want.data(), got.size() * sizeof(VoxelSums)), 0) << threads;
-    EXPECT_EQ(total.prisms, wantStats.prisms) << threads;
-    EXPECT_EQ(total.voxelUpdates, wantStats.voxelUpdates) << threads;
-  }
   EXPECT_GT(wantStats.voxelUpdates, 0u);
 }
 
@@ -93,13 +105,17 @@ TEST(PrismIntegrator, AnImageInPartsIsTheImageWhole) {
     BrickStore store(layout, 0);
     PrismIntegrator integrator(store, threads);
     if (asOneImage)
-      integrator.addImage({&parts[0], &parts[1], &parts[2]});
+      integrator.addImages({{&parts[0], &parts[1], &parts[2]}, {&scan}});
     else
-      for (const PrismScan& p : parts) integrator.addScan(p);
+      for (const PrismScan* p :
+           std::vector<const PrismScan*>{&parts[0], &parts[1], &parts[2], &scan})
+        integrator.addScan(*p);
     return std::vector<VoxelSums>(store.sums().begin(), store.sums().end());
   };
   BrickStore whole(layout, 0);
-  PrismIntegrator(whole, 1).addScan(scan);
+  PrismIntegrator integrator(whole, 1);
+  integrator.addScan(scan);
+  integrator.addScan(scan);
   const std::vector<VoxelSums> want(whole.sums().begin(), whole.sums().end());
   const size_t bytes = want.size() * sizeof(VoxelSums);
   for (int threads : {1, 3}) {

@@ -58,21 +58,28 @@ struct IntegrationStats {
   uint64_t voxelUpdates = 0;  ///< voxels that received a value from an image
 };
 
-/// Adds images one at a time: per image, each voxel keeps the value of the prism with the
+/// Adds images in scan order: per image, each voxel keeps the value of the prism with the
 /// smallest |d|; that value is then added, weighted, to the running sums. With several threads
-/// each takes a slab of voxels along z (cut per image, so that each gets as many of its prisms)
-/// and every prism that reaches it, so each voxel still sees the image's triangles in order:
-/// the same bits as one thread. An image's values are kept in a list per slab, not in an array
-/// over the field: 4 bytes a voxel (where its latest value lies) instead of a value's 20.
+/// each owns a slab of voxels along z for a whole batch of images (cut so that each gets as
+/// many of their prisms) and goes through the batch on its own, every image's prisms that reach
+/// its slab in order: each voxel still sees the images in order and each image's triangles in
+/// order, the same bits as one thread, and no thread waits for another between images. An
+/// image's values are kept in a list per slab, not in an array over the field: 4 bytes a voxel
+/// (where its latest value lies) instead of a value's 20.
 class PrismIntegrator {
  public:
+  /// An image: its parts (a station's bands) in order, adding up to one scan's triangles.
+  using Image = std::vector<const PrismScan*>;
+
   explicit PrismIntegrator(BrickStore& store, int threads = 1);
   /// Images' samples go to `hypotheses` (robust fusion) instead of the store's sums.
   PrismIntegrator(BrickStore& store, int threads, SurfaceHypotheses* hypotheses);
   IntegrationStats addScan(const PrismScan& scan);
-  /// One image made of several parts (a station's bands), in order: the same bits as adding
-  /// their triangles joined into one scan, without the copy.
-  IntegrationStats addImage(const std::vector<const PrismScan*>& parts);
+  /// One image made of several parts: the same bits as adding their triangles joined into one
+  /// scan, without the copy.
+  IntegrationStats addImage(const Image& parts);
+  /// Images in order: the same bits as adding them one at a time.
+  IntegrationStats addImages(const std::vector<Image>& images);
 
  private:
   /// The value the image gives voxel `at` (its offset in the sums).
@@ -85,14 +92,10 @@ class PrismIntegrator {
     int zLo = 0, zHi = -1;
     std::vector<Sample> samples;
   };
-  /// A prism's voxel layers along z, and whether its box reaches a local brick at all.
-  struct Reach {
-    int zLo, zHi;
-    bool local;
-  };
   bool touchesOwnedBrick(const BrickCoord& lo, const BrickCoord& hi) const;
-  void findReach(const PrismScan& scan, size_t first, size_t end);
-  void cutSlabs();
+  void cutSlabs(const std::vector<Image>& images);
+  /// Adds the images' samples within the slab; returns the prisms counted (see rasterizeSlab).
+  IntegrationStats integrateSlab(const std::vector<Image>& images, Slab& slab);
   uint64_t rasterizeSlab(const PrismScan& scan, Slab& slab);
   /// The sample this image gives voxel `at` in the slab's list, or null if none yet.
   Sample* sampleOf(Slab& slab, size_t at) const;
@@ -100,11 +103,11 @@ class PrismIntegrator {
 
   BrickStore& store_;
   SurfaceHypotheses* hypotheses_ = nullptr;
+  int zFirst_ = 0, zLayers_ = 0;  ///< the voxel layers the rank's bricks span
   /// Per voxel, where in its slab's list its latest sample was put; a stale entry (another
   /// image's) is told apart because the list does not hold this voxel there.
   std::vector<uint32_t> latest_;
   std::vector<Slab> slabs_;
-  std::vector<Reach> reach_;  ///< per triangle of the scan being added
 };
 
 }  // namespace rangefuse
