@@ -215,35 +215,30 @@ void PrismIntegrator::accumulate(Slab& slab) {
 }
 
 void PrismIntegrator::cutSlabs(const std::vector<Image>& images) {
-  // The images see parts of the object: cut at the quantiles of their prisms' middle layers,
-  // counted per layer of the rank's bricks (a prism beyond them counts at the nearer end).
   const size_t threads = slabs_.size();
   slabs_.back().zLo = std::numeric_limits<int>::min();
   slabs_.back().zHi = std::numeric_limits<int>::max();
   if (threads == 1) return;
-  std::vector<std::vector<uint64_t>> counts(threads, std::vector<uint64_t>(zLayers_ + 1, 0));
-  std::vector<std::pair<const PrismScan*, size_t>> parts;
-  for (const Image& image : images)
-    for (const PrismScan* part : image) parts.emplace_back(part, part->surface.triangles.size());
-  parallelFor(threads, static_cast<int>(threads), [&](size_t k) {
-    for (const auto& [scan, n] : parts)
-      for (size_t t = n * k / threads; t < n * (k + 1) / threads; ++t) {
-        int zLo, zHi;
-        prismLayers(*scan, t, store_.grid(), zLo, zHi);
-        if (zLo <= zHi) ++counts[k][std::clamp(zLo + (zHi - zLo) / 2 - zFirst_, 0, zLayers_)];
-      }
-  });
+  // The images see parts of the object: cut at the quantiles of their points' layers (a
+  // prism's work follows its vertices', and points are read in order where triangles would
+  // gather them), counted per layer of the rank's bricks (beyond them: at the nearer end).
+  const VoxelGrid& grid = store_.grid();
+  std::vector<uint64_t> counts(zLayers_ + 1, 0);
   uint64_t total = 0;
-  for (size_t k = 1; k < threads; ++k)
-    for (int z = 0; z <= zLayers_; ++z) counts[0][z] += counts[k][z];
-  for (uint64_t c : counts[0]) total += c;
+  for (const Image& image : images)
+    for (const PrismScan* part : image)
+      for (const Eigen::Vector3d& p : part->surface.points) {
+        const double z = grid.coord(p, 2) - zFirst_;
+        ++counts[z >= 0 ? (z < zLayers_ ? static_cast<int>(z) : zLayers_) : 0];
+        ++total;
+      }
   // Slab k ends before the layer where the count first passes k+1 shares; an empty slab is
-  // one whose cut repeats the last (no prisms there).
+  // one whose cut repeats the last (no points there).
   int from = std::numeric_limits<int>::min(), z = 0;
   uint64_t below = 0;
   for (size_t k = 0; k + 1 < threads; ++k) {
     const uint64_t share = total * (k + 1) / threads;
-    while (z <= zLayers_ && below + counts[0][z] <= share) below += counts[0][z++];
+    while (z <= zLayers_ && below + counts[z] <= share) below += counts[z++];
     const int cut = std::max(from, zFirst_ + z);
     if (total > 0 && cut > from)
       slabs_[k].zLo = from, slabs_[k].zHi = cut - 1;
