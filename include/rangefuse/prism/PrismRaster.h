@@ -22,9 +22,19 @@ class PrismRows {
  public:
   PrismRows(const Prism& prism, const VoxelGrid& grid);
 
+  static constexpr int kSlabs = 5;
+
   bool empty() const { return (lo.array() > hi.array()).any(); }
-  /// Voxels [a0, a1] along `along` of the row at (vb, vc) on the two other axes, false if none.
-  bool span(int vb, int vc, int& a0, int& a1) const;
+
+  /// Each slab's value at the start of the rows with first fixed coordinate vb (the part of
+  /// span's sum that a run of rows shares, so it is added once for them all).
+  struct Plane {
+    double at[kSlabs], flatAt[kSlabs];
+  };
+  void plane(int vb, Plane& p) const;
+  /// Voxels [a0, a1] along `along` of the row at (vb, vc) on the two other axes (p: vb's
+  /// plane), false if none.
+  bool span(const Plane& p, int vc, int& a0, int& a1) const;
 
   int along = 0, b = 1, c = 2;  ///< the rows' axis and the two fixed ones
   VoxelIndex lo, hi;            ///< voxels of the prism's box
@@ -36,32 +46,39 @@ class PrismRows {
   struct Slab {
     double lo, hi, atRow0, perB, perC, perStepInv;
   };
-  static constexpr int kSlabs = 5;
   Slab slabs_[kSlabs];  ///< slabs that cut rows
   Slab flat_[kSlabs];   ///< slabs parallel to the rows (perStep 0)
   int count_ = 0, flatCount_ = 0;
 };
 
-inline bool PrismRows::span(int vb, int vc, int& a0, int& a1) const {
+inline void PrismRows::plane(int vb, Plane& p) const {
+  for (int k = 0; k < count_; ++k) p.at[k] = slabs_[k].atRow0 + slabs_[k].perB * vb;
+  for (int k = 0; k < flatCount_; ++k) p.flatAt[k] = flat_[k].atRow0 + flat_[k].perB * vb;
+}
+
+inline bool PrismRows::span(const Plane& p, int vc, int& a0, int& a1) const {
   double from = lo[along], to = hi[along];
   // Without a branch per slab (rows a prism misses are about two in three, unpredictably):
   // each slab's interval along the row, cut from the others by min and max.
   for (int k = 0; k < count_; ++k) {
     const Slab& s = slabs_[k];
-    const double at = s.atRow0 + s.perB * vb + s.perC * vc;
+    const double at = p.at[k] + s.perC * vc;
     const double t0 = (s.lo - at) * s.perStepInv, t1 = (s.hi - at) * s.perStepInv;
     from = std::max(from, std::min(t0, t1));
     to = std::min(to, std::max(t0, t1));
   }
   for (int k = 0; k < flatCount_; ++k) {  // slabs the row runs inside of: all of it or none
     const Slab& s = flat_[k];
-    const double at = s.atRow0 + s.perB * vb + s.perC * vc;
+    const double at = p.flatAt[k] + s.perC * vc;
     if (at < s.lo || at > s.hi) return false;
   }
   if (!(from <= to)) return false;
+  // Rounded through int (from and to lie within the box's int range): cheaper than ceil and
+  // floor without SSE4.1, and exactly them.
   const double pad = 1e-6;  // lattice units: rounding never cuts a voxel the solve would keep
-  a0 = std::max(lo[along], static_cast<int>(std::ceil(from - pad)));
-  a1 = std::min(hi[along], static_cast<int>(std::floor(to + pad)));
+  const int up = static_cast<int>(from - pad), down = static_cast<int>(to + pad);
+  a0 = std::max(lo[along], up + (up < from - pad));
+  a1 = std::min(hi[along], down - (down > to + pad));
   return a0 <= a1;
 }
 
@@ -87,9 +104,11 @@ void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& r
   };
   VoxelIndex v;
   int a0, a1;
-  for (v[rows.b] = rows.lo[rows.b]; v[rows.b] <= rows.hi[rows.b]; ++v[rows.b])
+  PrismRows::Plane plane;
+  for (v[rows.b] = rows.lo[rows.b]; v[rows.b] <= rows.hi[rows.b]; ++v[rows.b]) {
+    rows.plane(v[rows.b], plane);
     for (v[rows.c] = rows.lo[rows.c]; v[rows.c] <= rows.hi[rows.c]; ++v[rows.c]) {
-      if (!rows.span(v[rows.b], v[rows.c], a0, a1)) continue;
+      if (!rows.span(plane, v[rows.c], a0, a1)) continue;
       for (v[rows.along] = a0; v[rows.along] <= a1; ++v[rows.along]) {
         const int64_t slot = slotOf(v);
         if (slot < 0) continue;
@@ -99,6 +118,7 @@ void rasterizeRows(const Prism& prism, const VoxelGrid& grid, const PrismRows& r
         if (++n == kFootBatch) flush();
       }
     }
+  }
   if (n > 0) flush();
 }
 
