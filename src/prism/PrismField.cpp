@@ -116,7 +116,7 @@ PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypothes
       hypotheses_(hypotheses),
       latest_(store.sums().size(), 0),
       slabs_(std::max(1, threads)) {
-  // A slab's list holds at most the rank's voxels: its positions must fit latest_'s entries.
+  // Voxel offsets and positions in a slab's list (at most the rank's voxels) take 32 bits.
   if (store.sums().size() > std::numeric_limits<uint32_t>::max())
     throw InputError("a field of " + std::to_string(store.sums().size()) +
                      " voxels on one rank: more than 2^32 (use more ranks)");
@@ -171,7 +171,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
       s = &slab.samples.emplace_back();
     }
     const Eigen::Vector3d g = footGradient(prism, foot.bary);
-    *s = Sample{static_cast<size_t>(at),
+    *s = Sample{static_cast<uint32_t>(at),
                 static_cast<float>(foot.d),
                 static_cast<float>(footWeight(prism, foot.bary)),
                 {static_cast<float>(g.x()), static_cast<float>(g.y()), static_cast<float>(g.z())}};

@@ -82,9 +82,10 @@ class PrismIntegrator {
   IntegrationStats addImages(const std::vector<Image>& images);
 
  private:
-  /// The value the image gives voxel `at` (its offset in the sums).
+  /// The value the image gives voxel `at` (its offset in the sums: a rank holds under 2^32
+  /// voxels, and 24 bytes a sample, not 32, is a quarter less memory to write and read).
   struct Sample {
-    size_t at;
+    uint32_t at;
     float d, w, f[3];
   };
   /// One thread's share: voxels with z in [zLo, zHi], and the values this image gives them.
