@@ -17,15 +17,81 @@ double slopeAt(const double c[4], double x) {
   return (3 * c[3] * x + 2 * c[2]) * x + c[1];
 }
 
-/// Eq. 6's coefficients at every point.
-void coefficients(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d* points, int n,
-                  double (*c)[4]) {
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d w = prism.p[0] - points[i];
-    c[i][0] = cubic.N.dot(w);
-    c[i][1] = cubic.Nn + cubic.K.dot(w);
-    c[i][2] = cubic.Kn + cubic.L.dot(w);
-    c[i][3] = cubic.Ln;
+/// A batch of points as a structure of arrays: the loops over it have no branch and no
+/// stride, so the compiler keeps two points in each SSE2 register. The sums are grouped as
+/// Eigen groups a Vector3d's dot product, a0 b0 + (a1 b1 + a2 b2): the same bits as one point
+/// at a time.
+struct Batch {
+  int n = 0;
+  double x[3][kFootBatch];                                ///< the points' coordinates
+  double c0[kFootBatch], c1[kFootBatch], c2[kFootBatch];  ///< Eq. 6 (c3: the prism's Ln)
+  double fLo[kFootBatch], fHi[kFootBatch];                ///< the cubic at the envelope's ends
+  double d[kFootBatch];                                   ///< the root, as Newton leaves it
+  double last[kFootBatch], error[kFootBatch], bound[kFootBatch];  ///< the last step's test
+  double b[3][kFootBatch];  ///< barycentric coordinates of each point in T(d)
+};
+
+double dot3(double ax, double ay, double az, double bx, double by, double bz) {
+  return ax * bx + (ay * by + az * bz);
+}
+
+/// Eq. 6's coefficients, the cubic at lo and hi, and Newton's start (the linear root).
+void coefficients(const PrismCubic& cubic, const Eigen::Vector3d& p0, double lo, double hi,
+                  Batch& s) {
+  const double c3 = cubic.Ln;
+  for (int i = 0; i < s.n; ++i) {
+    const double wx = p0.x() - s.x[0][i], wy = p0.y() - s.x[1][i], wz = p0.z() - s.x[2][i];
+    const double c0 = dot3(cubic.N.x(), cubic.N.y(), cubic.N.z(), wx, wy, wz);
+    const double c1 = cubic.Nn + dot3(cubic.K.x(), cubic.K.y(), cubic.K.z(), wx, wy, wz);
+    const double c2 = cubic.Kn + dot3(cubic.L.x(), cubic.L.y(), cubic.L.z(), wx, wy, wz);
+    s.c0[i] = c0, s.c1[i] = c1, s.c2[i] = c2;
+    s.fLo[i] = ((c3 * lo + c2) * lo + c1) * lo + c0;
+    s.fHi[i] = ((c3 * hi + c2) * hi + c1) * hi + c0;
+    s.d[i] = std::clamp(-c0 / c1, lo, hi);
+  }
+}
+
+/// kNewtonSteps steps, then the last one taken apart: its size and bracketedRoot's test of it
+/// (the error after it is about f''/(2 f') times its square).
+void newtonSteps(double c3, double lo, double hi, Batch& s) {
+  for (int step = 0; step < kNewtonSteps; ++step)
+    for (int i = 0; i < s.n; ++i) {
+      const double c[4] = {s.c0[i], s.c1[i], s.c2[i], c3};
+      s.d[i] = std::clamp(s.d[i] - cubicAt(c, s.d[i]) / slopeAt(c, s.d[i]), lo, hi);
+    }
+  for (int i = 0; i < s.n; ++i) {
+    const double c[4] = {s.c0[i], s.c1[i], s.c2[i], c3}, d = s.d[i];
+    const double tol = 1e-15 * (1 + std::abs(d));
+    const double slope = slopeAt(c, d), last = cubicAt(c, d) / slope;
+    const double curvature = 6 * c3 * d + 2 * c[2];
+    s.error[i] = std::abs(curvature) * last * last;
+    s.bound[i] = 2 * tol * std::abs(slope);
+    s.last[i] = last;
+    s.d[i] = d - last;
+  }
+}
+
+/// isoBarycentric at every point and its d.
+void isoBarycentric(const Prism& prism, const PrismCubic& cubic, Batch& s) {
+  const Eigen::Vector3d &N = cubic.N, &K = cubic.K, &L = cubic.L;
+  const auto& p = prism.p;
+  const auto& nv = prism.n;
+  for (int i = 0; i < s.n; ++i) {
+    const double d = s.d[i], x = s.x[0][i], y = s.x[1][i], z = s.x[2][i];
+    double m[3], q[3][3];  // T(d)'s normal; T(d)'s corners less the point
+    for (int k = 0; k < 3; ++k) m[k] = N[k] + d * (K[k] + d * L[k]);
+    for (int j = 0; j < 3; ++j) {
+      q[j][0] = p[j].x() - x + d * nv[j].x();
+      q[j][1] = p[j].y() - y + d * nv[j].y();
+      q[j][2] = p[j].z() - z + d * nv[j].z();
+    }
+    const auto tripleWithM = [&](const double* u, const double* v) {
+      return dot3(u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0],
+                  m[0], m[1], m[2]);
+    };
+    const double area = dot3(m[0], m[1], m[2], m[0], m[1], m[2]);
+    const double b0 = tripleWithM(q[1], q[2]) / area, b1 = tripleWithM(q[2], q[0]) / area;
+    s.b[0][i] = b0, s.b[1][i] = b1, s.b[2][i] = 1 - b0 - b1;
   }
 }
 
@@ -67,43 +133,29 @@ void solveTurning(const Prism& prism, const PrismCubic& cubic, const Eigen::Vect
 
 void solveFeet(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d* points, int n,
                PrismFoot* feet, bool* inside) {
-  double c[kFootBatch][4], d[kFootBatch];
-  bool root[kFootBatch];
-  const double lo = prism.dMin, hi = prism.dMax;
-  coefficients(prism, cubic, points, n, c);
-  // Each loop below runs over every point without branching on it: the points' chains of
-  // divisions overlap.
+  Batch s;
+  s.n = n;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) s.x[k][i] = points[i][k];
+  const double lo = prism.dMin, hi = prism.dMax, c3 = cubic.Ln;
+  coefficients(cubic, prism.p[0], lo, hi, s);
+  newtonSteps(c3, lo, hi, s);
+  isoBarycentric(prism, cubic, s);
   for (int i = 0; i < n; ++i) {
-    const double fa = cubicAt(c[i], lo), fb = cubicAt(c[i], hi);
-    root[i] = (fa < 0) != (fb < 0) || fa == 0 || fb == 0;
-    d[i] = std::clamp(-c[i][0] / c[i][1], lo, hi);
-  }
-  for (int step = 0; step < kNewtonSteps; ++step)
-    for (int i = 0; i < n; ++i)
-      d[i] = std::clamp(d[i] - cubicAt(c[i], d[i]) / slopeAt(c[i], d[i]), lo, hi);
-  // After the last step the error is about f''/(2 f') times its square (bracketedRoot's test).
-  bool converged[kFootBatch], tiny[kFootBatch];
-  for (int i = 0; i < n; ++i) {
-    const double tol = 1e-15 * (1 + std::abs(d[i]));
-    const double slope = slopeAt(c[i], d[i]), last = cubicAt(c[i], d[i]) / slope;
-    const double curvature = 6 * c[i][3] * d[i] + 2 * c[i][2];
-    converged[i] = std::abs(curvature) * last * last <= 2 * tol * std::abs(slope);  // NaN: false
-    tiny[i] = std::abs(last) <= 1e-9 * (hi - lo);  // a root, not a clamped end of a line
-    d[i] -= last;
-  }
-  Eigen::Vector3d b[kFootBatch];
-  for (int i = 0; i < n; ++i) b[i] = isoBarycentric(prism, cubic, points[i], d[i]);
-  for (int i = 0; i < n; ++i) {
-    if (converged[i] && cubicMonotonicIn(c[i], lo, hi)) {
-      inside[i] = root[i] && baryInside(b[i]);  // false without area (coordinates not finite)
-      if (inside[i]) feet[i] = PrismFoot{d[i], b[i]};
-    } else if (converged[i] && tiny[i] && nearestRootInside(c[i], d[i], lo, hi) &&
-               baryInside(b[i])) {
+    const double c[4] = {s.c0[i], s.c1[i], s.c2[i], c3}, d = s.d[i];
+    const Eigen::Vector3d b(s.b[0][i], s.b[1][i], s.b[2][i]);
+    const bool converged = s.error[i] <= s.bound[i];            // NaN: false
+    const bool tiny = std::abs(s.last[i]) <= 1e-9 * (hi - lo);  // a root, not a clamped end
+    if (converged && cubicMonotonicIn(c, lo, hi)) {
+      const double fa = s.fLo[i], fb = s.fHi[i];
+      const bool root = (fa < 0) != (fb < 0) || fa == 0 || fb == 0;
+      inside[i] = root && baryInside(b);  // false without area (coordinates not finite)
+      if (inside[i]) feet[i] = PrismFoot{d, b};
+    } else if (converged && tiny && nearestRootInside(c, d, lo, hi) && baryInside(b)) {
       inside[i] = true;
-      feet[i] = PrismFoot{d[i], b[i]};
+      feet[i] = PrismFoot{d, b};
     } else {
-      solveTurning(prism, cubic, points[i], c[i], d[i], converged[i] && tiny[i], b[i], feet[i],
-                   inside[i]);
+      solveTurning(prism, cubic, points[i], c, d, converged && tiny, b, feet[i], inside[i]);
     }
   }
 }
