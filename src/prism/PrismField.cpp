@@ -102,8 +102,8 @@ void prismLayers(const PrismScan& scan, size_t t, const VoxelGrid& grid, int& zL
     lo = std::min(lo, std::min(a, b));
     hi = std::max(hi, std::max(a, b));
   }
-  zLo = static_cast<int>(std::ceil((lo - grid.origin.z()) / grid.voxel));
-  zHi = static_cast<int>(std::floor((hi - grid.origin.z()) / grid.voxel));
+  zLo = ceilToInt((lo - grid.origin.z()) / grid.voxel);
+  zHi = floorToInt((hi - grid.origin.z()) / grid.voxel);
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "rangefuse/volume/BrickLayout.h"
+#include "rangefuse/volume/VoxelGrid.h"
 
 using namespace rangefuse;
 
@@ -45,4 +47,21 @@ TEST(FloorDiv, NegativeIndices) {
   EXPECT_EQ(floorDiv(-8, 8), -1);
   EXPECT_EQ(floorDiv(-9, 8), -2);
   EXPECT_EQ(floorDiv(7, 8), 0);
+}
+
+TEST(CeilFloorToInt, EqualStdCeilAndFloorAcrossIntRange) {
+  // Integers, values a hair either side of them, halves, signed zeros, and random values over
+  // the whole int range: the int conversion must round as std::ceil and std::floor do.
+  std::vector<double> xs = {0.0, -0.0, 0.5, -0.5, 1e-300, -1e-300, 2147483646.5, -2147483647.5};
+  for (int k = -5; k <= 5; ++k)
+    for (double e : {0.0, 1e-12, -1e-12, 0.25, -0.25})
+      xs.push_back(k + e), xs.push_back(std::nextafter(k + e, 1e9)),
+          xs.push_back(std::nextafter(k + e, -1e9));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> any(-2.1e9, 2.1e9), near(-100, 100);
+  for (int i = 0; i < 100000; ++i) xs.push_back(i % 2 ? any(rng) : near(rng));
+  for (double x : xs) {
+    EXPECT_EQ(ceilToInt(x), static_cast<int>(std::ceil(x))) << x;
+    EXPECT_EQ(floorToInt(x), static_cast<int>(std::floor(x))) << x;
+  }
 }

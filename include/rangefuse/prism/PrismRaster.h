@@ -73,12 +73,9 @@ inline bool PrismRows::span(const Plane& p, int vc, int& a0, int& a1) const {
     if (at < s.lo || at > s.hi) return false;
   }
   if (!(from <= to)) return false;
-  // Rounded through int (from and to lie within the box's int range): cheaper than ceil and
-  // floor without SSE4.1, and exactly them.
   const double pad = 1e-6;  // lattice units: rounding never cuts a voxel the solve would keep
-  const int up = static_cast<int>(from - pad), down = static_cast<int>(to + pad);
-  a0 = std::max(lo[along], up + (up < from - pad));
-  a1 = std::min(hi[along], down - (down > to + pad));
+  a0 = std::max(lo[along], ceilToInt(from - pad));  // from and to lie within the box
+  a1 = std::min(hi[along], floorToInt(to + pad));
   return a0 <= a1;
 }
 

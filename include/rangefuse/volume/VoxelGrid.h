@@ -9,6 +9,18 @@ namespace rangefuse {
 
 using VoxelIndex = Eigen::Vector3i;
 
+/// std::ceil and std::floor to an int, exactly, for values in int's range: through the int
+/// conversion, which x86-64 without SSE4.1 makes far cheaper than the rounding itself (boxes
+/// are rounded for every prism, spans for every row).
+inline int ceilToInt(double x) {
+  const int t = static_cast<int>(x);
+  return t + (t < x);
+}
+inline int floorToInt(double x) {
+  const int t = static_cast<int>(x);
+  return t - (t > x);
+}
+
 struct VoxelGrid {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   double voxel = 1.0;
@@ -31,8 +43,8 @@ struct VoxelGrid {
   /// Voxels whose centres lie inside `box`: [lo, hi] inclusive (empty if lo > hi).
   void voxelRange(const Eigen::AlignedBox3d& box, VoxelIndex& lo, VoxelIndex& hi) const {
     for (int a = 0; a < 3; ++a) {
-      lo[a] = static_cast<int>(std::ceil(coord(box.min(), a)));
-      hi[a] = static_cast<int>(std::floor(coord(box.max(), a)));
+      lo[a] = ceilToInt(coord(box.min(), a));
+      hi[a] = floorToInt(coord(box.max(), a));
     }
   }
 };
