@@ -230,7 +230,9 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(field.scanCount);
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
-  PrismIntegrator integrator(store, threads, hypotheses);
+  // The closest-surface methods keep the scans instead (no per-voxel entries for them).
+  std::optional<PrismIntegrator> integrator;
+  if (reach == 0) integrator.emplace(store, threads, hypotheses);
   routing.bytes.assign(ranks, 0);
   // One rank owns every brick: its scans go to the integrator whole, and the copies it would
   // have routed are the prisms the integrator finds reaching a brick.
@@ -265,10 +267,12 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
       }
       images.emplace_back(image.begin(), image.end());
     }
-    const IntegrationStats st = integrator.addImages(images);
-    counters.prisms += st.prisms;
-    if (alone) routing.copies += st.prisms;
-    counters.voxelUpdates += st.voxelUpdates;
+    if (integrator) {
+      const IntegrationStats st = integrator->addImages(images);
+      counters.prisms += st.prisms;
+      if (alone) routing.copies += st.prisms;
+      counters.voxelUpdates += st.voxelUpdates;
+    }
     if (end < conf.scans.size())
       progress.update("field", std::to_string(end) + " of " + std::to_string(conf.scans.size()) +
                                    " scans added");

@@ -61,7 +61,7 @@ struct IntegrationStats {
 /// Adds images in scan order: per image, each voxel keeps the value of the prism with the
 /// smallest |d|; that value is then added, weighted, to the running sums. With several threads
 /// each owns a slab of voxels along z for a whole batch of images (cut so that each gets as
-/// many of their prisms) and goes through the batch on its own, every image's prisms that reach
+/// many of their points) and goes through the batch on its own, every image's prisms that reach
 /// its slab in order: each voxel still sees the images in order and each image's triangles in
 /// order, the same bits as one thread, and no thread waits for another between images. An
 /// image's values are kept in a list per slab, not in an array over the field: 4 bytes a voxel
