@@ -5,22 +5,30 @@
 namespace rangefuse {
 namespace {
 
-/// Vertex-to-neighbour adjacency (vertices sharing a triangle), compressed rows.
-void buildNeighbours(const TriangleMesh& m, std::vector<int32_t>& start,
-                     std::vector<int32_t>& nbr) {
-  std::vector<std::vector<int32_t>> lists(m.vertices.size());
+/// Vertex-to-neighbour adjacency (vertices sharing a triangle, ascending), compressed rows.
+/// Filled in place from each vertex's triangle corners: no list a vertex.
+void buildNeighbours(const TriangleMesh& m, std::vector<size_t>& start, std::vector<int32_t>& nbr) {
+  const size_t n = m.vertices.size();
+  std::vector<size_t> end(n + 1, 0);
+  for (const auto& t : m.faces)
+    for (int32_t v : t) end[v + 1] += 2;
+  for (size_t v = 0; v < n; ++v) end[v + 1] += end[v];
+  nbr.resize(end[n]);
+  std::vector<size_t> at(end.begin(), end.end() - 1);
   for (const auto& t : m.faces)
     for (int k = 0; k < 3; ++k) {
-      lists[t[k]].push_back(t[(k + 1) % 3]);
-      lists[t[k]].push_back(t[(k + 2) % 3]);
+      nbr[at[t[k]]++] = t[(k + 1) % 3];
+      nbr[at[t[k]]++] = t[(k + 2) % 3];
     }
-  start.assign(1, 0);
-  for (auto& l : lists) {
-    std::sort(l.begin(), l.end());
-    l.erase(std::unique(l.begin(), l.end()), l.end());
-    nbr.insert(nbr.end(), l.begin(), l.end());
-    start.push_back(static_cast<int32_t>(nbr.size()));
+  // Each row sorted and made unique, moved down over what earlier rows dropped.
+  start.assign(n + 1, 0);
+  for (size_t v = 0; v < n; ++v) {
+    const auto first = nbr.begin() + end[v], last = nbr.begin() + end[v + 1];
+    std::sort(first, last);
+    const auto unique = std::unique(first, last);
+    start[v + 1] = std::copy(first, unique, nbr.begin() + start[v]) - nbr.begin();
   }
+  nbr.resize(start[n]);
 }
 
 void normalizeAll(std::vector<Eigen::Vector3d>& v) {
@@ -38,13 +46,14 @@ std::vector<Eigen::Vector3d> filteredVertexNormals(const TriangleMesh& mesh, int
     for (int k = 0; k < 3; ++k) n[t[k]] += fn;
   }
   normalizeAll(n);
-  std::vector<int32_t> start, nbr;
+  std::vector<size_t> start;
+  std::vector<int32_t> nbr;
   buildNeighbours(mesh, start, nbr);
   for (int pass = 0; pass < passes; ++pass) {
     std::vector<Eigen::Vector3d> next(n.size());
     for (size_t v = 0; v < n.size(); ++v) {
       next[v] = n[v];
-      for (int32_t k = start[v]; k < start[v + 1]; ++k) next[v] += n[nbr[k]];
+      for (size_t k = start[v]; k < start[v + 1]; ++k) next[v] += n[nbr[k]];
     }
     normalizeAll(next);
     n.swap(next);

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <map>
+#include <set>
 
 #include "rangefuse/surface/ScanSurface.h"
 
@@ -114,6 +117,38 @@ TEST(Surface, FilteringSmoothsANoisyNormal) {
   for (size_t i = 0; i < m.vertices.size(); ++i)
     if ((m.vertices[i] - Eigen::Vector3d(2, 1.5, 0)).norm() < 1e-9) nb = i;
   EXPECT_GT(smooth[nb].z(), raw[nb].z());
+}
+
+// The adjacency is built in place from triangle corners; here every vertex's neighbours are
+// found by a scan of all triangles, and the passes are summed in the same (ascending) order.
+TEST(Surface, FilteredNormalsMatchABruteForceNeighbourAverage) {
+  RangeGrid g = planeGrid(9, 8, 0.2);
+  std::srand(7);
+  for (auto& p : g.points) p.z() += 0.05 * (std::rand() % 7);
+  g.cell[2 * 9 + 4] = g.cell[5 * 9 + 1] = -1;  // holes: vertices of differing degree
+  const TriangleMesh m = triangulateGrid(g, SurfaceOptions{});
+  std::vector<Eigen::Vector3d> n(m.vertices.size(), Eigen::Vector3d::Zero());
+  for (const Triangle& t : m.faces) {
+    const auto &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    for (int32_t v : t) n[v] += (b - a).cross(c - a).normalized();
+  }
+  for (auto& v : n) v.normalize();
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<Eigen::Vector3d> next = n;
+    for (size_t v = 0; v < n.size(); ++v) {
+      std::set<int32_t> around;
+      for (const Triangle& t : m.faces)
+        if (std::count(t.begin(), t.end(), static_cast<int32_t>(v)))
+          for (int32_t u : t)
+            if (u != static_cast<int32_t>(v)) around.insert(u);
+      for (int32_t u : around) next[v] += n[u];
+      next[v].normalize();
+    }
+    n = next;
+  }
+  const std::vector<Eigen::Vector3d> fast = filteredVertexNormals(m, 2);
+  ASSERT_EQ(fast.size(), n.size());
+  for (size_t v = 0; v < n.size(); ++v) EXPECT_EQ(fast[v], n[v]) << "vertex " << v;
 }
 
 TEST(Surface, PinholeViewRayRunsToTheOrigin) {
