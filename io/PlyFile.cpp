@@ -1,10 +1,14 @@
 #include "PlyFile.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <sstream>  // splitWords
 
 #include "rangefuse/core/Error.h"
@@ -12,18 +16,6 @@
 
 namespace rangefuse::io::internal {
 namespace {
-
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw InputError(path + ": cannot open file");
-  // One allocation and one read: a stream buffer would grow and copy the file several times.
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw InputError(path + ": cannot tell the file's size");
-  std::string text(static_cast<size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(text.data(), size)) throw InputError(path + ": read failed");
-  return text;
-}
 
 bool parseType(const std::string& s, PlyType& t) {
   static const std::map<std::string, PlyType> kTypes = {
@@ -38,6 +30,15 @@ bool parseType(const std::string& s, PlyType& t) {
   t = it->second;
   return true;
 }
+
+std::vector<std::string> splitWords(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> words;
+  for (std::string w; in >> w;) words.push_back(w);
+  return words;
+}
+
+}  // namespace
 
 size_t typeSize(PlyType t) {
   switch (t) {
@@ -57,23 +58,8 @@ size_t typeSize(PlyType t) {
   return 1;
 }
 
-std::vector<std::string> splitWords(const std::string& line) {
-  std::istringstream in(line);
-  std::vector<std::string> words;
-  for (std::string w; in >> w;) words.push_back(w);
-  return words;
-}
-
-struct Header {
-  PlyFormat format = PlyFormat::Ascii;
-  std::map<std::string, std::string> objInfo;
-  std::vector<PlyElement> elements;
-  size_t bodyOffset = 0;
-  int lines = 0;
-};
-
-Header parseHeader(const std::string& path, const std::string& text) {
-  Header h;
+PlyHeader parsePlyHeader(const std::string& path, std::string_view text) {
+  PlyHeader h;
   size_t pos = 0;
   bool sawFormat = false;
   auto fail = [&](const std::string& msg) {
@@ -83,7 +69,7 @@ Header parseHeader(const std::string& path, const std::string& text) {
     if (pos >= text.size()) fail("header ends before end_header");
     size_t eol = text.find('\n', pos);
     if (eol == std::string::npos) eol = text.size();
-    std::string line = text.substr(pos, eol - pos);
+    std::string line(text.substr(pos, eol - pos));
     pos = std::min(eol + 1, text.size());
     ++h.lines;
     std::replace(line.begin(), line.end(), '\r', ' ');
@@ -139,10 +125,12 @@ Header parseHeader(const std::string& path, const std::string& text) {
   return h;
 }
 
+namespace {
+
 /// Reads values from an ASCII body one line (= one element item) at a time.
 class AsciiCursor {
  public:
-  AsciiCursor(const std::string& path, const std::string& text, size_t pos, int line)
+  AsciiCursor(const std::string& path, std::string_view text, size_t pos, int line)
       : path_(path), text_(text), pos_(pos), line_(line) {}
 
   /// Moves to the next non-empty line; false at end of file.
@@ -192,7 +180,7 @@ class AsciiCursor {
     while (cur_ < end_ && isSpace(text_[cur_])) ++cur_;
   }
   const std::string& path_;
-  const std::string& text_;
+  std::string_view text_;
   size_t pos_, cur_ = 0, end_ = 0;
   int line_;
 };
@@ -200,7 +188,7 @@ class AsciiCursor {
 /// Reads values from a binary body.
 class BinaryCursor {
  public:
-  BinaryCursor(const std::string& text, size_t pos, bool bigEndian)
+  BinaryCursor(std::string_view text, size_t pos, bool bigEndian)
       : text_(text), pos_(pos), swap_(bigEndian) {}
 
   size_t position() const { return pos_; }
@@ -246,7 +234,7 @@ class BinaryCursor {
     }
     return 0;
   }
-  const std::string& text_;
+  std::string_view text_;
   size_t pos_;
   bool swap_;
 };
@@ -303,7 +291,7 @@ void reserveFor(PlyElementData& d) {
   for (auto& o : d.listOffsets) o.reserve(d.element.count + 1);
 }
 
-void readAsciiBody(PlyFile& f, const Header& h, const std::string& text) {
+void readAsciiBody(PlyFile& f, const PlyHeader& h, std::string_view text) {
   AsciiCursor cur(f.path, text, h.bodyOffset, h.lines);
   for (const auto& e : h.elements) {
     PlyElementData d = makeData(e);
@@ -337,7 +325,7 @@ void decodeColumn(const char* first, size_t stride, uint64_t count, double* out,
 
 /// An element of fixed-size scalars in host (little-endian) order, decoded a column at a time
 /// rather than a value at a time. False, with nothing read, if the body is too short.
-bool readScalarTable(PlyElementData& d, BinaryCursor& cur, const std::string& text) {
+bool readScalarTable(PlyElementData& d, BinaryCursor& cur, std::string_view text) {
   const auto& props = d.element.properties;
   size_t stride = 0;
   for (const auto& p : props) stride += typeSize(p.type);
@@ -381,7 +369,7 @@ bool readScalarTable(PlyElementData& d, BinaryCursor& cur, const std::string& te
 
 /// An element of one list with uchar counts and 32-bit integer items (range grids, faces),
 /// little-endian. False, with nothing read, if the body ends early.
-bool readIndexLists(PlyElementData& d, BinaryCursor& cur, const std::string& text) {
+bool readIndexLists(PlyElementData& d, BinaryCursor& cur, std::string_view text) {
   const PlyProperty& p = d.element.properties[0];
   const bool isSigned = p.type == PlyType::Int32;
   const unsigned char* at = reinterpret_cast<const unsigned char*>(text.data()) + cur.position();
@@ -413,8 +401,7 @@ bool readIndexLists(PlyElementData& d, BinaryCursor& cur, const std::string& tex
 
 /// The common layouts read in bulk; false leaves the element to the value-by-value reader
 /// (which also words the errors of a short body).
-bool readElementFast(PlyElementData& d, BinaryCursor& cur, const std::string& text,
-                     bool bigEndian) {
+bool readElementFast(PlyElementData& d, BinaryCursor& cur, std::string_view text, bool bigEndian) {
   const auto& props = d.element.properties;
   const uint16_t one = 1;
   const bool littleHost = *reinterpret_cast<const unsigned char*>(&one) == 1;
@@ -426,7 +413,7 @@ bool readElementFast(PlyElementData& d, BinaryCursor& cur, const std::string& te
   return indexList && readIndexLists(d, cur, text);
 }
 
-void readBinaryBody(PlyFile& f, const Header& h, const std::string& text) {
+void readBinaryBody(PlyFile& f, const PlyHeader& h, std::string_view text) {
   const bool bigEndian = h.format == PlyFormat::BinaryBigEndian;
   BinaryCursor cur(text, h.bodyOffset, bigEndian);
   for (const auto& e : h.elements) {
@@ -474,14 +461,10 @@ const PlyElementData* PlyFile::find(const std::string& name) const {
   return nullptr;
 }
 
-PlyFile parsePly(const std::string& path, const std::string& text, uint64_t maxElements) {
-  Header h = parseHeader(path, text);
-  PlyFile f;
-  f.path = path;
-  f.format = h.format;
-  f.objInfo = h.objInfo;
+void checkPlyCounts(const std::string& path, const PlyHeader& h, size_t bytes,
+                    uint64_t maxElements) {
   const bool ascii = h.format == PlyFormat::Ascii;
-  size_t body = text.size() - h.bodyOffset;
+  const size_t body = bytes - h.bodyOffset;
   for (const auto& e : h.elements) {
     checkLimit(path, "element '" + e.name + "' count", static_cast<double>(e.count), maxElements,
                "max-elements");
@@ -490,15 +473,50 @@ PlyFile parsePly(const std::string& path, const std::string& text, uint64_t maxE
                        " items but the body has only " + std::to_string(body) +
                        " bytes: header counts do not match the body");
   }
-  if (ascii)
+}
+
+PlyFile parsePly(const std::string& path, std::string_view text, uint64_t maxElements) {
+  const PlyHeader h = parsePlyHeader(path, text);
+  checkPlyCounts(path, h, text.size(), maxElements);
+  PlyFile f;
+  f.path = path;
+  f.format = h.format;
+  f.objInfo = h.objInfo;
+  if (h.format == PlyFormat::Ascii)
     readAsciiBody(f, h, text);
   else
     readBinaryBody(f, h, text);
   return f;
 }
 
+FileBytes::FileBytes(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError(path + ": cannot open file");
+  struct stat st;
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw InputError(path + ": is not a regular file");
+  }
+  // One allocation, left unset, and large reads: the file is copied once, straight into it.
+  size_ = static_cast<size_t>(st.st_size);
+  bytes_.reset(new char[std::max<size_t>(size_, 1)]);
+  size_t got = 0;
+  while (got < size_) {
+    const ssize_t n = ::read(fd, bytes_.get() + got, std::min<size_t>(size_ - got, 1 << 30));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = n < 0 ? std::strerror(errno) : "the file shrank while being read";
+      ::close(fd);
+      throw InputError(path + ": read failed (" + why + ")");
+    }
+    got += static_cast<size_t>(n);
+  }
+  ::close(fd);
+}
+
 PlyFile readPly(const std::string& path, uint64_t maxElements) {
-  return parsePly(path, readWholeFile(path), maxElements);
+  const FileBytes bytes(path);
+  return parsePly(path, bytes.view(), maxElements);
 }
 
 }  // namespace rangefuse::io::internal

@@ -3,7 +3,9 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rangefuse::io::internal {
@@ -53,9 +55,40 @@ struct PlyFile {
   const PlyElementData* find(const std::string& name) const;
 };
 
+/// Bytes a binary value of type t takes.
+size_t typeSize(PlyType t);
+
+struct PlyHeader {
+  PlyFormat format = PlyFormat::Ascii;
+  std::map<std::string, std::string> objInfo;
+  std::vector<PlyElement> elements;
+  size_t bodyOffset = 0;  ///< where the body starts
+  int lines = 0;          ///< lines in the header
+};
+
+/// A whole file's bytes, read with one allocation (not zeroed first) and large reads.
+class FileBytes {
+ public:
+  /// Throws InputError naming the file if it cannot be opened or read.
+  explicit FileBytes(const std::string& path);
+  std::string_view view() const { return {bytes_.get(), size_}; }
+
+ private:
+  std::unique_ptr<char[]> bytes_;
+  size_t size_ = 0;
+};
+
+/// The header of PLY bytes; throws InputError naming `path` and the line.
+PlyHeader parsePlyHeader(const std::string& path, std::string_view text);
+
+/// Refuses element counts above maxElements, or more than a body of `bytes` (the whole
+/// file's) can hold, before anything is allocated for them.
+void checkPlyCounts(const std::string& path, const PlyHeader& h, size_t bytes,
+                    uint64_t maxElements);
+
 /// Parses PLY bytes; `name` (the file) heads every message. Element counts above
 /// maxElements are refused before anything is allocated for them.
-PlyFile parsePly(const std::string& name, const std::string& text, uint64_t maxElements);
+PlyFile parsePly(const std::string& name, std::string_view text, uint64_t maxElements);
 
 /// Reads a whole PLY file; throws InputError naming the file and line or element.
 PlyFile readPly(const std::string& path, uint64_t maxElements);

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "PlainRangeGrid.h"
 #include "PlyFile.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
@@ -13,17 +14,18 @@ namespace {
 using internal::PlyElementData;
 using internal::PlyFile;
 
-double infoNumber(const PlyFile& f, const std::string& key, bool required) {
-  auto it = f.objInfo.find(key);
-  if (it == f.objInfo.end()) {
-    if (required) throw InputError(f.path + ": header lacks 'obj_info " + key + "'");
+double infoNumber(const std::string& path, const std::map<std::string, std::string>& info,
+                  const std::string& key, bool required) {
+  auto it = info.find(key);
+  if (it == info.end()) {
+    if (required) throw InputError(path + ": header lacks 'obj_info " + key + "'");
     return std::nan("");
   }
   double v = 0;
   const std::string& s = it->second;
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v))
-    throw InputError(f.path + ": 'obj_info " + key + " " + s + "' is not a number");
+    throw InputError(path + ": 'obj_info " + key + " " + s + "' is not a number");
   return v;
 }
 
@@ -68,10 +70,12 @@ void readCells(const PlyFile& f, RangeGrid& g) {
   }
 }
 
-RangeGrid gridFrom(const PlyFile& f, const InputLimits& limits) {
-  const std::string& path = f.path;
+/// The grid's size and pinhole intrinsics, from the header's obj_info lines.
+RangeGrid gridShape(const std::string& path, const std::map<std::string, std::string>& info,
+                    const InputLimits& limits) {
   RangeGrid g;
-  double cols = infoNumber(f, "num_cols", true), rows = infoNumber(f, "num_rows", true);
+  double cols = infoNumber(path, info, "num_cols", true);
+  double rows = infoNumber(path, info, "num_rows", true);
   if (cols < 1 || rows < 1 || cols != std::floor(cols) || rows != std::floor(rows))
     throw InputError(path + ": bad grid size num_cols=" + std::to_string(cols) +
                      " num_rows=" + std::to_string(rows));
@@ -79,12 +83,25 @@ RangeGrid gridFrom(const PlyFile& f, const InputLimits& limits) {
              "max-grid-cells");
   g.cols = static_cast<int>(cols);
   g.rows = static_cast<int>(rows);
-  readPoints(f, g);
-  readCells(f, g);
-  double fx = infoNumber(f, "pinhole_fx", false);
+  double fx = infoNumber(path, info, "pinhole_fx", false);
   if (!std::isnan(fx)) {
-    g.pinhole = Pinhole{fx, infoNumber(f, "pinhole_fy", true), infoNumber(f, "pinhole_cx", true),
-                        infoNumber(f, "pinhole_cy", true)};
+    g.pinhole = Pinhole{fx, infoNumber(path, info, "pinhole_fy", true),
+                        infoNumber(path, info, "pinhole_cx", true),
+                        infoNumber(path, info, "pinhole_cy", true)};
+  }
+  return g;
+}
+
+RangeGrid gridFrom(const std::string& name, std::string_view text, const InputLimits& limits) {
+  const internal::PlyHeader h = internal::parsePlyHeader(name, text);
+  internal::checkPlyCounts(name, h, text.size(), limits.maxElements);
+  RangeGrid g = gridShape(name, h.objInfo, limits);
+  // Scanners' and our own binary grids decode in one pass; any other layout, and any file
+  // with something wrong in its body, goes through the general reader, which says what.
+  if (!internal::decodePlainRangeGrid(h, text, g)) {
+    const PlyFile f = internal::parsePly(name, text, limits.maxElements);
+    readPoints(f, g);
+    readCells(f, g);
   }
   return g;
 }
@@ -93,11 +110,12 @@ RangeGrid gridFrom(const PlyFile& f, const InputLimits& limits) {
 
 RangeGrid parseRangeGridPly(const std::string& name, const std::string& text,
                             const InputLimits& limits) {
-  return gridFrom(internal::parsePly(name, text, limits.maxElements), limits);
+  return gridFrom(name, text, limits);
 }
 
 RangeGrid readRangeGridPly(const std::string& path, const InputLimits& limits) {
-  return gridFrom(internal::readPly(path, limits.maxElements), limits);
+  const internal::FileBytes bytes(path);
+  return gridFrom(path, bytes.view(), limits);
 }
 
 }  // namespace rangefuse::io

@@ -247,6 +247,12 @@ TEST(PlyReader, MissingFile) {
   expectError("/nonexistent/scan.ply", "cannot open");
 }
 
+TEST(PlyReader, AFolderIsNotAScan) {
+  test::TempDir dir;
+  std::filesystem::create_directory(dir.file("scan.ply"));
+  expectError(dir.file("scan.ply"), "is not a regular file");
+}
+
 TEST(MeshPly, ReadsBunnyReference) {
   TriangleMesh m = io::readMeshPly(RANGEFUSE_TEST_DATA "/bunny/bun_zipper.ply");
   EXPECT_EQ(m.vertices.size(), 35947u);
