@@ -96,8 +96,9 @@ RangeGrid gridFrom(const std::string& name, std::string_view text, const InputLi
   const internal::PlyHeader h = internal::parsePlyHeader(name, text);
   internal::checkPlyCounts(name, h, text.size(), limits.maxElements);
   RangeGrid g = gridShape(name, h.objInfo, limits);
-  // Scanners' and our own binary grids decode in one pass; any other layout, and any file
-  // with something wrong in its body, goes through the general reader, which says what.
+  // Little-endian binary grids (ours, most converters') decode in one pass; any other layout,
+  // and any file with something wrong in its body, goes through the general reader, which
+  // says what.
   if (!internal::decodePlainRangeGrid(h, text, g)) {
     const PlyFile f = internal::parsePly(name, text, limits.maxElements);
     readPoints(f, g);
