@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "FootKernels.h"
+
 namespace rangefuse {
 namespace {
 
@@ -111,20 +113,16 @@ PrismCubic::PrismCubic(const Prism& prism) {
 
 Eigen::Vector3d isoBarycentric(const Prism& prism, const PrismCubic& cubic,
                                const Eigen::Vector3d& x, double d) {
-  const Eigen::Vector3d m = cubic.N + d * (cubic.K + d * cubic.L);  // T(d)'s normal
-  const Eigen::Vector3d q1 = prism.p[0] - x + d * prism.n[0], q2 = prism.p[1] - x + d * prism.n[1],
-                        q3 = prism.p[2] - x + d * prism.n[2];  // T(d) - x
-  Eigen::Vector3d b(q2.cross(q3).dot(m), q3.cross(q1).dot(m), 0);
-  b /= m.squaredNorm();
+  Eigen::Vector3d b;
+  footBarycentric(prism, cubic, x.x(), x.y(), x.z(), d, b[0], b[1]);
   b[2] = 1 - b[0] - b[1];
   return b;
 }
 
 bool solvePrismFoot(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,
                     PrismFoot& foot) {
-  const Eigen::Vector3d w = prism.p[0] - x;
-  const double c[4] = {cubic.N.dot(w), cubic.Nn + cubic.K.dot(w), cubic.Kn + cubic.L.dot(w),
-                       cubic.Ln};
+  double c[4] = {0, 0, 0, cubic.Ln};
+  footCubic(cubic, prism.p[0], x.x(), x.y(), x.z(), c[0], c[1], c[2]);
   double roots[3];
   const int nr = cubicRootsInRange(c, prism.dMin, prism.dMax, roots);
   bool found = false;

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "FootKernels.h"
 #include "rangefuse/prism/Prism.h"
 
 namespace rangefuse::internal {
@@ -18,9 +19,8 @@ double slopeAt(const double c[4], double x) {
 }
 
 /// A batch of points as a structure of arrays: the loops over it have no branch and no
-/// stride, so the compiler keeps two points in each SSE2 register. The sums are grouped as
-/// Eigen groups a Vector3d's dot product, a0 b0 + (a1 b1 + a2 b2): the same bits as one point
-/// at a time.
+/// stride, so the compiler keeps two points in each SSE2 register. Each point's arithmetic is
+/// FootKernels.h's, as for one point at a time: the same bits.
 struct Batch {
   int n = 0;
   double x[3][kFootBatch];                                ///< the points' coordinates
@@ -31,19 +31,13 @@ struct Batch {
   double b[3][kFootBatch];  ///< barycentric coordinates of each point in T(d)
 };
 
-double dot3(double ax, double ay, double az, double bx, double by, double bz) {
-  return ax * bx + (ay * by + az * bz);
-}
-
 /// Eq. 6's coefficients, the cubic at lo and hi, and Newton's start (the linear root).
 void coefficients(const PrismCubic& cubic, const Eigen::Vector3d& p0, double lo, double hi,
                   Batch& s) {
   const double c3 = cubic.Ln;
   for (int i = 0; i < s.n; ++i) {
-    const double wx = p0.x() - s.x[0][i], wy = p0.y() - s.x[1][i], wz = p0.z() - s.x[2][i];
-    const double c0 = dot3(cubic.N.x(), cubic.N.y(), cubic.N.z(), wx, wy, wz);
-    const double c1 = cubic.Nn + dot3(cubic.K.x(), cubic.K.y(), cubic.K.z(), wx, wy, wz);
-    const double c2 = cubic.Kn + dot3(cubic.L.x(), cubic.L.y(), cubic.L.z(), wx, wy, wz);
+    double c0, c1, c2;
+    footCubic(cubic, p0, s.x[0][i], s.x[1][i], s.x[2][i], c0, c1, c2);
     s.c0[i] = c0, s.c1[i] = c1, s.c2[i] = c2;
     s.fLo[i] = ((c3 * lo + c2) * lo + c1) * lo + c0;
     s.fHi[i] = ((c3 * hi + c2) * hi + c1) * hi + c0;
@@ -73,24 +67,9 @@ void newtonSteps(double c3, double lo, double hi, Batch& s) {
 
 /// isoBarycentric at every point and its d.
 void isoBarycentric(const Prism& prism, const PrismCubic& cubic, Batch& s) {
-  const Eigen::Vector3d &N = cubic.N, &K = cubic.K, &L = cubic.L;
-  const auto& p = prism.p;
-  const auto& nv = prism.n;
   for (int i = 0; i < s.n; ++i) {
-    const double d = s.d[i], x = s.x[0][i], y = s.x[1][i], z = s.x[2][i];
-    double m[3], q[3][3];  // T(d)'s normal; T(d)'s corners less the point
-    for (int k = 0; k < 3; ++k) m[k] = N[k] + d * (K[k] + d * L[k]);
-    for (int j = 0; j < 3; ++j) {
-      q[j][0] = p[j].x() - x + d * nv[j].x();
-      q[j][1] = p[j].y() - y + d * nv[j].y();
-      q[j][2] = p[j].z() - z + d * nv[j].z();
-    }
-    const auto tripleWithM = [&](const double* u, const double* v) {
-      return dot3(u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0],
-                  m[0], m[1], m[2]);
-    };
-    const double area = dot3(m[0], m[1], m[2], m[0], m[1], m[2]);
-    const double b0 = tripleWithM(q[1], q[2]) / area, b1 = tripleWithM(q[2], q[0]) / area;
+    double b0, b1;
+    footBarycentric(prism, cubic, s.x[0][i], s.x[1][i], s.x[2][i], s.d[i], b0, b1);
     s.b[0][i] = b0, s.b[1][i] = b1, s.b[2][i] = 1 - b0 - b1;
   }
 }
