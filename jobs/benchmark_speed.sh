@@ -10,7 +10,10 @@
 # Each tool runs twice on each set and its faster run is kept: on a virtual machine a process's
 # first touch of memory the guest has not used lately costs far more than on one it has (the
 # real bunny's field: 0.74 s cold, 0.41 s warm), and which tool ran first would get the cost.
-# Environment: CACHE (default /tmp/rangefuse-bench).
+# Environment: CACHE (default /tmp/rangefuse-bench); EXTRA_SETS="PATH:VOXEL ..." adds sets, each
+# a folder `rangefuse scan` wrote or a Stanford .conf, fused at VOXEL (scan sets the benchmark
+# does not hold, e.g. `rangefuse scan --mesh tests/data/bunny/bun_zipper.ply --views 16 --width
+# 640 --height 480 --voxel 0.001 --noise 0.5 --out /tmp/s16`, then EXTRA_SETS=/tmp/s16:0.001).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh >/dev/null
@@ -89,3 +92,10 @@ run "synthetic bunny, 24 x 320x240, 1 mm" "$s24/truth.conf" 0.001 "$s24"
 run "real bunny, 10 scans, 0.5 mm" tests/data/bunny/bun.conf 0.0005 tests/data/bunny/bun.conf
 s48=$(make_set 48 1024 1024 0.0005 0.3)
 run "bunny re-scanned, 48 x 1024x1024, 0.5 mm" "$s48/truth.conf" 0.0005 "$s48"
+# Sets of the caller's: a folder `rangefuse scan` wrote (its truth.conf) or a Stanford .conf.
+for entry in ${EXTRA_SETS:-}; do
+  set_path=${entry%:*} set_voxel=${entry##*:}
+  set_conf=$set_path
+  [[ -d $set_path ]] && set_conf=$set_path/truth.conf
+  run "$(basename "$set_path"), $set_voxel" "$set_conf" "$set_voxel" "$set_path"
+done
