@@ -1,21 +1,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "FootKernels.h"
 #include "rangefuse/prism/Prism.h"
 
 namespace rangefuse::internal {
 namespace {
-
-double evalCubic(const double c[4], double x) {
-  return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
-}
-double evalSlope(const double c[4], double x) {
-  return (3 * c[3] * x + 2 * c[2]) * x + c[1];
-}
-
-double evalCurvature(const double c[4], double x) {
-  return 6 * c[3] * x + 2 * c[2];
-}
 
 /// Root of a function monotonic on [a, b] with a sign change: Newton kept inside the
 /// bracket, bisection when it would leave it. Newton stops once the step it would take next,

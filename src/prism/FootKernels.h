@@ -1,11 +1,22 @@
-// The arithmetic of one point's foot, shared by the one-point solve (Prism.cpp) and the
-// batched one (PrismFeet.cpp) so that both give the same bits: scalars in, scalars out, inlined
-// into the batch's loops, which the compiler then vectorises.
+// The arithmetic of one point's foot, shared by the one-point solve (Prism.cpp, CubicRoots.cpp)
+// and the batched one (PrismFeet.cpp) so that both give the same bits: scalars in, scalars
+// out, inlined into the batch's loops, which the compiler then vectorises.
 #pragma once
 
 #include "rangefuse/prism/Prism.h"
 
 namespace rangefuse::internal {
+
+/// The cubic c0 + c1 x + c2 x^2 + c3 x^3 at x (Horner), its slope and its second derivative.
+inline double evalCubic(const double c[4], double x) {
+  return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
+}
+inline double evalSlope(const double c[4], double x) {
+  return (3 * c[3] * x + 2 * c[2]) * x + c[1];
+}
+inline double evalCurvature(const double c[4], double x) {
+  return 6 * c[3] * x + 2 * c[2];
+}
 
 /// a . b grouped as Eigen groups a Vector3d's dot product: a0 b0 + (a1 b1 + a2 b2).
 inline double dot3(double ax, double ay, double az, double bx, double by, double bz) {

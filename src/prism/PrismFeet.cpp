@@ -11,13 +11,6 @@ namespace {
 /// nearly straight prism's cubic, three steps nearly always reach the root to rounding.
 constexpr int kNewtonSteps = 3;
 
-double cubicAt(const double c[4], double x) {
-  return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
-}
-double slopeAt(const double c[4], double x) {
-  return (3 * c[3] * x + 2 * c[2]) * x + c[1];
-}
-
 /// A batch of points as a structure of arrays: the loops over it have no branch and no
 /// stride, so the compiler keeps two points in each SSE2 register. Each point's arithmetic is
 /// FootKernels.h's, as for one point at a time: the same bits.
@@ -38,9 +31,10 @@ void coefficients(const PrismCubic& cubic, const Eigen::Vector3d& p0, double lo,
   for (int i = 0; i < s.n; ++i) {
     double c0, c1, c2;
     footCubic(cubic, p0, s.x[0][i], s.x[1][i], s.x[2][i], c0, c1, c2);
+    const double c[4] = {c0, c1, c2, c3};
     s.c0[i] = c0, s.c1[i] = c1, s.c2[i] = c2;
-    s.fLo[i] = ((c3 * lo + c2) * lo + c1) * lo + c0;
-    s.fHi[i] = ((c3 * hi + c2) * hi + c1) * hi + c0;
+    s.fLo[i] = evalCubic(c, lo);
+    s.fHi[i] = evalCubic(c, hi);
     s.d[i] = std::clamp(-c0 / c1, lo, hi);
   }
 }
@@ -51,13 +45,13 @@ void newtonSteps(double c3, double lo, double hi, Batch& s) {
   for (int step = 0; step < kNewtonSteps; ++step)
     for (int i = 0; i < s.n; ++i) {
       const double c[4] = {s.c0[i], s.c1[i], s.c2[i], c3};
-      s.d[i] = std::clamp(s.d[i] - cubicAt(c, s.d[i]) / slopeAt(c, s.d[i]), lo, hi);
+      s.d[i] = std::clamp(s.d[i] - evalCubic(c, s.d[i]) / evalSlope(c, s.d[i]), lo, hi);
     }
   for (int i = 0; i < s.n; ++i) {
     const double c[4] = {s.c0[i], s.c1[i], s.c2[i], c3}, d = s.d[i];
     const double tol = 1e-15 * (1 + std::abs(d));
-    const double slope = slopeAt(c, d), last = cubicAt(c, d) / slope;
-    const double curvature = 6 * c3 * d + 2 * c[2];
+    const double slope = evalSlope(c, d), last = evalCubic(c, d) / slope;
+    const double curvature = evalCurvature(c, d);
     s.error[i] = std::abs(curvature) * last * last;
     s.bound[i] = 2 * tol * std::abs(slope);
     s.last[i] = last;
