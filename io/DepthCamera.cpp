@@ -24,6 +24,14 @@ void checkCamera(const std::string& where, const DepthCamera& c) {
   if (c.width < 0 || c.height < 0) throw InputError(where + ": width and height must be >= 0");
 }
 
+constexpr double kImplausibleDepth = 100;  // metres
+
+std::string formatDepthScale(double unit) {
+  std::ostringstream s;
+  s << 1 / unit;
+  return s.str();
+}
+
 }  // namespace
 
 RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const std::string& path) {
@@ -37,16 +45,25 @@ RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const st
   g.rows = image.height;
   g.cell.assign(static_cast<size_t>(g.cols) * g.rows, -1);
   g.pinhole = Pinhole{camera.fx, camera.fy, camera.cx, image.height - 1 - camera.cy};
+  size_t measured = 0, tooFar = 0;
   for (int r = 0; r < g.rows; ++r) {
     const int v = g.rows - 1 - r;
     for (int u = 0; u < g.cols; ++u) {
       const uint16_t count = image.at(u, v);
       const double d = count * camera.unit;
+      measured += count > 0;
+      tooFar += d > kImplausibleDepth;
       if (count == 0 || (camera.maxDepth > 0 && d > camera.maxDepth)) continue;
       g.cell[static_cast<size_t>(r) * g.cols + u] = static_cast<int32_t>(g.points.size());
       g.points.emplace_back((u - camera.cx) * d / camera.fx, (camera.cy - v) * d / camera.fy, -d);
     }
   }
+  // A depth unit off by a factor of 1000 (counts read as metres) puts every depth kilometres
+  // away; no depth camera measures past tens of metres.
+  if (measured > 0 && tooFar == measured)
+    throw InputError(path + ": every depth lies beyond " + std::to_string(int(kImplausibleDepth)) +
+                     " m at " + formatDepthScale(camera.unit) +
+                     " counts a metre: is --depth-scale right?");
   return g;
 }
 

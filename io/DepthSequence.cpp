@@ -9,6 +9,7 @@
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
+#include "rangefuse/io/Trajectory.h"
 
 namespace fs = std::filesystem;
 
@@ -32,31 +33,36 @@ std::vector<fs::path> depthImages(const std::string& dir) {
   return images;
 }
 
-/// The one .log trajectory of a Redwood folder (trajectory.log when there are several).
+/// The one .log trajectory of a Redwood folder (trajectory.log when there are several), or an
+/// empty path when it has none.
 fs::path trajectoryLog(const std::string& dir) {
   if (present(fs::path(dir) / "trajectory.log")) return fs::path(dir) / "trajectory.log";
   std::vector<fs::path> logs;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
     if (it->path().extension() == ".log") logs.push_back(it->path());
-  if (logs.size() != 1)
+  if (logs.size() > 1)
     throw InputError(dir + ": a Redwood sequence needs one .log trajectory (found " +
                      std::to_string(logs.size()) +
                      "; trajectory.log is taken when there are several)");
-  return logs[0];
+  return logs.empty() ? fs::path() : logs[0];
 }
 
-DepthCamera cameraFor(const std::string& dir, const std::optional<DepthCamera>& given, double unit,
-                      double maxDepth) {
+DepthCamera cameraFor(const std::string& dir, const DepthReading& reading, double countsPerMetre) {
+  const std::optional<DepthCamera>& given = reading.camera;
   const fs::path json = fs::path(dir) / "camera_intrinsic.json";
   if (!given && !present(json))
     throw InputError(dir +
                      ": no camera intrinsics: give --intrinsics fx,fy,cx,cy (pixels) or a "
                      "camera_intrinsic.json file, or put camera_intrinsic.json in the folder");
   DepthCamera c = given ? *given : readIntrinsicJson(json.string());
-  c.unit = unit;
-  c.maxDepth = maxDepth;
+  c.unit = 1.0 / (reading.depthScale > 0 ? reading.depthScale : countsPerMetre);
+  c.maxDepth = reading.maxDepth;
   return c;
+}
+
+std::string at(const fs::path& path, int line) {
+  return path.string() + ": line " + std::to_string(line);
 }
 
 /// The data lines of a text file with their numbers, '#' comments and blank lines skipped.
@@ -73,33 +79,9 @@ std::vector<std::pair<int, std::string>> dataLines(const fs::path& path) {
   return lines;
 }
 
-std::string at(const fs::path& path, int line) {
-  return path.string() + ": line " + std::to_string(line);
-}
-
-/// Reads `count` finite numbers from a line, refusing fewer, more or non-finite ones (strtod,
-/// unlike stream extraction, reads "nan" and "inf", so they are named as such).
-std::vector<double> numbers(const std::string& text, size_t count, const std::string& where,
-                            const char* expected) {
-  std::istringstream in(text);
-  std::vector<double> v;
-  std::string word;
-  while (in >> word) {
-    char* end = nullptr;
-    const double x = std::strtod(word.c_str(), &end);
-    if (*end != '\0' || v.size() == count)
-      throw InputError(where + ": expected " + expected + ", found '" + word + "'");
-    if (!std::isfinite(x)) throw InputError(where + ": NaN or Inf in " + expected);
-    v.push_back(x);
-  }
-  if (v.size() != count) throw InputError(where + ": expected " + expected);
-  return v;
-}
-
 struct Timed {
   double time;
   std::string file;  ///< depth image, relative to the folder
-  Pose pose;         ///< camera to world (trajectories)
   int line = 0;
 };
 
@@ -134,7 +116,7 @@ std::vector<Timed> tumFrames(const std::string& dir) {
       const double t = std::strtod(stem.c_str(), &end);
       if (*end != '\0' || !std::isfinite(t))
         throw InputError(p.string() + ": without depth.txt, image names must be timestamps");
-      frames.push_back({t, "depth/" + p.filename().string(), Pose{}, 0});
+      frames.push_back({t, "depth/" + p.filename().string(), 0});
     }
     std::sort(frames.begin(), frames.end(),
               [](const Timed& a, const Timed& b) { return a.time < b.time; });
@@ -143,52 +125,22 @@ std::vector<Timed> tumFrames(const std::string& dir) {
   return frames;
 }
 
-/// groundtruth.txt: "t tx ty tz qx qy qz qw", camera to world.
-std::vector<Timed> tumPoses(const std::string& dir) {
-  const fs::path file = fs::path(dir) / "groundtruth.txt";
-  std::vector<Timed> poses;
-  for (const auto& [n, text] : dataLines(file)) {
-    const std::vector<double> v = numbers(text, 8, at(file, n), "'t tx ty tz qx qy qz qw'");
-    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (std::abs(q.norm() - 1) > 0.01)
-      throw InputError(at(file, n) + ": quaternion is not of unit length");
-    Timed p{v[0], "", Pose{q.normalized().toRotationMatrix(), Eigen::Vector3d(v[1], v[2], v[3])},
-            n};
-    poses.push_back(p);
-  }
-  if (poses.empty()) throw InputError(file.string() + ": no poses");
-  checkAscending(poses, file);
-  return poses;
-}
-
-/// A .log trajectory: per frame a line of three integers, then four rows of the 4 x 4
-/// camera-to-world matrix.
-std::vector<Pose> logPoses(const fs::path& file) {
-  const auto lines = dataLines(file);
-  if (lines.size() % 5 != 0)
-    throw InputError(file.string() + ": " + std::to_string(lines.size()) +
-                     " lines: a trajectory has 5 per frame (three integers, then 4 rows of 4)");
-  std::vector<Pose> poses;
-  for (size_t k = 0; k < lines.size(); k += 5) {
-    numbers(lines[k].second, 3, at(file, lines[k].first), "three integers");
-    Eigen::Matrix4d m;
-    for (int r = 0; r < 4; ++r) {
-      const auto row = numbers(lines[k + 1 + r].second, 4, at(file, lines[k + 1 + r].first),
-                               "a matrix row of 4 numbers");
-      for (int c = 0; c < 4; ++c) m(r, c) = row[c];
-    }
-    const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R.determinant() < 0)
-      throw InputError(at(file, lines[k + 1].first) + ": the matrix is not a rigid motion");
-    poses.push_back(Pose{R, m.topRightCorner<3, 1>()});
-  }
-  return poses;
-}
-
 ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& cameraToWorld,
-                   const DepthCamera& camera) {
-  return ConfScan{file, (fs::path(dir) / file).lexically_normal().string(), scanPose(cameraToWorld),
-                  std::nullopt, camera};
+                   const DepthCamera& camera, double time) {
+  ConfScan scan{file, (fs::path(dir) / file).lexically_normal().string(), scanPose(cameraToWorld),
+                std::nullopt, camera};
+  scan.time = time;
+  return scan;
+}
+
+/// Every frame at the first camera's pose (the identity): the list of a sequence to track.
+ConfFile unposed(const std::string& dir, const std::vector<std::string>& files,
+                 const std::vector<double>& times, const DepthCamera& camera) {
+  ConfFile list;
+  list.posed = false;
+  for (size_t k = 0; k < files.size(); ++k)
+    list.scans.push_back(frameScan(dir, files[k], Pose{}, camera, times[k]));
+  return list;
 }
 
 }  // namespace
@@ -196,12 +148,18 @@ ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& 
 std::optional<SequenceLayout> sequenceLayout(const std::string& dir) {
   const fs::path d(dir);
   if (present(d / "depth.txt") || present(d / "groundtruth.txt")) return SequenceLayout::Tum;
-  if (present(d / "depth")) {
-    std::error_code ec;
-    for (fs::directory_iterator it(d, ec), end; !ec && it != end; it.increment(ec))
-      if (it->path().extension() == ".log") return SequenceLayout::Redwood;
-  }
+  if (present(d / "depth")) return SequenceLayout::Redwood;
   return std::nullopt;
+}
+
+std::string notASequence(const std::string& dir) {
+  const fs::path d(dir);
+  for (const char* colour : {"color", "rgb", "image"})
+    if (present(d / colour))
+      return std::string("holds colour images (") + colour +
+             "/) but no depth images: a sequence needs depth/ (16-bit PNG) or depth.txt";
+  return "a folder of scans must be a depth-image sequence: TUM RGB-D (depth.txt, optionally "
+         "groundtruth.txt) or Redwood / Open3D recorder (depth/, optionally a .log trajectory)";
 }
 
 std::vector<long> nearestTimes(const std::vector<double>& frames, const std::vector<double>& poses,
@@ -221,13 +179,17 @@ std::vector<long> nearestTimes(const std::vector<double>& frames, const std::vec
   return match;
 }
 
-ConfFile readTumSequence(const std::string& dir, const std::optional<DepthCamera>& camera,
-                         double maxDepth, double maxDifference) {
-  const DepthCamera cam = cameraFor(dir, camera, 1.0 / 5000, maxDepth);
-  const std::vector<Timed> frames = tumFrames(dir), poses = tumPoses(dir);
+ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
+                         double maxDifference) {
+  const DepthCamera cam = cameraFor(dir, reading, 5000);
+  const std::vector<Timed> frames = tumFrames(dir);
   std::vector<double> frameTimes, poseTimes;
-  for (const Timed& f : frames) frameTimes.push_back(f.time);
-  for (const Timed& p : poses) poseTimes.push_back(p.time);
+  std::vector<std::string> files;
+  for (const Timed& f : frames) frameTimes.push_back(f.time), files.push_back(f.file);
+  const fs::path truth = fs::path(dir) / "groundtruth.txt";
+  if (!present(truth)) return unposed(dir, files, frameTimes, cam);
+  const std::vector<TimedPose> poses = readTrajectory(truth.string());
+  for (const TimedPose& p : poses) poseTimes.push_back(p.time);
   const std::vector<long> match = nearestTimes(frameTimes, poseTimes, maxDifference);
   ConfFile list;
   size_t unmatched = 0;
@@ -236,7 +198,8 @@ ConfFile readTumSequence(const std::string& dir, const std::optional<DepthCamera
       ++unmatched;
       continue;
     }
-    list.scans.push_back(frameScan(dir, frames[k].file, poses[match[k]].pose, cam));
+    list.scans.push_back(
+        frameScan(dir, frames[k].file, poses[match[k]].cameraToWorld, cam, frames[k].time));
   }
   if (unmatched > 0)
     list.warnings.push_back(dir + "/groundtruth.txt: " + std::to_string(unmatched) + " of " +
@@ -248,20 +211,26 @@ ConfFile readTumSequence(const std::string& dir, const std::optional<DepthCamera
   return list;
 }
 
-ConfFile readRedwoodSequence(const std::string& dir, const std::optional<DepthCamera>& camera,
-                             double maxDepth) {
-  const DepthCamera cam = cameraFor(dir, camera, 1e-3, maxDepth);
-  const fs::path log = trajectoryLog(dir);
-  const std::vector<Pose> poses = logPoses(log);
+ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading) {
+  const DepthCamera cam = cameraFor(dir, reading, 1000);
   const std::vector<fs::path> images = depthImages(dir);
+  if (images.empty()) throw InputError(dir + "/depth: no .png depth images");
+  std::vector<std::string> files;
+  std::vector<double> times;
+  for (const fs::path& image : images) {
+    times.push_back(static_cast<double>(files.size()) / 30);
+    files.push_back("depth/" + image.filename().string());
+  }
+  const fs::path log = trajectoryLog(dir);
+  if (log.empty()) return unposed(dir, files, times, cam);
+  const std::vector<TimedPose> poses = readTrajectory(log.string());
   if (poses.size() != images.size())
     throw InputError(log.string() + ": " + std::to_string(poses.size()) + " poses but " + dir +
                      "/depth holds " + std::to_string(images.size()) +
                      " images: each image needs its pose, in name order");
-  if (images.empty()) throw InputError(dir + "/depth: no .png depth images");
   ConfFile list;
   for (size_t k = 0; k < images.size(); ++k)
-    list.scans.push_back(frameScan(dir, "depth/" + images[k].filename().string(), poses[k], cam));
+    list.scans.push_back(frameScan(dir, files[k], poses[k].cameraToWorld, cam, times[k]));
   return list;
 }
 
@@ -289,15 +258,10 @@ void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& fra
     out << "# depth maps\n# timestamp filename\n";
     for (const std::string& t : names) out << t << " depth/" << t << ".png\n";
   });
-  writeAtomically(dir + "/groundtruth.txt", [&](std::ostream& out) {
-    out << "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n" << std::setprecision(17);
-    for (size_t k = 0; k < frames.size(); ++k) {
-      const Pose& p = frames[k].cameraToWorld;
-      const Eigen::Quaterniond q(p.R);
-      out << names[k] << ' ' << p.t.x() << ' ' << p.t.y() << ' ' << p.t.z() << ' ' << q.x() << ' '
-          << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
-    }
-  });
+  std::vector<TimedPose> trajectory;
+  for (size_t k = 0; k < frames.size(); ++k)
+    trajectory.push_back({std::strtod(names[k].c_str(), nullptr), frames[k].cameraToWorld});
+  writeTrajectory(dir + "/groundtruth.txt", trajectory);
   writeIntrinsicJson(dir + "/camera_intrinsic.json", camera);
 }
 
@@ -309,16 +273,10 @@ void writeRedwoodSequence(const std::string& dir, const std::vector<DepthFrame>&
     name << dir << "/depth/" << std::setw(6) << std::setfill('0') << k << ".png";
     writeDepthPng(name.str(), frames[k].image);
   }
-  writeAtomically(dir + "/trajectory.log", [&](std::ostream& out) {
-    out << std::setprecision(17);
-    for (size_t k = 0; k < frames.size(); ++k) {
-      const Pose& p = frames[k].cameraToWorld;
-      out << k << ' ' << k << ' ' << k + 1 << '\n';
-      for (int r = 0; r < 4; ++r)
-        out << (r < 3 ? p.R(r, 0) : 0.0) << ' ' << (r < 3 ? p.R(r, 1) : 0.0) << ' '
-            << (r < 3 ? p.R(r, 2) : 0.0) << ' ' << (r < 3 ? p.t(r) : 1.0) << '\n';
-    }
-  });
+  std::vector<TimedPose> trajectory;
+  for (size_t k = 0; k < frames.size(); ++k)
+    trajectory.push_back({static_cast<double>(k), frames[k].cameraToWorld});
+  writeTrajectory(dir + "/trajectory.log", trajectory);
   writeIntrinsicJson(dir + "/camera_intrinsic.json", camera);
 }
 

@@ -57,13 +57,10 @@ ConfFile readSequence(const std::string& dir, const std::string& format,
   std::optional<SequenceLayout> layout = sequenceLayout(dir);
   if (format == "tum") layout = SequenceLayout::Tum;
   if (format == "redwood") layout = SequenceLayout::Redwood;
-  if (!layout)
-    throw InputError(dir +
-                     ": a folder of scans must be a TUM RGB-D sequence (depth.txt or "
-                     "groundtruth.txt) or a Redwood one (depth/ and a .log trajectory)");
-  return *layout == SequenceLayout::Tum
-             ? readTumSequence(dir, givenCamera(source), source.maxDepth)
-             : readRedwoodSequence(dir, givenCamera(source), source.maxDepth);
+  if (!layout) throw InputError(dir + ": " + notASequence(dir));
+  const DepthReading reading{givenCamera(source), source.maxDepth, source.depthScale};
+  return *layout == SequenceLayout::Tum ? readTumSequence(dir, reading)
+                                        : readRedwoodSequence(dir, reading);
 }
 
 /// A .conf's depth images (NAME.png) take the camera of the sequence folder above their own.

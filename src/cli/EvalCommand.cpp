@@ -1,3 +1,4 @@
+#include <boost/program_options.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -9,10 +10,12 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/eval/Comparison.h"
 #include "rangefuse/eval/PoseConsistency.h"
+#include "rangefuse/eval/TrajectoryError.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/io/Trajectory.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace po = boost::program_options;
@@ -22,7 +25,7 @@ namespace rangefuse::cli {
 namespace {
 
 struct EvalOptions {
-  std::string mesh, reference, seen, poses, referencePoses, jsonOut;
+  std::string mesh, reference, seen, poses, referencePoses, jsonOut, trajectory;
   double voxel = 0, tau = 1, spurious = 3;
   size_t samples = 200000;
   bool json = false, consistency = false;
@@ -255,7 +258,38 @@ json consistencyReport(const EvalOptions& o) {
           {"overlapping_scan_pairs", overlap.size()}};
 }
 
+/// --trajectory against --reference: ATE and RPE as the TUM benchmark defines them.
+json trajectoryReport(const EvalOptions& o) {
+  if (o.reference.empty())
+    throw InputError("eval: --trajectory needs --reference (the true trajectory)");
+  const TrajectoryError e =
+      compareTrajectories(io::readTrajectory(o.trajectory), io::readTrajectory(o.reference));
+  json j = {{"trajectory", o.trajectory},
+            {"reference", o.reference},
+            {"matched", e.matched},
+            {"ate_rmse", e.ateRmse},
+            {"ate_mean", e.ateMean},
+            {"ate_max", e.ateMax},
+            {"rpe_pairs", e.rpePairs},
+            {"rpe_translation_rmse_per_s", e.rpeTranslationRmse},
+            {"rpe_rotation_rmse_deg_per_s", e.rpeRotationRmseDeg}};
+  if (!o.json) {
+    std::printf("poses matched      %zu\n", e.matched);
+    std::printf("ATE RMSE           %.6g (mean %.6g, max %.6g)\n", e.ateRmse, e.ateMean, e.ateMax);
+    if (e.rpePairs > 0)
+      std::printf("RPE over 1 s       %.6g per s, %.4g deg per s (%zu pairs)\n",
+                  e.rpeTranslationRmse, e.rpeRotationRmseDeg, e.rpePairs);
+  }
+  return j;
+}
+
 int run(const EvalOptions& o) {
+  if (!o.trajectory.empty()) {
+    const json report = trajectoryReport(o);
+    if (o.json) std::cout << report.dump(2) << std::endl;
+    if (!o.jsonOut.empty()) io::writeJson(o.jsonOut, report);
+    return 0;
+  }
   if (!(o.voxel > 0)) throw InputError("eval: --voxel must be positive");
   const bool meshes = !o.mesh.empty() || !o.reference.empty();
   const bool poses = !o.poses.empty() || !o.referencePoses.empty();
@@ -280,7 +314,10 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
   po::options_description d(
       "rangefuse eval: a mesh against a reference mesh, or poses against reference poses");
   d.add_options()("help,h", "show this help")("mesh", po::value(&o.mesh), "mesh to judge (PLY)")(
-      "reference", po::value(&o.reference), "reference mesh (PLY)")(
+      "reference", po::value(&o.reference),
+      "reference mesh (PLY), or with --trajectory the true trajectory")(
+      "trajectory", po::value(&o.trajectory),
+      "estimated camera trajectory (TUM text, or .log): ATE and RPE against --reference")(
       "seen", po::value(&o.seen),
       "scan list (.conf, .ptx or sequence folder, with true poses): completeness and recall "
       "count only the reference surface within about --tau of its triangulated scans, the part "

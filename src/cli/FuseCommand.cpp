@@ -18,6 +18,7 @@ void addParameter(po::options_description_easy_init& add, const FuseParameter& p
   auto* value = po::value<std::string>();
   const std::string text = parameterText(p, defaults);
   if (!p.required && !text.empty()) value->default_value(text);
+  if (!p.implicitValue.empty()) value->implicit_value(p.implicitValue);
   value->notifier([&p, &o, text](const std::string& given) {
     if (p.required || given != text) parseParameter(p, o, given);
   });
@@ -31,7 +32,9 @@ bool fieldParameter(const FuseParameter& p) {
       "out",        "report",           "preview",        "normals",
       "register",   "anchor",           "control-stride", "max-iterations",
       "max-rounds", "round-tolerance",  "register-field", "poses-out",
-      "checkpoint", "checkpoint-every", "resume"};
+      "checkpoint", "checkpoint-every", "resume",         "register-solve",
+      "track",      "first-pose",       "min-inliers",    "max-step",
+      "skip-lost",  "trajectory-out"};
   for (const char* name : others)
     if (p.option == name) return false;
   return true;
@@ -67,11 +70,13 @@ void addSourceOptions(po::options_description& d, io::ScanSourceOptions& source)
     return std::string();
   };
   static const std::string format = help("scan-format"), intrinsics = help("intrinsics"),
-                           depthMax = help("depth-max");
+                           depthMax = help("depth-max"), depthScale = help("depth-scale");
   auto add = d.add_options();
   add("scan-format", po::value(&source.format)->default_value(source.format), format.c_str());
   add("intrinsics", po::value(&source.intrinsics), intrinsics.c_str());
   add("depth-max", po::value(&source.maxDepth)->default_value(source.maxDepth), depthMax.c_str());
+  add("depth-scale", po::value(&source.depthScale)->default_value(source.depthScale),
+      depthScale.c_str());
 }
 
 po::options_description fuseOptions(FuseOptions& o) {

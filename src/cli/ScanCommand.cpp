@@ -90,8 +90,7 @@ void writeSequence(const ScanOptions& o, const SyntheticSet& set, const std::str
     io::writeTumSequence(dir, frames, camera);
   else
     io::writeRedwoodSequence(dir, frames, camera);
-  const io::ConfFile listed = tum ? io::readTumSequence(dir, std::nullopt, 0)
-                                  : io::readRedwoodSequence(dir, std::nullopt, 0);
+  const io::ConfFile listed = tum ? io::readTumSequence(dir, {}) : io::readRedwoodSequence(dir, {});
   std::vector<io::ConfScan> perturbed = listed.scans;
   for (size_t k = 0; k < perturbed.size(); ++k) perturbed[k].pose = set.scans[k].perturbed;
   io::writeConf(dir + "/perturbed.conf", perturbed);

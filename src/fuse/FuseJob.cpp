@@ -14,6 +14,7 @@
 #include "rangefuse/fuse/RunReport.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/fuse/StreamedField.h"
+#include "rangefuse/fuse/TrackStage.h"
 #include "rangefuse/io/MeshPartPly.h"
 #include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/Png.h"
@@ -162,11 +163,13 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
       }))
     return false;
   scans.rank = mpi::rank(comm);
+  scans.posed = conf.posed;
   for (size_t i = 0; i < conf.scans.size(); ++i) scans.readers.push_back(i % mpi::size(comm));
   for (const auto& c : conf.scans) {
     scans.names.push_back(c.name);
     scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
+    scans.times.push_back(c.time);
   }
   // Held scans feed registration fields, which are prism or closest-surface fields: robust
   // fusion's sight maps are made when the final field streams the scans again.
@@ -286,7 +289,8 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
 /// names, paths and poses only.
 bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
                    FusedField& field, RankCounters& counters,
-                   const std::vector<Pose>* poses = nullptr) {
+                   const std::vector<Pose>* poses = nullptr,
+                   const std::vector<char>* lost = nullptr) {
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
@@ -296,12 +300,16 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   if (progress.isRoot() && !poses)
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
   scans.names.clear(), scans.paths.clear(), scans.poses.clear();
+  std::vector<io::ConfScan> kept;
   for (size_t i = 0; i < conf.scans.size(); ++i) {
+    if (lost && (*lost)[i]) continue;
     if (poses) conf.scans[i].pose = (*poses)[i];
     scans.names.push_back(conf.scans[i].name);
     scans.paths.push_back(conf.scans[i].path);
     scans.poses.push_back(conf.scans[i].pose);
+    kept.push_back(conf.scans[i]);
   }
+  conf.scans = std::move(kept);
   if (!buildStreamedField(streamOptions(o, comm), conf, comm, progress, field, counters))
     return false;
   if (closestSurface(o) && !collectively(comm, [&] {
@@ -390,6 +398,41 @@ bool writeFieldCheckpoint(const FuseOptions& o, MPI_Comm comm, Progress& progres
   return true;
 }
 
+/// A depth stream tracked frame by frame into the field that is meshed. Other methods than
+/// prism fuse the tracked frames again, lost ones left out.
+int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress) {
+  if (!collectively(comm, [&] {
+        if (o.registration != RegistrationMode::None)
+          throw InputError("--register " + std::string(toString(o.registration)) +
+                           ": tracked frames are registered as they arrive; leave out --register");
+      }))
+    return 1;
+  LoadedScans scans;
+  std::vector<char> lost;
+  FusedField field;
+  RankCounters counters;
+  if (!loadScans(o, comm, progress, scans) ||
+      !trackStream(o, comm, progress, scans, lost, field, counters) ||
+      !writeTrajectoryFile(o.trajectoryOut, scans, lost, comm))
+    return 1;
+  if (o.method != FieldMethod::Prism) {
+    const std::vector<Pose> tracked = scans.poses;
+    scans.held.reset();
+    field = FusedField{};
+    if (!buildStreamed(o, comm, progress, scans, field, counters, &tracked, &lost)) return 1;
+  }
+  if (!writeFieldCheckpoint(o, comm, progress, scans, field)) return 1;
+  return finish(o, comm, progress, scans, field, counters, {});
+}
+
+/// Collective: whether the run tracks a depth stream (reads the scan list).
+bool decideTracking(const FuseOptions& o, MPI_Comm comm, bool& tracking) {
+  return collectively(comm, [&] {
+    const io::ConfFile conf = io::readScanList(o.scans, o.limits, o.source);
+    tracking = tracksFrames(o.track, conf.posed, o.scans);
+  });
+}
+
 }  // namespace
 
 int runFuse(const FuseOptions& given, MPI_Comm comm) {
@@ -416,6 +459,9 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
         }))
       return 1;
   }
+  bool tracking = false;
+  if (o.resume.empty() && !decideTracking(o, comm, tracking)) return 1;
+  if (tracking) return runTracking(o, comm, progress);
   if (o.resume.empty() && streams(o)) {
     LoadedScans scans;
     FusedField field;

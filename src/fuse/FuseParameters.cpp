@@ -108,6 +108,14 @@ std::vector<FuseParameter> makeTable() {
          const double v = o.source.maxDepth;
          return v >= 0 && std::isfinite(v) ? "" : "must be a finite distance >= 0 (0: keep all)";
        }},
+      {"depth-scale", "depth_scale", R::Result, false,
+       "depth images: counts per metre (0: the layout's own, 5000 for TUM, 1000 for Redwood and "
+       "Open3D's recorder)",
+       [](FuseOptions& o) -> OptionValue { return &o.source.depthScale; },
+       [](const FuseOptions& o) {
+         const double v = o.source.depthScale;
+         return v >= 0 && std::isfinite(v) ? "" : "must be a finite number of counts >= 0";
+       }},
       {"voxel", "voxel", R::Result, true, "voxel size, in the scans' units",
        at(&FuseOptions::voxel),
        must<double>(
@@ -258,6 +266,41 @@ std::vector<FuseParameter> makeTable() {
        at(&FuseOptions::registerSolve), nullptr},
       {"poses-out", "", R::No, false, "write the refined poses (.conf)", at(&FuseOptions::posesOut),
        nullptr},
+      {"track", "track", R::Result, false,
+       "depth streams: track every frame against the field of the frames before it (on), use "
+       "the given trajectory (off), or track only when there is none (auto); with a trajectory, "
+       "tracking takes its motion as each frame's first guess",
+       at(&FuseOptions::track),
+       [](const FuseOptions& o) {
+         return o.track == "on" || o.track == "off" || o.track == "auto"
+                    ? ""
+                    : "must be on, off or auto";
+       },
+       "on"},
+      {"first-pose", "first_pose", R::Result, false,
+       "tracking: the first camera's pose in the world, 'tx,ty,tz,qx,qy,qz,qw' (camera to "
+       "world, as TUM writes it; default: the identity)",
+       at(&FuseOptions::firstPose), nullptr},
+      {"min-inliers", "min_inliers", R::Result, false,
+       "tracking: a frame is lost when fewer of its points than this share find the field",
+       at(&FuseOptions::minInliers),
+       must<double>(
+           &FuseOptions::minInliers, [](double v) { return v >= 0 && v <= 1; },
+           "must be a share in [0, 1]")},
+      {"max-step", "max_step_voxels", R::Result, false,
+       "tracking: a frame is lost when the camera moved more than this many voxels since the "
+       "last frame",
+       at(&FuseOptions::maxStep),
+       must<double>(
+           &FuseOptions::maxStep, [](double v) { return v > 0; }, "must be positive voxels")},
+      {"skip-lost", "skip_lost", R::Result, false,
+       "tracking: leave frames that lost tracking out and go on (else the run stops at the first "
+       "with an error)",
+       at(&FuseOptions::skipLost), nullptr, "true"},
+      {"trajectory-out", "", R::No, false,
+       "write the camera trajectory: TUM text (timestamp tx ty tz qx qy qz qw), or a Redwood "
+       ".log by extension",
+       at(&FuseOptions::trajectoryOut), nullptr},
       {"checkpoint", "", R::No, false, "write an HDF5 checkpoint of the field (.h5)",
        at(&FuseOptions::checkpoint), nullptr},
       {"checkpoint-every", "", R::No, false,

@@ -12,8 +12,13 @@ namespace rangefuse {
 void checkOutputs(const FuseOptions& o, int rank) {
   const std::string meshData = io::isXdmfPath(o.out) ? io::xdmfDataPath(o.out) : "";
   const std::vector<std::pair<std::string, std::string>> outputs = {
-      {"mesh", o.out},      {"mesh data", meshData}, {"checkpoint", o.checkpoint},
-      {"report", o.report}, {"preview", o.preview},  {"poses", o.posesOut}};
+      {"mesh", o.out},
+      {"mesh data", meshData},
+      {"checkpoint", o.checkpoint},
+      {"report", o.report},
+      {"preview", o.preview},
+      {"poses", o.posesOut},
+      {"trajectory", o.trajectoryOut}};
   std::map<std::string, std::string> seen;
   for (const auto& [what, path] : outputs) {
     if (path.empty()) continue;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "PlacedScans.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/ScanLoader.h"
@@ -17,96 +18,7 @@ namespace {
 constexpr int kLatticeMargin = 4;  // bricks of room below the scans for their motion
 
 using mpi::collectivelyOrThrow;
-
-/// Collective: bounds of the points of every scan at its pose, each scan placed by its reader.
-Eigen::AlignedBox3d placedBounds(const LoadedScans& scans, const std::vector<size_t>& which,
-                                 const std::vector<Pose>& poses, MPI_Comm comm) {
-  Eigen::AlignedBox3d box;
-  collectivelyOrThrow(comm, [&] {
-    for (size_t i : which) {
-      if (!scans.holds(i)) continue;
-      // The points alone: placing the whole scan would copy its triangles just for a box.
-      const std::shared_ptr<const PrismScan> scan = scans.held->get(i);
-      for (const Eigen::Vector3d& p : scan->surface.points) box.extend(poses[i].apply(p));
-    }
-  });
-  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
-  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
-  return box;
-}
-
-/// Collective: the list entries [first, end), each placed by its reader and routed to the
-/// owners of the bricks its prisms touch (or, with reach > 0, lie within reach of), as
-/// (position in the list, part) in list order. A scan read again may fail: all ranks throw.
-IndexedScans routeWindow(const LoadedScans& scans, const std::vector<size_t>& order, size_t first,
-                         size_t end, const std::vector<Pose>& poses, const BrickLayout& layout,
-                         double reach, MPI_Comm comm) {
-  const int me = mpi::rank(comm);
-  std::vector<std::vector<char>> out(mpi::size(comm));
-  IndexedScans parts;
-  RoutingStats stats;
-  stats.bytes.assign(out.size(), 0);
-  collectivelyOrThrow(comm, [&] {
-    for (size_t k = first; k < end; ++k)
-      if (scans.holds(order[k]))
-        routeScan(k, placeScan(*scans.held->get(order[k]), poses[order[k]]), layout, reach, me, out,
-                  parts, stats);
-  });
-  IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
-  std::move(received.begin(), received.end(), std::back_inserter(parts));
-  std::sort(parts.begin(), parts.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  return parts;
-}
-
-/// Collective: calls fn(k, part) for the listed scans in list order (routeWindow), in windows
-/// of as many scans as ranks, so that only a window is in flight, never every placed scan.
-template <class Fn>
-void routePlaced(const LoadedScans& scans, const std::vector<size_t>& order,
-                 const std::vector<Pose>& poses, const BrickLayout& layout, double reach,
-                 MPI_Comm comm, Fn&& fn) {
-  const size_t window = static_cast<size_t>(mpi::size(comm));
-  for (size_t first = 0; first < order.size(); first += window) {
-    const size_t end = std::min(order.size(), first + window);
-    for (auto& [k, part] : routeWindow(scans, order, first, end, poses, layout, reach, comm))
-      fn(k, part);
-  }
-}
-
-/// Collective: adds the listed scans to the field in list order.
-void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,
-               const std::vector<Pose>& poses, PrismIntegrator& integrator,
-               const BrickLayout& layout, MPI_Comm comm) {
-  routePlaced(scans, order, poses, layout, 0, comm,
-              [&](size_t, const PrismScan& part) { integrator.addScan(part); });
-}
-
-/// Collective: the bricks the prisms of the listed scans touch at their poses, planned from the
-/// work of each reader's scans. The local pass (a scan read again may fail) is agreed on before
-/// the collective reduction.
-BrickLayout planPlacedOn(const LoadedScans& scans, const std::vector<size_t>& which,
-                         const std::vector<Pose>& poses, const VoxelGrid& grid, uint64_t maxVoxels,
-                         int threads, MPI_Comm comm) {
-  BrickWork work;
-  collectivelyOrThrow(comm, [&] {
-    for (size_t i : which)
-      if (scans.holds(i))
-        addPrismWork(placeScan(*scans.held->get(i), poses[i]), grid, maxVoxels, work, threads);
-  });
-  BrickLayout layout;
-  collectivelyOrThrow(comm, [&] { layout = reduceBrickWork(work, grid, maxVoxels, comm); });
-  return layout;
-}
-
-/// Collective: planPlacedOn the lattice a build of the listed scans in one place would use.
-BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& which,
-                       const std::vector<Pose>& poses, const FuseOptions& o, MPI_Comm comm) {
-  const Eigen::AlignedBox3d box = placedBounds(scans, which, poses, comm);
-  VoxelGrid grid;
-  collectivelyOrThrow(comm,
-                      [&] { grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel); });
-  return planPlacedOn(scans, which, poses, grid, o.limits.maxVoxels, o.threads, comm);
-}
+using namespace internal;
 
 /// Prism fields on one lattice for the whole registration. Algorithm 1 adds each registered
 /// scan in place — one rasterisation per scan, not one per fused scan for every new scan.

@@ -11,6 +11,7 @@ namespace {
 /// A control point on its way to a rank that may evaluate it.
 struct RoutedPoint {
   uint64_t scan;
+  uint64_t vertex;  ///< in the scan, for coarser levels chosen alike on any rank count
   Eigen::Vector3d p, n;
   double w;
 };
@@ -29,12 +30,13 @@ std::vector<int> ownersAround(const BrickLayout& layout, const BrickCoord& c) {
   return ranks;
 }
 
-/// Centre and radius of a ball around the scan's control points (its box's), zero if none.
-Eigen::Vector4d sphereOf(const PrismScan& scan, int stride) {
+/// Centre and radius of a ball around the scan's control points (its box's), zero if none;
+/// `count` gets their number.
+Eigen::Vector4d sphereOf(const PrismScan& scan, int stride, double& count) {
   const ScanSurface& s = scan.surface;
   Eigen::AlignedBox3d box;
   for (size_t v = 0; v < s.points.size(); v += stride)
-    if (s.confidence[v] > 0) box.extend(s.points[v]);
+    if (s.confidence[v] > 0) box.extend(s.points[v]), ++count;
   if (box.isEmpty()) return Eigen::Vector4d::Zero();
   const Eigen::Vector3d c = box.center();
   Eigen::Vector4d sphere;
@@ -59,19 +61,22 @@ ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm com
     : scans_(scans), stride_(stride), comm_(comm), held_(scans.size()) {
   // Each scan is held by one rank, which alone fills its sphere and sensor: a sum shares them.
   spheres_.assign(scans.size(), Eigen::Vector4d::Zero());
+  counts_.assign(scans.size(), 0.0);
   std::vector<double> sensors(7 * scans.size(), 0.0);
   // A scan read again may fail on one rank: every rank then throws here.
   mpi::collectivelyOrThrow(comm_, [&] {
     for (size_t i = 0; i < scans.size(); ++i) {
       if (!scans.holds(i)) continue;
       const std::shared_ptr<const PrismScan> scan = scans.get(i);
-      spheres_[i] = sphereOf(*scan, stride_);
+      spheres_[i] = sphereOf(*scan, stride_, counts_[i]);
       packSensor(scan->surface.sensor, &sensors[7 * i]);
     }
   });
   MPI_Allreduce(MPI_IN_PLACE, spheres_.data(), static_cast<int>(4 * spheres_.size()), MPI_DOUBLE,
                 MPI_SUM, comm_);
   MPI_Allreduce(MPI_IN_PLACE, sensors.data(), static_cast<int>(sensors.size()), MPI_DOUBLE, MPI_SUM,
+                comm_);
+  MPI_Allreduce(MPI_IN_PLACE, counts_.data(), static_cast<int>(counts_.size()), MPI_DOUBLE, MPI_SUM,
                 comm_);
   for (size_t i = 0; i < scans.size(); ++i) sensors_.push_back(unpackSensor(&sensors[7 * i]));
 }
@@ -103,7 +108,7 @@ void ControlRouting::route(const std::vector<size_t>& which, const std::vector<P
   const BrickLayout& layout = store.layout();
   std::unordered_map<uint64_t, std::vector<int>> owners;
   const int me = mpi::rank(comm_), ranks = mpi::size(comm_);
-  for (size_t i : which) held_[i] = Held{poses[i], nullptr, {}, {}, {}, {}};
+  for (size_t i : which) held_[i] = Held{poses[i], nullptr, {}, {}, {}, {}, {}};
   // In windows of as many scans as ranks: only a window's points are in flight at once.
   for (size_t first = 0; first < which.size(); first += ranks) {
     const size_t end = std::min(which.size(), first + ranks);
@@ -125,6 +130,7 @@ void ControlRouting::receive(const std::vector<std::vector<char>>& in) {
       RoutedPoint p;
       mpi::unpack(buf, at, &p, 1);
       Held& h = held_[p.scan];
+      h.pointVertices.push_back(static_cast<uint32_t>(p.vertex));
       h.points.push_back(p.p);
       h.normals.push_back(p.n);
       h.weights.push_back(p.w);
@@ -149,7 +155,7 @@ void ControlRouting::packControlPoints(size_t i, const Pose& pose, const BrickLa
     const uint64_t code = mortonEncode(c);
     auto it = owners.find(code);
     if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c)).first;
-    const RoutedPoint p{i, s.points[v], s.normals[v], s.confidence[v]};
+    const RoutedPoint p{i, v, s.points[v], s.normals[v], s.confidence[v]};
     for (int r : it->second)
       if (r == me && held_[i].scan)
         held_[i].vertices.push_back(static_cast<uint32_t>(v));
@@ -158,7 +164,11 @@ void ControlRouting::packControlPoints(size_t i, const Pose& pose, const BrickLa
   }
 }
 
-ControlPoints ControlRouting::at(size_t i, const Pose& pose, const BrickStore& store) {
+void ControlRouting::release(size_t i) {
+  held_[i] = Held{};
+}
+
+ControlPoints ControlRouting::at(size_t i, const Pose& pose, const BrickStore& store, int every) {
   const VoxelGrid& g = store.grid();
   if (motionBound(i, held_[i].routedAt, pose) > (g.brick - 1) * g.voxel) {
     std::vector<Pose> poses(scans_.size());
@@ -178,11 +188,16 @@ ControlPoints ControlRouting::at(size_t i, const Pose& pose, const BrickStore& s
   c.points.reserve(n);
   c.normals.reserve(n);
   c.weights.reserve(n);
+  // A coarser level takes every `every`-th control point by its vertex number: the same points
+  // whichever ranks hold them.
+  const uint32_t step = static_cast<uint32_t>(stride_) * static_cast<uint32_t>(every);
   for (uint32_t v : h.vertices) {
+    if (v % step != 0) continue;
     const ScanSurface& s = h.scan->surface;
     add(s.points[v], s.normals[v], s.confidence[v]);
   }
-  for (size_t k = 0; k < h.points.size(); ++k) add(h.points[k], h.normals[k], h.weights[k]);
+  for (size_t k = 0; k < h.points.size(); ++k)
+    if (h.pointVertices[k] % step == 0) add(h.points[k], h.normals[k], h.weights[k]);
   return c;
 }
 

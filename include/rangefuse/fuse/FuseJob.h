@@ -48,6 +48,12 @@ struct FuseOptions {
   RegistrationFieldMode registerField = RegistrationFieldMode::Grow;  ///< registration
   RegistrationSolve registerSolve = RegistrationSolve::Joint;         ///< registration
   std::string posesOut;        ///< refined poses .conf (optional)
+  std::string track = "auto";  ///< depth streams: on, off, auto (on when there is no trajectory)
+  std::string firstPose;       ///< tracking: the first camera's pose "tx,ty,tz,qx,qy,qz,qw"
+  double minInliers = 0.25;    ///< tracking: share of a frame's points that must find the field
+  double maxStep = 30;         ///< tracking: camera motion a frame may make, voxels
+  bool skipLost = false;       ///< tracking: leave lost frames out and go on
+  std::string trajectoryOut;   ///< camera trajectory, TUM text or .log (optional)
   std::string checkpoint;      ///< HDF5 checkpoint to write (optional)
   std::string resume;          ///< HDF5 checkpoint to continue from (optional)
   double checkpointEvery = 0;  ///< seconds between registration checkpoints (0: each)
@@ -64,8 +70,10 @@ struct LoadedScans {
   std::vector<std::string> paths;
   std::shared_ptr<HeldScans> held;  ///< the scans this rank read (registration)
   std::vector<Pose> poses;
-  std::vector<int> readers;  ///< the rank holding each scan
-  int rank = 0;              ///< this rank
+  std::vector<int> readers;   ///< the rank holding each scan
+  int rank = 0;               ///< this rank
+  std::vector<double> times;  ///< depth frames: their times, seconds
+  bool posed = true;          ///< false for a depth stream without a trajectory
 
   bool holds(size_t i) const { return readers[i] == rank; }
 };

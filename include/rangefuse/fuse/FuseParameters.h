@@ -32,6 +32,8 @@ struct FuseParameter {
   std::function<OptionValue(FuseOptions&)> value;
   /// Empty when the value is acceptable, else what it must be ("must be ..."); may be null.
   std::function<std::string(const FuseOptions&)> check;
+  /// The value an option given without one takes (empty: it needs a value).
+  std::string implicitValue = {};
 };
 
 /// Every option of `rangefuse fuse` but the input limits (shared with other commands).

@@ -22,11 +22,16 @@ struct ConfScan {
   std::optional<DepthCamera> depth = std::nullopt;
   /// A PTX scan too large for one rank is read as `bands` bands of columns; this is `band`.
   int band = 0, bands = 1;
+  /// A depth frame's time in seconds (TUM: its timestamp; Redwood: its index / 30).
+  double time = 0;
 };
 
 struct ConfFile {
   std::vector<ConfScan> scans;
   std::vector<std::string> warnings;  ///< e.g. skipped `mesh` lines
+  /// False for a depth sequence without a trajectory: every pose is the first camera's, and the
+  /// frames must be tracked.
+  bool posed = true;
 };
 
 /// Reads a .conf in the Stanford convention p_world = R(q)^T p + t (measured on the bunny).

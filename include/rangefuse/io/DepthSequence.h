@@ -1,7 +1,10 @@
 // Depth-image sequences as scan lists: the TUM RGB-D layout (depth.txt or depth/*.png named by
 // timestamp, groundtruth.txt matched by nearest timestamp, depth = count / 5000 m) and the
 // Redwood / Open3D layout (depth/*.png in name order, a .log trajectory with one pose per
-// image, depth in mm, camera_intrinsic.json). Every frame is one scan.
+// image, depth in mm, camera_intrinsic.json; Open3D's RealSense recorder writes the same
+// folder without the trajectory). Every frame is one scan. A sequence without a trajectory
+// (no groundtruth.txt, no .log) is read with every frame at the first camera's pose, the
+// identity, and marked unposed: its frames must be tracked.
 #pragma once
 
 #include <optional>
@@ -15,8 +18,19 @@ namespace rangefuse::io {
 
 enum class SequenceLayout { Tum, Redwood };
 
-/// The layout of folder `dir`, or nothing when it is neither.
+/// The layout of folder `dir`, or nothing when it is neither: TUM when it holds depth.txt or
+/// groundtruth.txt, else Redwood when it holds depth/.
 std::optional<SequenceLayout> sequenceLayout(const std::string& dir);
+
+/// Why folder `dir` is no sequence, for the message (e.g. it holds colour images only).
+std::string notASequence(const std::string& dir);
+
+/// How to read a sequence's depth images beyond the folder's own files.
+struct DepthReading {
+  std::optional<DepthCamera> camera;  ///< --intrinsics (null: DIR/camera_intrinsic.json)
+  double maxDepth = 0;                ///< farther depths are dropped (0: keep all)
+  double depthScale = 0;              ///< counts per metre (0: the layout's: 5000 or 1000)
+};
 
 /// For each frame time, the index of the nearest pose time within maxDifference, or -1.
 /// Both lists ascending.
@@ -24,14 +38,14 @@ std::vector<long> nearestTimes(const std::vector<double>& frames, const std::vec
                                double maxDifference);
 
 /// The frames of a TUM folder with a pose within `maxDifference` seconds, posed by it (frames
-/// without one are listed in warnings). `camera` comes from --intrinsics or, when it is null,
-/// from DIR/camera_intrinsic.json. Throws InputError naming the file and line.
-ConfFile readTumSequence(const std::string& dir, const std::optional<DepthCamera>& camera,
-                         double maxDepth, double maxDifference = 0.02);
+/// without one are listed in warnings); without groundtruth.txt, every frame, unposed. Throws
+/// InputError naming the file and line.
+ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
+                         double maxDifference = 0.02);
 
-/// The frames of a Redwood folder, the k-th image (by name) posed by the k-th trajectory entry.
-ConfFile readRedwoodSequence(const std::string& dir, const std::optional<DepthCamera>& camera,
-                             double maxDepth);
+/// The frames of a Redwood folder, the k-th image (by name) posed by the k-th trajectory entry;
+/// without a .log, every frame, unposed. Frame k's time is k / 30 s.
+ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading);
 
 /// One frame to write: the image and its camera-to-world pose.
 struct DepthFrame {

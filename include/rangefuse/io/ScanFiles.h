@@ -16,6 +16,7 @@ struct ScanSourceOptions {
   std::string format = "auto";  ///< auto (from the path), conf, ptx, tum or redwood
   std::string intrinsics;       ///< depth cameras: "fx,fy,cx,cy" or a json file ("": the folder's)
   double maxDepth = 0;          ///< depth cameras: farther measurements are dropped (0: none)
+  double depthScale = 0;        ///< depth images: counts per metre (0: the layout's own)
 };
 
 /// The scans `path` lists: a .ptx file gives all its scans, named FILE.ptx#1, #2, ..., posed by

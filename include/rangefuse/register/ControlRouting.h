@@ -40,7 +40,14 @@ class ControlRouting {
   /// Collective: the control points of scan i at `pose` that this rank holds, in scan order;
   /// among them every point whose nearest voxel lies in this rank's bricks. Every rank must
   /// ask for the same scan and pose: when the scan moved past the reach, it is routed again.
-  ControlPoints at(size_t i, const Pose& pose, const BrickStore& store);
+  /// `every` > 1 gives a coarser level: the points of every `every`-th control vertex.
+  ControlPoints at(size_t i, const Pose& pose, const BrickStore& store, int every = 1);
+
+  /// How many control points scan i has (every rank's held ones counted once).
+  double count(size_t i) const { return counts_[i]; }
+
+  /// Forgets scan i's routed points (a tracked frame once it is in the field).
+  void release(size_t i);
 
   /// A ball holding every scan's control points at `poses`: centre and radius. The same on
   /// every rank, and it depends on the scans and poses alone (not on any field's bricks).
@@ -58,6 +65,7 @@ class ControlRouting {
     std::vector<uint32_t> vertices;
     std::vector<Eigen::Vector3d> points, normals;
     std::vector<double> weights;
+    std::vector<uint32_t> pointVertices;  ///< the vertex each copied point came from
   };
 
   /// Appends scan i's control points at `pose` to out[r] for every rank r owning their brick or
@@ -77,6 +85,7 @@ class ControlRouting {
   MPI_Comm comm_;
   std::vector<Eigen::Vector4d> spheres_;  ///< per scan: centre and radius of its control points
   std::vector<Sensor> sensors_;           ///< per scan, in its frame
+  std::vector<double> counts_;            ///< per scan, its control points
   std::vector<Held> held_;
   size_t reroutes_ = 0;
 };

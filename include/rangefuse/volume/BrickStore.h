@@ -60,6 +60,10 @@ class BrickStore {
     return b * perBrick_ + (static_cast<size_t>(l.z()) * B + l.y()) * B + l.x();
   }
 
+  /// Adds to the work of the brick at layout position `at`: work only steers how the next
+  /// layout is split, never which bricks exist or what they hold.
+  void addWork(size_t at, uint64_t work) { layout_.work[at] += work; }
+
   Sums& sums() { return sums_; }
   const Sums& sums() const { return sums_; }
 

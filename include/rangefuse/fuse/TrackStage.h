@@ -1,0 +1,33 @@
+// The tracking stage of a fuse run over a depth stream: options, progress lines and the
+// trajectory around trackFrames.
+#pragma once
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/register/Tracking.h"
+
+namespace rangefuse {
+
+/// True when a run tracks its frames: `track` is "on", or "auto" and the scans have no
+/// trajectory. Throws InputError naming `scans` when they need tracking and `track` is "off".
+bool tracksFrames(const std::string& track, bool posed, const std::string& scans);
+
+/// The camera pose "tx,ty,tz,qx,qy,qz,qw" (camera to world). Throws InputError naming --first-pose.
+Pose parseCameraPose(const std::string& text);
+
+/// Collective: tracks the frames of `scans` (their poses updated; lost frames keep the last
+/// good pose and are marked in `lost`), printing a line per frame on rank 0, and leaves the
+/// tracked field in `field`. False when any rank failed or tracking was lost (printed once).
+bool trackStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+                 std::vector<char>& lost, FusedField& field, RankCounters& counters);
+
+/// Collective: rank 0 writes the camera trajectory of the frames not lost to `path` (TUM text,
+/// or .log by extension). False on failure (printed once).
+bool writeTrajectoryFile(const std::string& path, const LoadedScans& scans,
+                         const std::vector<char>& lost, MPI_Comm comm);
+
+}  // namespace rangefuse

@@ -1,0 +1,64 @@
+// The field a depth stream is tracked against and fused into: prism fields on one fixed
+// lattice, growing brick by brick as the camera sees new surface. Each frame is added once, at
+// its tracked pose, and the field that tracks is the field that is meshed.
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/register/Registration.h"
+
+namespace rangefuse {
+
+/// What the tracking field needs of the job.
+struct TrackingFieldSettings {
+  double voxel = 0;
+  int brick = 8;
+  double eps = 0;  ///< prism half-thickness, world units
+  uint64_t maxVoxels = 0;
+  int threads = 1;
+};
+
+/// A RegistrationField whose add() never rebuilds: the bricks a new frame needs (with a brick
+/// of room around them) join the layout, the bricks are split over the ranks anew, and the sums
+/// move to their new owners unchanged. A voxel's sums are therefore those of adding the frames
+/// in order, on any number of ranks. The lattice is fixed by the first call and reaches
+/// kRoom voxels beyond the first frames in every direction; a frame outside it is an error.
+class TrackingField : public RegistrationField {
+ public:
+  static constexpr int kRoom = 1 << 14;  ///< voxels of lattice around the first frames
+
+  TrackingField(const TrackingFieldSettings& settings, const LoadedScans& scans, MPI_Comm comm);
+  ~TrackingField() override;
+
+  std::vector<double> fixLattice(const std::vector<double>& origin,
+                                 const std::vector<Pose>& poses) override;
+  const BrickStore& build(const std::vector<size_t>& scans,
+                          const std::vector<Pose>& poses) override;
+  const BrickStore& add(size_t i, const std::vector<Pose>& poses) override;
+  std::vector<double> latticeOrigin() const override;
+
+  /// The field as it stands, for meshing; the tracking field is empty afterwards.
+  std::unique_ptr<BrickStore> release();
+  /// Voxel updates made so far on this rank.
+  uint64_t voxelUpdates() const { return voxelUpdates_; }
+
+ private:
+  /// Collective: the layout grown by the bricks scan i's prisms touch at `pose` and their
+  /// neighbours, with the sums moved to their owners.
+  void grow(size_t i, const Pose& pose);
+  /// Collective: scan i added to the sums.
+  void integrate(size_t i, const std::vector<Pose>& poses);
+
+  TrackingFieldSettings settings_;
+  const LoadedScans& scans_;
+  MPI_Comm comm_;
+  VoxelGrid grid_;
+  std::unique_ptr<BrickStore> store_;
+  std::unique_ptr<PrismIntegrator> integrator_;
+  uint64_t voxelUpdates_ = 0;
+};
+
+}  // namespace rangefuse

@@ -1,0 +1,67 @@
+// Tracking a depth stream against the field (Tubic et al.'s self-referencing, Algorithm 1 run
+// as the frames arrive): each frame starts where the camera's motion so far predicts, is fitted
+// to the field of the frames before it, coarse control points then all, and joins that field
+// only when the fit holds. Frames that do not fit are reported and left out.
+#pragma once
+
+#include <mpi.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rangefuse/register/Registration.h"
+
+namespace rangefuse {
+
+struct TrackingSettings {
+  RegistrationOptions fit;    ///< correspondences and the convergence rule of one fit
+  int coarse = 4;             ///< the coarse level takes every coarse-th control point
+  int coarseIterations = 12;  ///< fits at the coarse level
+  int fineIterations = 12;    ///< fits with every control point
+  double minInliers = 0.25;   ///< share of control points that must find the field
+  double maxResidual = 0;     ///< RMS residual a frame may keep, world units (0: any)
+  double maxStep = 0;         ///< camera motion a frame may make, world units (0: any)
+  double maxTurnDeg = 30;     ///< camera turn a frame may make, degrees
+  bool skipLost = false;      ///< go on past a lost frame (else the stream ends there)
+  int maxLostInRow = 30;      ///< with skipLost: give up after this many lost frames in a row
+};
+
+/// What became of one frame.
+struct FrameReport {
+  size_t frame = 0;
+  bool fused = false;            ///< fitted and added to the field
+  bool recovered = false;        ///< the predicted start failed; the last good pose's worked
+  int fits = 0;                  ///< fits made, both starts and levels
+  double inliers = 0;            ///< share of control points with a correspondence
+  double rms = 0;                ///< RMS residual at the last fit, world units
+  double step = 0, turnDeg = 0;  ///< camera motion from the last good frame
+  std::string why;               ///< why it was lost (empty when fused)
+};
+
+/// Where a stream stands, enough to continue it (checkpoints).
+struct TrackingState {
+  size_t nextFrame = 0;
+  std::vector<char> lost;  ///< per frame: 1 when left out
+  int lostInRow = 0;
+  std::vector<double> latticeOrigin;  ///< the field's lattice (empty: not chosen yet)
+  std::string failure;                ///< set when the stream was given up
+};
+
+/// Collective: tracks frames nextFrame.. of `frames` into `field`, starting from the field of
+/// the frames before (rebuilt from their poses when resuming). Frame 0 fixes the world frame at
+/// poses[0]. `guide`, when given, is a trajectory whose relative motion predicts each start;
+/// without it, the camera's last motion is assumed to continue. Every rank ends with the same
+/// poses and state; `onFrame` sees every frame, `onBoundary` every point a checkpoint may be
+/// taken. Returns false, with state.failure set, when a lost frame ends the stream.
+bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::vector<Pose>* guide,
+                 const TrackingSettings& settings, RegistrationField& field, MPI_Comm comm,
+                 TrackingState& state, const std::function<void(const FrameReport&)>& onFrame,
+                 const std::function<void(const TrackingState&)>& onBoundary);
+
+/// The pose the motion so far predicts for a frame after `last`: the guide's motion from frame
+/// `last` to `next`, or (no guide, `prev` < last) the motion from `prev` to `last` again.
+Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide, long prev,
+                 size_t last, size_t next);
+
+}  // namespace rangefuse

@@ -1,0 +1,184 @@
+#include "rangefuse/register/Tracking.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "FitStep.h"
+#include "rangefuse/register/ControlRouting.h"
+
+namespace rangefuse {
+namespace {
+
+/// a^-1 b: the motion from a to b in a's own frame.
+Pose between(const Pose& a, const Pose& b) {
+  return Pose{a.R.transpose() * b.R, a.R.transpose() * (b.t - a.t)};
+}
+
+/// a b, its rotation made orthonormal again: a prediction composes three rotations, and
+/// rounding errors grown that way would double with every frame.
+Pose compose(const Pose& a, const Pose& b) {
+  const Eigen::Quaterniond q(a.R * b.R);
+  return Pose{q.normalized().toRotationMatrix(), a.R * b.t + a.t};
+}
+
+bool settled(const RegistrationStep& s, const RegistrationOptions& o) {
+  return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
+}
+
+std::string percent(double share) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f%%", 100 * share);
+  return text;
+}
+
+/// One frame's fit from one start: coarse level, then every control point.
+class FrameFit {
+ public:
+  FrameFit(const TrackingSettings& s, ControlRouting& control, const BrickStore& store,
+           MPI_Comm comm)
+      : s_(s), control_(control), store_(store), comm_(comm) {}
+
+  /// Fits frame i from `start`; the report's `why` is empty when the fit holds.
+  FrameReport fit(size_t i, std::vector<Pose>& poses, const Pose& start, size_t last,
+                  FrameReport report) {
+    poses[i] = start;
+    control_.route({i}, poses, store_);
+    bool converged = false;
+    RegistrationStep final;
+    for (const int every : {s_.coarse, 1}) {
+      if (every == 1 && s_.coarse == 1 && converged) break;
+      FitHistory history;
+      const int iterations = every == 1 ? s_.fineIterations : s_.coarseIterations;
+      converged = false;
+      for (int it = 0; it < iterations && !converged; ++it) {
+        final = internal::fitOnce(i, poses[i], store_, control_, s_.fit, comm_, history, every);
+        ++report.fits;
+        if (!final.applied) break;
+        converged = settled(final, s_.fit);
+      }
+      if (!final.applied) break;
+    }
+    const double count = control_.count(i);
+    report.inliers = count > 0 ? static_cast<double>(final.correspondences) / count : 0;
+    report.rms = final.rms;
+    const Pose motion = between(poses[last], poses[i]);
+    report.step = motion.t.norm();
+    report.turnDeg = rotationDegrees(motion.R);
+    report.why = judge(final, converged, report, static_cast<double>(i - last));
+    return report;
+  }
+
+ private:
+  /// Why the fit is not to be trusted, or empty.
+  std::string judge(const RegistrationStep& last, bool converged, const FrameReport& r,
+                    double frames) const {
+    char text[160];
+    if (!last.applied)
+      return "too few points on the field (" + std::to_string(last.correspondences) + ")";
+    if (r.inliers < s_.minInliers)
+      return "only " + percent(r.inliers) + " of its points lie on the field (needs " +
+             percent(s_.minInliers) + ")";
+    if (s_.maxResidual > 0 && r.rms > s_.maxResidual) {
+      std::snprintf(text, sizeof text, "residual %.3g above %.3g", r.rms, s_.maxResidual);
+      return text;
+    }
+    if ((s_.maxStep > 0 && r.step > s_.maxStep * frames) || r.turnDeg > s_.maxTurnDeg * frames) {
+      std::snprintf(text, sizeof text, "moved %.3g and turned %.3g deg since the last frame",
+                    r.step, r.turnDeg);
+      return text;
+    }
+    // Still moving after every fit: the fit slides along the surface rather than settling.
+    if (!converged && last.translation > 20 * s_.fit.translationTol) {
+      std::snprintf(text, sizeof text, "did not converge (last step %.3g)", last.translation);
+      return text;
+    }
+    return "";
+  }
+
+  const TrackingSettings& s_;
+  ControlRouting& control_;
+  const BrickStore& store_;
+  MPI_Comm comm_;
+};
+
+/// The frames tracked so far, in order, for rebuilding the field.
+std::vector<size_t> fusedBefore(const TrackingState& state) {
+  std::vector<size_t> fused;
+  for (size_t j = 0; j < state.nextFrame; ++j)
+    if (!state.lost[j]) fused.push_back(j);
+  return fused;
+}
+
+}  // namespace
+
+Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide, long prev,
+                 size_t last, size_t next) {
+  if (guide) return compose(poses[last], between((*guide)[last], (*guide)[next]));
+  if (prev < 0 || next - last != last - static_cast<size_t>(prev)) return poses[last];
+  return compose(poses[last], between(poses[prev], poses[last]));
+}
+
+bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::vector<Pose>* guide,
+                 const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
+                 TrackingState& state, const std::function<void(const FrameReport&)>& onFrame,
+                 const std::function<void(const TrackingState&)>& onBoundary) {
+  const size_t n = frames.size();
+  state.lost.resize(n, 0);
+  state.latticeOrigin = field.fixLattice(state.latticeOrigin, poses);
+  ControlRouting control(frames, s.fit.controlStride, comm);
+  const BrickStore* store = nullptr;
+  if (state.nextFrame == 0) {  // the first frame defines the world frame
+    store = &field.build({0}, poses);
+    state.nextFrame = 1;
+    FrameReport first;
+    first.fused = true;
+    first.inliers = 1;
+    onFrame(first);
+    onBoundary(state);
+  } else {
+    store = &field.build(fusedBefore(state), poses);
+  }
+  std::vector<size_t> fused = fusedBefore(state);
+  for (size_t i = state.nextFrame; i < n; ++i) {
+    const size_t last = fused.back();
+    const long prev = fused.size() > 1 ? static_cast<long>(fused[fused.size() - 2]) : -1;
+    FrameFit fit(s, control, *store, comm);
+    FrameReport report;
+    report.frame = i;
+    const Pose predicted = predictPose(poses, guide, prev, last, i);
+    report = fit.fit(i, poses, predicted, last, report);
+    const bool moved = !(predicted.R == poses[last].R && predicted.t == poses[last].t);
+    if (!report.why.empty() && moved) {  // re-localise from where the camera last was
+      FrameReport again = fit.fit(i, poses, poses[last], last, report);
+      again.recovered = again.why.empty();
+      if (again.recovered) report = again;
+    }
+    control.release(i);
+    report.fused = report.why.empty();
+    state.nextFrame = i + 1;
+    if (report.fused) {
+      fused.push_back(i);
+      store = &field.add(i, poses);
+      state.latticeOrigin = field.latticeOrigin();
+      state.lostInRow = 0;
+    } else {
+      poses[i] = poses[last];
+      state.lost[i] = 1;
+      ++state.lostInRow;
+    }
+    onFrame(report);
+    if (!report.fused && !s.skipLost) {
+      state.failure = "frame " + std::to_string(i) + ": tracking lost: " + report.why;
+      return false;
+    }
+    if (state.lostInRow > s.maxLostInRow) {
+      state.failure = "frame " + std::to_string(i) + ": tracking lost for " +
+                      std::to_string(state.lostInRow) + " frames in a row: " + report.why;
+      return false;
+    }
+    onBoundary(state);
+  }
+  return true;
+}
+
+}  // namespace rangefuse
