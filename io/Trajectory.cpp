@@ -107,7 +107,7 @@ void writeTrajectory(const std::string& path, const std::vector<TimedPose>& pose
   const bool log = isLogTrajectory(path);
   writeAtomically(path, [&](std::ostream& out) {
     out << std::setprecision(17);
-    if (!log) out << "# timestamp tx ty tz qx qy qz qw (camera to world)\n";
+    if (!log) out << "# camera trajectory\n# timestamp tx ty tz qx qy qz qw (camera to world)\n";
     for (size_t k = 0; k < poses.size(); ++k) {
       const Pose& p = poses[k].cameraToWorld;
       if (log) {

@@ -129,7 +129,8 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   lost = state.lost;
   if (!ok) {
     if (progress.isRoot())
-      std::fprintf(stderr, "rangefuse: error: %s: %s%s\n", o.scans.c_str(), state.failure.c_str(),
+      std::fprintf(stderr, "rangefuse: error: %s: %s%s\n", scans.paths[state.failedFrame].c_str(),
+                   state.failure.c_str(),
                    o.skipLost ? "" : " (--skip-lost leaves such frames out and goes on)");
     return false;
   }

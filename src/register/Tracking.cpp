@@ -88,7 +88,7 @@ class FrameFit {
       return text;
     }
     // Still moving after every fit: the fit slides along the surface rather than settling.
-    if (!converged && last.translation > 20 * s_.fit.translationTol) {
+    if (!converged && last.translation > 30 * s_.fit.translationTol) {
       std::snprintf(text, sizeof text, "did not converge (last step %.3g)", last.translation);
       return text;
     }
@@ -126,6 +126,10 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
   state.lost.resize(n, 0);
   state.latticeOrigin = field.fixLattice(state.latticeOrigin, poses);
   ControlRouting control(frames, s.fit.controlStride, comm);
+  if (control.count(0) == 0) {
+    state.failure = "the first frame has no depth to start the field from";
+    return false;
+  }
   const BrickStore* store = nullptr;
   if (state.nextFrame == 0) {  // the first frame defines the world frame
     store = &field.build({0}, poses);
@@ -169,11 +173,13 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
     onFrame(report);
     if (!report.fused && !s.skipLost) {
       state.failure = "frame " + std::to_string(i) + ": tracking lost: " + report.why;
+      state.failedFrame = i;
       return false;
     }
     if (state.lostInRow > s.maxLostInRow) {
       state.failure = "frame " + std::to_string(i) + ": tracking lost for " +
                       std::to_string(state.lostInRow) + " frames in a row: " + report.why;
+      state.failedFrame = i;
       return false;
     }
     onBoundary(state);

@@ -266,3 +266,44 @@ TEST(DepthSequence, MalformedRedwoodFoldersNameTheFileAndLine) {
   expectMessage(failure(dir.file("rw"), {"ptx", "", 0}), "rw");
   expectMessage(failure(dir.file("rw"), {"e57", "", 0}), "--scan-format: 'e57'");
 }
+
+TEST(DepthSequence, FoldersWithoutATrajectoryAreReadUnposedInOrder) {
+  TempDir dir;
+  const auto written = frames(3);
+  io::writeTumSequence(dir.file("tum"), written, camera(9, 7));
+  std::filesystem::remove(dir.file("tum/groundtruth.txt"));
+  const io::ConfFile tum = io::readScanList(dir.file("tum"));
+  EXPECT_FALSE(tum.posed);
+  ASSERT_EQ(tum.scans.size(), 3u);
+  EXPECT_NEAR(tum.scans[1].time, 1000 + 1 / 30.0, 1e-6);  // as named, to the microsecond
+  // Open3D's recorder: depth/NNNNNN.png and camera_intrinsic.json, colour beside, no .log.
+  io::writeRedwoodSequence(dir.file("rec"), written, camera(9, 7));
+  std::filesystem::remove(dir.file("rec/trajectory.log"));
+  std::filesystem::create_directories(dir.file("rec/color"));
+  const io::ConfFile rec = io::readScanList(dir.file("rec"));
+  EXPECT_FALSE(rec.posed);
+  ASSERT_EQ(rec.scans.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(rec.scans[k].name, "depth/00000" + std::to_string(k) + ".png");
+    EXPECT_DOUBLE_EQ(rec.scans[k].time, k / 30.0);
+    // Every frame at the first camera's pose, the identity.
+    EXPECT_LT((io::cameraPose(rec.scans[k].pose).R - Eigen::Matrix3d::Identity()).norm(), 1e-15);
+    EXPECT_EQ(io::readScanGrid(rec.scans[k]).points,
+              io::depthGrid(written[k].image, *rec.scans[k].depth, "").points);
+  }
+}
+
+TEST(DepthSequence, DepthScaleAndFoldersOfColourAloneAreCheckedByName) {
+  TempDir dir;
+  io::DepthImage near{9, 7, std::vector<uint16_t>(63, 1500)};  // 1.5 m at 1 mm a count
+  io::writeRedwoodSequence(dir.file("rec"), {{near, Pose{}}}, camera(9, 7));
+  io::ScanSourceOptions source;
+  source.depthScale = 2000;  // counts a metre: half the depth
+  const io::ConfScan frame = io::readScanList(dir.file("rec"), {}, source).scans[0];
+  EXPECT_NEAR(-io::readScanGrid(frame).points[0].z(), 0.75, 1e-12);
+  source.depthScale = 1;  // counts read as metres: 1.5 km
+  expectMessage(failure(dir.file("rec"), source),
+                "000000.png: every depth lies beyond 100 m at 1 counts a metre");
+  std::filesystem::create_directories(dir.file("colour/color"));
+  expectMessage(failure(dir.file("colour")), "colour: holds colour images (color/) but no depth");
+}

@@ -45,7 +45,8 @@ struct TrackingState {
   std::vector<char> lost;  ///< per frame: 1 when left out
   int lostInRow = 0;
   std::vector<double> latticeOrigin;  ///< the field's lattice (empty: not chosen yet)
-  std::string failure;                ///< set when the stream was given up
+  std::string failure;                ///< set when the stream was given up ...
+  size_t failedFrame = 0;             ///< ... at this frame
 };
 
 /// Collective: tracks frames nextFrame.. of `frames` into `field`, starting from the field of
