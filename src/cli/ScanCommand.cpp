@@ -1,6 +1,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "CliCommon.h"
 #include "Commands.h"
@@ -131,11 +132,14 @@ void writeStations(const SyntheticSet& set, const std::string& dir) {
 }
 
 ScanOptions checked(ScanOptions o) {
-  if (o.path != "sphere" && o.path != "orbit" && o.path != "stations")
-    throw InputError("scan: --path must be sphere, orbit or stations");
-  o.settings.path = o.path == "orbit"      ? ViewPath::Orbit
-                    : o.path == "stations" ? ViewPath::Stations
-                                           : ViewPath::Sphere;
+  const std::map<std::string, ViewPath> paths = {{"sphere", ViewPath::Sphere},
+                                                 {"orbit", ViewPath::Orbit},
+                                                 {"stations", ViewPath::Stations},
+                                                 {"handheld", ViewPath::Handheld},
+                                                 {"walk", ViewPath::Walk}};
+  if (!paths.count(o.path))
+    throw InputError("scan: --path must be sphere, orbit, stations, handheld or walk");
+  o.settings.path = paths.at(o.path);
   if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx")
     throw InputError("scan: --format must be ply, tum, redwood or ptx");
   if (o.path == "stations" && o.format != "ptx")
@@ -198,8 +202,10 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "noise grows with the square of the range (depth cameras); --noise holds at the path's "
       "distance")("path", po::value(&o.path)->default_value(o.path),
                   "viewpoints: sphere (spread around the object), orbit (one turn, a "
-                  "hand-held sequence) or stations (terrestrial scanners inside the scene, "
-                  "e.g. --shape room; width x height is a full turn x 160 degrees)")(
+                  "hand-held sequence), handheld (one turn, nearer and farther, swaying in fast "
+                  "turns), walk (a depth camera carried inside the scene, e.g. --shape room) or "
+                  "stations (terrestrial scanners inside the scene, e.g. --shape room; width x "
+                  "height is a full turn x 160 degrees)")(
       "format", po::value(&o.format)->default_value(o.format),
       "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
       "camera_intrinsic.json), or ptx (one Leica PTX file of every scan, truth.conf)")(

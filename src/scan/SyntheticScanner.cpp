@@ -78,6 +78,33 @@ Eigen::Vector3d orbitDirection(int i, int n) {
                          std::sin(elevation));
 }
 
+/// A hand-held camera around the object: one turn at 0.75-0.95 of the orbit's distance,
+/// rising and falling, aimed at a point that sways by up to 0.8 bounding radii (about 15
+/// degrees of turn) with periods of 40-60 frames.
+Pose handheldPose(int i, int n, const Eigen::Vector3d& centre, double radius, double distance) {
+  const double phi = 2 * M_PI * i / n;
+  const double reach = distance * (0.85 + 0.1 * std::sin(2.3 * phi));
+  const Eigen::Vector3d eye = centre + reach * orbitDirection(i, n);
+  const Eigen::Vector3d sway(std::sin(2 * M_PI * i / 43), std::cos(2 * M_PI * i / 59),
+                             0.5 * std::sin(2 * M_PI * i / 37));
+  return cameraPose(eye, centre + 0.8 * radius * sway);
+}
+
+/// A camera carried inside the scene along a loop a third of the way to its walls, at 1.5 of
+/// the box's height fractions, looking ahead along the loop and swaying by up to 30 degrees.
+Pose walkPose(int i, int n, const Eigen::AlignedBox3d& box) {
+  const double phi = 2 * M_PI * i / n;
+  const Eigen::Vector3d half = 0.5 * box.sizes(), c = box.center();
+  const Eigen::Vector3d eye(c.x() + 0.33 * half.x() * std::cos(phi),
+                            c.y() + 0.33 * half.y() * std::sin(phi),
+                            box.min().z() + 0.5 * box.sizes().z() + 0.05 * std::sin(5 * phi));
+  const double heading = phi + M_PI / 2 + 0.5 * std::sin(2 * M_PI * i / 50);
+  const double pitch = -0.25 + 0.15 * std::sin(2 * M_PI * i / 70);
+  const Eigen::Vector3d ahead(std::cos(heading) * std::cos(pitch),
+                              std::sin(heading) * std::cos(pitch), std::sin(pitch));
+  return cameraPose(eye, eye + ahead);
+}
+
 SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centre, double radius,
                          std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1, 1);
@@ -148,9 +175,13 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
   for (const auto& v : mesh.vertices) out.radius = std::max(out.radius, (v - out.centre).norm());
   const Bvh bvh(mesh);
   std::mt19937_64 rng(set.seed);
-  const double eyeDistance = kDistance * out.radius;
-  const double halfFov =
-      set.fovDeg > 0 ? 0.5 * set.fovDeg * M_PI / 180 : 1.05 * std::asin(out.radius / eyeDistance);
+  const bool walk = set.path == ViewPath::Walk;
+  // Inside a scene, depth noise holds at a typical wall distance, and the lens is a depth
+  // camera's (45 degrees vertical) unless given.
+  const double eyeDistance = walk ? 0.5 * out.radius : kDistance * out.radius;
+  const double halfFov = set.fovDeg > 0 ? 0.5 * set.fovDeg * M_PI / 180
+                         : walk         ? 22.5 * M_PI / 180
+                                        : 1.05 * std::asin(out.radius / eyeDistance);
   const double f = 0.5 * std::min(set.width, set.height) / std::tan(halfFov);
   // Patches go to evenly spaced scans so that no two share one.
   std::vector<int> patchOf(set.views, -1);
@@ -166,18 +197,25 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
       s.grid.spherical = true;
       render(s, bvh, {}, 0.1 * out.radius, 2 * out.radius, out.radius, set, rng);
     } else {
-      s.viewpoint = out.centre + eyeDistance * (set.path == ViewPath::Orbit
-                                                    ? orbitDirection(i, set.views)
-                                                    : fibonacciDirection(i, set.views));
-      s.truth = cameraPose(s.viewpoint, out.centre);
+      if (set.path == ViewPath::Handheld)
+        s.truth = handheldPose(i, set.views, out.centre, out.radius, eyeDistance);
+      else if (walk)
+        s.truth = walkPose(i, set.views, box);
+      else
+        s.truth = cameraPose(out.centre + eyeDistance * (set.path == ViewPath::Orbit
+                                                             ? orbitDirection(i, set.views)
+                                                             : fibonacciDirection(i, set.views)),
+                             out.centre);
+      s.viewpoint = s.truth.t;
       s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
       TriangleMesh patches;
       if (patchOf[i] >= 0) {
         out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, rng));
         patches = patchMesh({out.patches.back()});
       }
-      render(s, bvh, patches, eyeDistance - out.radius, eyeDistance + out.radius, eyeDistance, set,
-             rng);
+      const double near = walk ? 0.02 * out.radius : eyeDistance - out.radius;
+      const double far = walk ? 2 * out.radius : eyeDistance + out.radius;
+      render(s, bvh, patches, near, far, eyeDistance, set, rng);
     }
     s.perturbed = s.truth;
     if (i > 0)

@@ -17,8 +17,10 @@ namespace rangefuse {
 /// a scanner moved around it), along one orbit around it with a gently rising and falling
 /// height (a hand-held depth camera filming a sequence), or inside the scene as terrestrial
 /// laser scanner stations (spherical grids: width columns of a full turn, height rows from 80
-/// degrees below the horizon to 80 above).
-enum class ViewPath { Sphere, Orbit, Stations };
+/// degrees below the horizon to 80 above). Two depth-camera paths as a person walks them: around
+/// the object, nearer and farther, the view swaying left, right, up and down in fast turns
+/// (handheld); or inside the scene, along a loop, looking ahead and swaying (walk: rooms).
+enum class ViewPath { Sphere, Orbit, Stations, Handheld, Walk };
 
 struct ScanSettings {
   int views = 24;
