@@ -411,7 +411,7 @@ int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress) {
   std::vector<char> lost;
   FusedField field;
   RankCounters counters;
-  if (!loadScans(o, comm, progress, scans) ||
+  if (!openStream(o, comm, progress, scans) ||
       !trackStream(o, comm, progress, scans, lost, field, counters) ||
       !writeTrajectoryFile(o.trajectoryOut, scans, lost, comm))
     return 1;

@@ -13,7 +13,8 @@ HeldScans::HeldScans(std::vector<io::ConfScan> scans, std::vector<int> readers, 
       rank_(rank),
       preparation_(preparation),
       budgetLeft_(budgetBytes),
-      kept_(scans_.size()) {}
+      kept_(scans_.size()),
+      keptBytes_(scans_.size(), 0) {}
 
 std::shared_ptr<const PrismScan> HeldScans::get(size_t i) const {
   if (kept_[i]) return kept_[i];
@@ -45,8 +46,15 @@ std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, std::shared_ptr<cons
   if (!kept_[i] && bytes <= budgetLeft_) {
     budgetLeft_ -= bytes;
     kept_[i] = scan;
+    keptBytes_[i] = bytes;
   }
   return scan;
+}
+
+void HeldScans::release(size_t i) {
+  budgetLeft_ += keptBytes_[i];
+  keptBytes_[i] = 0;
+  kept_[i].reset();
 }
 
 size_t HeldScans::keptCount() const {

@@ -1,14 +1,19 @@
 #include "rangefuse/fuse/TrackStage.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/TrackingField.h"
 #include "rangefuse/io/DepthCamera.h"
+#include "rangefuse/io/DepthPng.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/register/ProjectiveIcp.h"
 
 namespace rangefuse {
 
@@ -70,6 +75,68 @@ std::vector<Pose> startingPoses(const FuseOptions& o, const LoadedScans& scans) 
   return poses;
 }
 
+/// Half a turn about x: between the scan frame (looking toward -z) and the camera's.
+Pose flipped(const Pose& p) {
+  const Eigen::Matrix3d F = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  return Pose{F * p.R * F, F * p.t};
+}
+
+/// The motion between two frames from their pixels (projective ICP), computed by rank 0 alone
+/// and shared: the same bits on any number of ranks, and each image decoded once (the later
+/// frame is the earlier one of the next pair).
+class PixelMotion {
+ public:
+  PixelMotion(const FuseOptions& o, MPI_Comm comm)
+      : comm_(comm), maxPixels_(o.limits.maxGridCells) {
+    list_ = io::readScanList(o.scans, o.limits, o.source);
+    settings_.maxDistance = 10 * o.voxel;
+    settings_.huber = o.voxel;
+  }
+
+  Pose operator()(size_t last, size_t next, const Pose& guess) {
+    const int root = 0;
+    double packed[12];
+    mpi::collectivelyOrThrow(comm_, [&] {
+      if (mpi::rank(comm_) != root) return;
+      const Pose found =
+          flipped(alignFrames(depthMap(last), depthMap(next), flipped(guess), settings_).motion);
+      std::copy(found.R.data(), found.R.data() + 9, packed);
+      std::copy(found.t.data(), found.t.data() + 3, packed + 9);
+    });
+    MPI_Bcast(packed, 12, MPI_DOUBLE, root, comm_);
+    Pose out;
+    out.R = Eigen::Map<const Eigen::Matrix3d>(packed);
+    out.t = Eigen::Vector3d(packed[9], packed[10], packed[11]);
+    return out;
+  }
+
+ private:
+  /// Frame i's depths in its camera (the last two kept: each frame is asked for twice).
+  const DepthMap& depthMap(size_t i) {
+    for (auto& [index, map] : cache_)
+      if (index == i) return map;
+    const io::ConfScan& scan = list_.scans[i];
+    const io::DepthCamera& c = *scan.depth;
+    const io::DepthImage image = io::readDepthPng(scan.path, maxPixels_);
+    DepthMap map{image.width, image.height, c.fx, c.fy, c.cx, c.cy, {}};
+    map.depth.resize(image.counts.size());
+    for (size_t k = 0; k < image.counts.size(); ++k) {
+      const double d = image.counts[k] * c.unit;
+      map.depth[k] = c.maxDepth > 0 && d > c.maxDepth ? 0.0f : static_cast<float>(d);
+    }
+    cache_[next_] = {i, std::move(map)};
+    next_ = 1 - next_;
+    return cache_[1 - next_].second;
+  }
+
+  MPI_Comm comm_;
+  uint64_t maxPixels_;
+  io::ConfFile list_;
+  ProjectiveIcpSettings settings_;
+  std::pair<size_t, DepthMap> cache_[2] = {{SIZE_MAX, {}}, {SIZE_MAX, {}}};
+  int next_ = 0;
+};
+
 /// Prints one frame's line on rank 0.
 class FrameLines {
  public:
@@ -98,6 +165,29 @@ class FrameLines {
 
 }  // namespace
 
+bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
+  io::ConfFile conf;
+  if (!collectively(comm, [&] { conf = io::readScanList(o.scans, o.limits, o.source); }))
+    return false;
+  if (progress.isRoot())
+    for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+  scans.rank = mpi::rank(comm);
+  scans.posed = conf.posed;
+  for (size_t i = 0; i < conf.scans.size(); ++i) {
+    scans.readers.push_back(static_cast<int>(i % mpi::size(comm)));
+    scans.names.push_back(conf.scans[i].name);
+    scans.paths.push_back(conf.scans[i].path);
+    scans.poses.push_back(conf.scans[i].pose);
+    scans.times.push_back(conf.scans[i].time);
+  }
+  ScanPreparation preparation{surfaceOptions(o), o.limits, o.envelope * o.voxel};
+  preparation.surface.sightMap = false;
+  scans.held = std::make_shared<HeldScans>(conf.scans, scans.readers, scans.rank, preparation,
+                                           static_cast<uint64_t>(o.scanMemory * 1024 * 1024));
+  progress.stage("open", std::to_string(conf.scans.size()) + " frames, each read when it comes");
+  return true;
+}
+
 bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
                  std::vector<char>& lost, FusedField& field, RankCounters& counters) {
   TrackingSettings settings;
@@ -113,11 +203,23 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   TrackingField tracked(fieldSettings, scans, comm);
   TrackingState state;
   FrameLines lines(scans, o.voxel);
+  std::unique_ptr<PixelMotion> pixels;
+  if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(o, comm); })) return false;
   size_t lostCount = 0;
   bool ok = false;
   try {
     ok = trackFrames(
         *scans.held, scans.poses, scans.posed ? &guide : nullptr, settings, tracked, comm, state,
+        [&](size_t i, bool done) {
+          // The reader reads a frame once, when it comes, and forgets it once fused.
+          if (done)
+            scans.held->release(i);
+          else
+            mpi::collectivelyOrThrow(comm, [&] {
+              if (scans.holds(i)) scans.held->readAndOffer(i);
+            });
+        },
+        [&](size_t last, size_t next, const Pose& guess) { return (*pixels)(last, next, guess); },
         [&](const FrameReport& r) {
           lostCount += !r.fused;
           if (progress.isRoot()) lines(r);

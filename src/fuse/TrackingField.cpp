@@ -5,7 +5,6 @@
 
 #include "PlacedScans.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/volume/BrickPlanning.h"
@@ -100,7 +99,9 @@ TrackingField::~TrackingField() = default;
 
 std::vector<double> TrackingField::fixLattice(const std::vector<double>& origin,
                                               const std::vector<Pose>& poses) {
-  const Eigen::AlignedBox3d box = placedBounds(scans_, allScans(scans_), poses, comm_);
+  // Around the first frame: the lattice reaches kRoom voxels beyond it, and the frames to come
+  // are not read yet.
+  const Eigen::AlignedBox3d box = placedBounds(scans_, {0}, poses, comm_);
   collectivelyOrThrow(comm_, [&] {
     grid_ =
         gridAround(box, settings_.voxel, settings_.brick, settings_.eps, kRoom / settings_.brick);

@@ -57,28 +57,49 @@ Sensor unpackSensor(const double* in) {
 
 }  // namespace
 
-ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm)
-    : scans_(scans), stride_(stride), comm_(comm), held_(scans.size()) {
-  // Each scan is held by one rank, which alone fills its sphere and sensor: a sum shares them.
-  spheres_.assign(scans.size(), Eigen::Vector4d::Zero());
-  counts_.assign(scans.size(), 0.0);
-  std::vector<double> sensors(7 * scans.size(), 0.0);
+ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm, bool lazy)
+    : scans_(scans),
+      stride_(stride),
+      comm_(comm),
+      spheres_(scans.size(), Eigen::Vector4d::Zero()),
+      sensors_(scans.size()),
+      counts_(scans.size(), 0.0),
+      known_(scans.size(), 0),
+      held_(scans.size()) {
+  if (lazy) return;
+  std::vector<size_t> all(scans.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  learn(all);
+}
+
+void ControlRouting::learn(const std::vector<size_t>& which) {
+  std::vector<size_t> unknown;
+  for (size_t i : which)
+    if (!known_[i]) unknown.push_back(i);
+  if (unknown.empty()) return;
+  // Each scan is held by one rank, which alone fills its numbers: a sum shares them.
+  std::vector<double> numbers(12 * unknown.size(), 0.0);
   // A scan read again may fail on one rank: every rank then throws here.
   mpi::collectivelyOrThrow(comm_, [&] {
-    for (size_t i = 0; i < scans.size(); ++i) {
-      if (!scans.holds(i)) continue;
-      const std::shared_ptr<const PrismScan> scan = scans.get(i);
-      spheres_[i] = sphereOf(*scan, stride_, counts_[i]);
-      packSensor(scan->surface.sensor, &sensors[7 * i]);
+    for (size_t k = 0; k < unknown.size(); ++k) {
+      if (!scans_.holds(unknown[k])) continue;
+      const std::shared_ptr<const PrismScan> scan = scans_.get(unknown[k]);
+      double* out = &numbers[12 * k];
+      const Eigen::Vector4d sphere = sphereOf(*scan, stride_, out[11]);
+      std::copy(sphere.data(), sphere.data() + 4, out);
+      packSensor(scan->surface.sensor, out + 4);
     }
   });
-  MPI_Allreduce(MPI_IN_PLACE, spheres_.data(), static_cast<int>(4 * spheres_.size()), MPI_DOUBLE,
-                MPI_SUM, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, sensors.data(), static_cast<int>(sensors.size()), MPI_DOUBLE, MPI_SUM,
+  MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM,
                 comm_);
-  MPI_Allreduce(MPI_IN_PLACE, counts_.data(), static_cast<int>(counts_.size()), MPI_DOUBLE, MPI_SUM,
-                comm_);
-  for (size_t i = 0; i < scans.size(); ++i) sensors_.push_back(unpackSensor(&sensors[7 * i]));
+  for (size_t k = 0; k < unknown.size(); ++k) {
+    const size_t i = unknown[k];
+    const double* in = &numbers[12 * k];
+    spheres_[i] = Eigen::Vector4d(in[0], in[1], in[2], in[3]);
+    sensors_[i] = unpackSensor(in + 4);
+    counts_[i] = in[11];
+    known_[i] = 1;
+  }
 }
 
 Eigen::Vector4d ControlRouting::ball(const std::vector<Pose>& poses) const {
@@ -105,6 +126,7 @@ double ControlRouting::motionBound(size_t i, const Pose& from, const Pose& to) c
 
 void ControlRouting::route(const std::vector<size_t>& which, const std::vector<Pose>& poses,
                            const BrickStore& store) {
+  learn(which);
   const BrickLayout& layout = store.layout();
   std::unordered_map<uint64_t, std::vector<int>> owners;
   const int me = mpi::rank(comm_), ranks = mpi::size(comm_);

@@ -120,12 +120,15 @@ Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide,
 
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::vector<Pose>* guide,
                  const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
-                 TrackingState& state, const std::function<void(const FrameReport&)>& onFrame,
+                 TrackingState& state, const FrameHook& frameHook, const FrameMotion& frameMotion,
+                 const std::function<void(const FrameReport&)>& onFrame,
                  const std::function<void(const TrackingState&)>& onBoundary) {
   const size_t n = frames.size();
   state.lost.resize(n, 0);
+  frameHook(0, false);
   state.latticeOrigin = field.fixLattice(state.latticeOrigin, poses);
-  ControlRouting control(frames, s.fit.controlStride, comm);
+  ControlRouting control(frames, s.fit.controlStride, comm, true);
+  control.learn({0});
   if (control.count(0) == 0) {
     state.failure = "the first frame has no depth to start the field from";
     return false;
@@ -133,6 +136,7 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
   const BrickStore* store = nullptr;
   if (state.nextFrame == 0) {  // the first frame defines the world frame
     store = &field.build({0}, poses);
+    frameHook(0, true);
     state.nextFrame = 1;
     FrameReport first;
     first.fused = true;
@@ -146,14 +150,21 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
   for (size_t i = state.nextFrame; i < n; ++i) {
     const size_t last = fused.back();
     const long prev = fused.size() > 1 ? static_cast<long>(fused[fused.size() - 2]) : -1;
+    frameHook(i, false);
     FrameFit fit(s, control, *store, comm);
     FrameReport report;
     report.frame = i;
-    const Pose predicted = predictPose(poses, guide, prev, last, i);
+    // The start: the motion so far continued, then what the pixels say.
+    auto start = [&](const Pose& guess) {
+      if (!frameMotion) return guess;
+      return compose(poses[last], frameMotion(last, i, between(poses[last], guess)));
+    };
+    const Pose predicted = start(predictPose(poses, guide, prev, last, i));
     report = fit.fit(i, poses, predicted, last, report);
-    const bool moved = !(predicted.R == poses[last].R && predicted.t == poses[last].t);
-    if (!report.why.empty() && moved) {  // re-localise from where the camera last was
-      FrameReport again = fit.fit(i, poses, poses[last], last, report);
+    if (!report.why.empty()) {  // re-localise from where the camera last was
+      const Pose still = start(poses[last]);
+      const bool other = !(predicted.R == still.R && predicted.t == still.t);
+      FrameReport again = other ? fit.fit(i, poses, still, last, report) : report;
       again.recovered = again.why.empty();
       if (again.recovered) report = again;
     }
@@ -170,6 +181,7 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
       state.lost[i] = 1;
       ++state.lostInRow;
     }
+    frameHook(i, true);
     onFrame(report);
     if (!report.fused && !s.skipLost) {
       state.failure = "frame " + std::to_string(i) + ": tracking lost: " + report.why;

@@ -90,19 +90,19 @@ Pose handheldPose(int i, int n, const Eigen::Vector3d& centre, double radius, do
   return cameraPose(eye, centre + 0.8 * radius * sway);
 }
 
-/// A camera carried inside the scene along a loop a third of the way to its walls, at 1.5 of
-/// the box's height fractions, looking ahead along the loop and swaying by up to 30 degrees.
+/// A camera carried inside the scene along a loop a third of the way to its walls, at half its
+/// height, aimed across the room at a point that wanders around its middle (what a person
+/// scanning a room looks at), so each view holds more than a wall and the floor.
 Pose walkPose(int i, int n, const Eigen::AlignedBox3d& box) {
   const double phi = 2 * M_PI * i / n;
   const Eigen::Vector3d half = 0.5 * box.sizes(), c = box.center();
   const Eigen::Vector3d eye(c.x() + 0.33 * half.x() * std::cos(phi),
                             c.y() + 0.33 * half.y() * std::sin(phi),
                             box.min().z() + 0.5 * box.sizes().z() + 0.05 * std::sin(5 * phi));
-  const double heading = phi + M_PI / 2 + 0.5 * std::sin(2 * M_PI * i / 50);
-  const double pitch = -0.25 + 0.15 * std::sin(2 * M_PI * i / 70);
-  const Eigen::Vector3d ahead(std::cos(heading) * std::cos(pitch),
-                              std::sin(heading) * std::cos(pitch), std::sin(pitch));
-  return cameraPose(eye, eye + ahead);
+  const Eigen::Vector3d target(c.x() - 0.5 * half.x() * std::cos(phi + 0.6 * std::sin(3 * phi)),
+                               c.y() - 0.5 * half.y() * std::sin(phi + 0.6 * std::sin(3 * phi)),
+                               box.min().z() + 0.25 * box.sizes().z() * (1 + std::sin(7 * phi)));
+  return cameraPose(eye, target);
 }
 
 SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centre, double radius,

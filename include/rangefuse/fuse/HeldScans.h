@@ -36,6 +36,9 @@ class HeldScans : public ScanSource {
   std::vector<std::shared_ptr<const PrismScan>> readAndOffer(const std::vector<size_t>& which,
                                                              int threads);
 
+  /// Forgets scan i (a tracked frame once fused), returning its bytes to the budget.
+  void release(size_t i);
+
   size_t keptCount() const;
 
  private:
@@ -48,6 +51,7 @@ class HeldScans : public ScanSource {
   ScanPreparation preparation_;
   uint64_t budgetLeft_;
   std::vector<std::shared_ptr<const PrismScan>> kept_;
+  std::vector<uint64_t> keptBytes_;
 };
 
 }  // namespace rangefuse

@@ -19,6 +19,10 @@ bool tracksFrames(const std::string& track, bool posed, const std::string& scans
 /// The camera pose "tx,ty,tz,qx,qy,qz,qw" (camera to world). Throws InputError naming --first-pose.
 Pose parseCameraPose(const std::string& text);
 
+/// Collective: the frames of the stream listed in `scans` (names, paths, times, readers), none
+/// read yet: each is read by its reader when tracking comes to it. False on failure (printed).
+bool openStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans);
+
 /// Collective: tracks the frames of `scans` (their poses updated; lost frames keep the last
 /// good pose and are marked in `lost`), printing a line per frame on rank 0, and leaves the
 /// tracked field in `field`. False when any rank failed or tracking was lost (printed once).

@@ -25,7 +25,7 @@ struct TrackingFieldSettings {
 /// of room around them) join the layout, the bricks are split over the ranks anew, and the sums
 /// move to their new owners unchanged. A voxel's sums are therefore those of adding the frames
 /// in order, on any number of ranks. The lattice is fixed by the first call and reaches
-/// kRoom voxels beyond the first frames in every direction; a frame outside it is an error.
+/// kRoom voxels beyond the first frame in every direction; a frame outside it is an error.
 class TrackingField : public RegistrationField {
  public:
   static constexpr int kRoom = 1 << 14;  ///< voxels of lattice around the first frames

@@ -29,8 +29,9 @@ struct ControlPoints {
 /// owning its nearest voxel.
 class ControlRouting {
  public:
-  /// Collective. A rank holds only the scans it read.
-  ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm);
+  /// Collective. A rank holds only the scans it read. `lazy`: each scan is looked at when first
+  /// routed (a stream's frames are read as they come), not all of them now.
+  ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm, bool lazy = false);
 
   /// Collective: sends scans `which`, placed at `poses`, to the owners of `store`'s bricks. Call
   /// it whenever the store's bricks change.
@@ -43,7 +44,11 @@ class ControlRouting {
   /// `every` > 1 gives a coarser level: the points of every `every`-th control vertex.
   ControlPoints at(size_t i, const Pose& pose, const BrickStore& store, int every = 1);
 
-  /// How many control points scan i has (every rank's held ones counted once).
+  /// Collective: the ball, sensor and count of each listed scan not yet known, from its reader
+  /// (route() learns the scans it routes).
+  void learn(const std::vector<size_t>& which);
+
+  /// How many control points scan i has, once learnt.
   double count(size_t i) const { return counts_[i]; }
 
   /// Forgets scan i's routed points (a tracked frame once it is in the field).
@@ -86,6 +91,7 @@ class ControlRouting {
   std::vector<Eigen::Vector4d> spheres_;  ///< per scan: centre and radius of its control points
   std::vector<Sensor> sensors_;           ///< per scan, in its frame
   std::vector<double> counts_;            ///< per scan, its control points
+  std::vector<char> known_;               ///< per scan: ball, sensor and count learnt
   std::vector<Held> held_;
   size_t reroutes_ = 0;
 };
