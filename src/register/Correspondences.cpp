@@ -87,4 +87,56 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
   return total;
 }
 
+void PlaneSums::add(const Eigen::Vector3d& lever, const Eigen::Vector3d& f, double r,
+                    double weight) {
+  Eigen::Matrix<double, 6, 1> J;
+  J.head<3>() = f;
+  J.tail<3>() = lever.cross(f);
+  A += weight * J * J.transpose();
+  b += weight * r * J;
+  w += weight, wr2 += weight * r * r, wLever += weight * lever.norm(), count += 1;
+}
+
+PlaneSums& PlaneSums::operator+=(const PlaneSums& o) {
+  A += o.A, b += o.b, w += o.w, wr2 += o.wr2, wLever += o.wLever, count += o.count;
+  return *this;
+}
+
+PlaneSums planeSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
+                    const std::vector<Eigen::Vector3d>& normals, const std::vector<double>& weights,
+                    const Eigen::Vector3d& centre, const CorrespondenceSettings& settings,
+                    MPI_Comm comm) {
+  std::vector<PlaneSums> perBrick(store.brickCount());
+  std::vector<char> used(store.brickCount(), 0);
+  BrickCache cache;
+  for (size_t i = 0; i < points.size(); ++i) {
+    FieldSample s;
+    if (!(weights[i] > 0) || !sampleField(store, points[i], normals[i], settings, s, &cache))
+      continue;
+    const double r = std::abs(s.distance);
+    const double huber = settings.huber > 0 && r > settings.huber ? settings.huber / r : 1.0;
+    perBrick[s.brick].add(points[i] - centre, s.f, s.distance, weights[i] * huber);
+    used[s.brick] = 1;
+  }
+  std::vector<char> buf;
+  for (size_t local = 0; local < perBrick.size(); ++local) {
+    if (!used[local]) continue;
+    const uint64_t pos = store.globalIndex(local);
+    mpi::pack(buf, &pos, 1);
+    mpi::pack(buf, &perBrick[local], 1);
+  }
+  std::map<uint64_t, PlaneSums> all;
+  for (const auto& part : mpi::allgatherBytes(buf, comm))
+    for (size_t at = 0; at < part.size();) {
+      uint64_t pos;
+      PlaneSums s;
+      mpi::unpack(part, at, &pos, 1);
+      mpi::unpack(part, at, &s, 1);
+      all[pos] = s;
+    }
+  PlaneSums total;
+  for (const auto& kv : all) total += kv.second;  // brick order: rank-count independent
+  return total;
+}
+
 }  // namespace rangefuse

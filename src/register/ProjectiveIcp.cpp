@@ -1,6 +1,6 @@
 #include "rangefuse/register/ProjectiveIcp.h"
 
-#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 namespace rangefuse {
@@ -66,6 +66,7 @@ double alignLevel(const DepthMap& prevMap, const VertexMap& prev, const VertexMa
     Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
     size_t points = 0, partners = 0;
+    double depthSum = 0;
     for (size_t k = 0; k < cur.points.size(); ++k) {
       const Eigen::Vector3f& pc = cur.points[k];
       const Eigen::Vector3f& nc = cur.normals[k];
@@ -90,11 +91,12 @@ double alignLevel(const DepthMap& prevMap, const VertexMap& prev, const VertexMa
       J.tail<3>() = p.cross(n);
       A += w * J * J.transpose();
       b -= w * r * J;
+      depthSum += q.z();
       ++partners;
     }
     share = points ? static_cast<double>(partners) / points : 0;
     if (partners < 6) return 0;
-    const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);
+    const Eigen::Matrix<double, 6, 1> x = solveWellPosed(A, b, depthSum / partners);
     if (!x.allFinite()) return 0;
     motion = stepped(x, motion);
     if (x.tail<3>().norm() < 1e-6 && x.head<3>().norm() < 1e-6 * s.maxDistance) break;
@@ -103,6 +105,22 @@ double alignLevel(const DepthMap& prevMap, const VertexMap& prev, const VertexMa
 }
 
 }  // namespace
+
+Eigen::Matrix<double, 6, 1> solveWellPosed(const Eigen::Matrix<double, 6, 6>& A,
+                                           const Eigen::Matrix<double, 6, 1>& b, double length) {
+  constexpr double kWeak = 1e-3;
+  Eigen::Matrix<double, 6, 1> scale;
+  scale << 1, 1, 1, 1 / length, 1 / length, 1 / length;
+  const Eigen::Matrix<double, 6, 6> As = scale.asDiagonal() * A * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(As);
+  const auto& values = eigen.eigenvalues();
+  const auto& vectors = eigen.eigenvectors();
+  const Eigen::Matrix<double, 6, 1> bs = scale.asDiagonal() * b;
+  Eigen::Matrix<double, 6, 1> y = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int k = 0; k < 6; ++k)
+    if (values[k] > kWeak * values[5]) y += vectors.col(k) * (vectors.col(k).dot(bs) / values[k]);
+  return scale.asDiagonal() * y;
+}
 
 DepthMap halve(const DepthMap& m) {
   DepthMap out;

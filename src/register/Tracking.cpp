@@ -3,8 +3,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "FitStep.h"
 #include "rangefuse/register/ControlRouting.h"
+#include "rangefuse/register/Correspondences.h"
+#include "rangefuse/register/ProjectiveIcp.h"
 
 namespace rangefuse {
 namespace {
@@ -47,11 +48,10 @@ class FrameFit {
     RegistrationStep final;
     for (const int every : {s_.coarse, 1}) {
       if (every == 1 && s_.coarse == 1 && converged) break;
-      FitHistory history;
       const int iterations = every == 1 ? s_.fineIterations : s_.coarseIterations;
       converged = false;
       for (int it = 0; it < iterations && !converged; ++it) {
-        final = internal::fitOnce(i, poses[i], store_, control_, s_.fit, comm_, history, every);
+        final = planeStep(i, poses[i], every);
         ++report.fits;
         if (!final.applied) break;
         converged = settled(final, s_.fit);
@@ -69,6 +69,30 @@ class FrameFit {
   }
 
  private:
+  /// One Gauss-Newton step of frame i's control points (every `every`-th) against the field's
+  /// distance and gradient, point to plane, about the camera centre; reports the sums before.
+  RegistrationStep planeStep(size_t i, Pose& pose, int every) {
+    const ControlPoints c = control_.at(i, pose, store_, every);
+    const Eigen::Vector3d centre = c.sensor.isPoint ? c.sensor.point : pose.t;
+    const PlaneSums sums =
+        planeSums(store_, c.points, c.normals, c.weights, centre, s_.fit.correspondences, comm_);
+    RegistrationStep step;
+    step.correspondences = static_cast<uint64_t>(sums.count);
+    step.rms = sums.rms();
+    if (sums.count < static_cast<double>(s_.fit.minCorrespondences)) return step;
+    const Eigen::Matrix<double, 6, 1> x = solveWellPosed(sums.A, -sums.b, sums.wLever / sums.w);
+    const Eigen::Vector3d w = x.tail<3>();
+    const double angle = w.norm();
+    const Eigen::Matrix3d R = angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix()
+                                        : Eigen::Matrix3d::Identity();
+    const Pose delta{R, centre + x.head<3>() - R * centre};
+    pose = compose(delta, pose);
+    step.rotationDeg = angle * 180 / M_PI;
+    step.translation = x.head<3>().norm();
+    step.applied = true;
+    return step;
+  }
+
   /// Why the fit is not to be trusted, or empty.
   std::string judge(const RegistrationStep& last, bool converged, const FrameReport& r,
                     double frames) const {
@@ -100,6 +124,20 @@ class FrameFit {
   const BrickStore& store_;
   MPI_Comm comm_;
 };
+
+/// True when two starts lie within the convergence tolerance of each other.
+bool samePlace(const Pose& a, const Pose& b, const RegistrationOptions& o) {
+  const Pose d = between(a, b);
+  return rotationDegrees(d.R) < 10 * o.rotationTolDeg && d.t.norm() < 10 * o.translationTol;
+}
+
+/// Whether fit a is to be preferred to fit b: one that holds, then the one more of whose points
+/// lie on the field, then (as many within 1 %) the smaller residual.
+bool better(const FrameReport& a, const FrameReport& b) {
+  if (a.why.empty() != b.why.empty()) return a.why.empty();
+  if (std::abs(a.inliers - b.inliers) > 0.01) return a.inliers > b.inliers;
+  return a.rms < b.rms;
+}
 
 /// The frames tracked so far, in order, for rebuilding the field.
 std::vector<size_t> fusedBefore(const TrackingState& state) {
@@ -155,19 +193,34 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
     FrameReport report;
     report.frame = i;
     // The start: the motion so far continued, then what the pixels say.
-    auto start = [&](const Pose& guess) {
-      if (!frameMotion) return guess;
-      return compose(poses[last], frameMotion(last, i, between(poses[last], guess)));
-    };
-    const Pose predicted = start(predictPose(poses, guide, prev, last, i));
+    // The start: the motion so far continued. When that is a weak guess (no motion known yet),
+    // or the fit from it failed or went farther than the field's band reaches, the pixels of
+    // the last frame and this one give a second start (they reach farther, but are blind along
+    // directions the view does not pin down), and the field decides between the two.
+    const Pose predicted = predictPose(poses, guide, prev, last, i);
     report = fit.fit(i, poses, predicted, last, report);
+    Pose chosen = poses[i];
+    const Pose moved = between(predicted, chosen);
+    const bool doubtful =
+        prev < 0 || !report.why.empty() || moved.t.norm() > s.fit.correspondences.maxDistance;
+    auto tryFrom = [&](const Pose& other) {
+      if (samePlace(other, predicted, s.fit)) return;
+      FrameReport alternative = fit.fit(i, poses, other, last, report);
+      alternative.fits += report.fits;
+      if (better(alternative, report)) {
+        report = alternative;
+        chosen = poses[i];
+      } else {
+        report.fits = alternative.fits;
+      }
+    };
+    if (frameMotion && doubtful && !getenv("NOF2F"))
+      tryFrom(compose(poses[last], frameMotion(last, i, between(poses[last], predicted))));
     if (!report.why.empty()) {  // re-localise from where the camera last was
-      const Pose still = start(poses[last]);
-      const bool other = !(predicted.R == still.R && predicted.t == still.t);
-      FrameReport again = other ? fit.fit(i, poses, still, last, report) : report;
-      again.recovered = again.why.empty();
-      if (again.recovered) report = again;
+      tryFrom(poses[last]);
+      report.recovered = report.why.empty();
     }
+    poses[i] = chosen;
     control.release(i);
     report.fused = report.why.empty();
     state.nextFrame = i + 1;

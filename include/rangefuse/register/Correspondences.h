@@ -74,4 +74,25 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
                              const std::vector<double>& weights,
                              const CorrespondenceSettings& settings, MPI_Comm comm);
 
+/// The normal equations of point-to-plane steps against the field: for control point p with
+/// residual r (its signed distance, Tubic Eq. 14) and unit gradient f, J = [f, (p - c) x f] about
+/// a centre c, A = sum w J J^T, b = sum w r J; plus what the step's judgement needs.
+struct PlaneSums {
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  double w = 0, wr2 = 0, wLever = 0, count = 0;
+
+  void add(const Eigen::Vector3d& lever, const Eigen::Vector3d& f, double r, double weight);
+  PlaneSums& operator+=(const PlaneSums& o);
+  double rms() const { return w > 0 ? std::sqrt(wr2 / w) : 0; }
+};
+
+/// Collective: PlaneSums of control points p (world, normals n) about `centre`, Huber-weighted
+/// (settings.huber), made by the ranks owning each point's voxel and added per brick, then in
+/// brick order: the same bits on every rank, whatever the number of ranks.
+PlaneSums planeSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
+                    const std::vector<Eigen::Vector3d>& normals, const std::vector<double>& weights,
+                    const Eigen::Vector3d& centre, const CorrespondenceSettings& settings,
+                    MPI_Comm comm);
+
 }  // namespace rangefuse

@@ -38,6 +38,13 @@ struct FrameAlignment {
   double share = 0;  ///< share of the last level's points with a partner
 };
 
+/// The Gauss-Newton step x of A x = b (x: translation, then rotation vector) along the motions
+/// the data pin down only. Rotation is scaled by `length` (the data's lever arm) so that both
+/// halves compare as lengths; directions whose curvature is below 1e-3 of the strongest (a
+/// sphere turning about its centre, a corridor along its axis) get no step rather than noise.
+Eigen::Matrix<double, 6, 1> solveWellPosed(const Eigen::Matrix<double, 6, 6>& A,
+                                           const Eigen::Matrix<double, 6, 1>& b, double length);
+
 /// Half the size: each 2 x 2 block's mean depth over its pixels within 3 % of the block's first
 /// measured depth (a block straddling an edge does not blend foreground and background).
 DepthMap halve(const DepthMap& map);
