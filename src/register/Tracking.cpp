@@ -164,13 +164,14 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
   const size_t n = frames.size();
   state.lost.resize(n, 0);
   frameHook(0, false);
-  state.latticeOrigin = field.fixLattice(state.latticeOrigin, poses);
   ControlRouting control(frames, s.fit.controlStride, comm, true);
   control.learn({0});
   if (control.count(0) == 0) {
     state.failure = "the first frame has no depth to start the field from";
+    state.failedFrame = 0;
     return false;
   }
+  state.latticeOrigin = field.fixLattice(state.latticeOrigin, poses);
   const BrickStore* store = nullptr;
   if (state.nextFrame == 0) {  // the first frame defines the world frame
     store = &field.build({0}, poses);
@@ -214,7 +215,7 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
         report.fits = alternative.fits;
       }
     };
-    if (frameMotion && doubtful && !getenv("NOF2F"))
+    if (frameMotion && doubtful)
       tryFrom(compose(poses[last], frameMotion(last, i, between(poses[last], predicted))));
     if (!report.why.empty()) {  // re-localise from where the camera last was
       tryFrom(poses[last]);
