@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "FitStep.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ControlRouting.h"
 #include "rangefuse/register/JointRegistration.h"
@@ -53,14 +52,10 @@ double extrapolation(const Twist& now, const FitHistory& h, const RegistrationOp
   return std::max(1.0, std::min(scale, o.maxExtrapolation / length));
 }
 
-}  // namespace
-
-namespace internal {
-
+/// One fit of scan i against the field: correspondences, sums across ranks, rigid update.
 RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlRouting& control,
-                         const RegistrationOptions& o, MPI_Comm comm, FitHistory& history,
-                         int every) {
-  const ControlPoints c = control.at(i, pose, field, every);
+                         const RegistrationOptions& o, MPI_Comm comm, FitHistory& history) {
+  const ControlPoints c = control.at(i, pose, field);
   const RigidSums sums =
       correspondenceSums(field, c.points, c.normals, c.weights, o.correspondences, comm);
   RegistrationStep step;
@@ -82,12 +77,6 @@ RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlR
   step.applied = true;
   return step;
 }
-
-}  // namespace internal
-
-namespace {
-
-using internal::fitOnce;
 
 bool converged(const RegistrationStep& s, const RegistrationOptions& o) {
   if (!s.applied) return true;
