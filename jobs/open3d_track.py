@@ -2,14 +2,15 @@
 """Open3D 0.16 frame-to-frame ICP on a depth-image sequence without its poses, then
 ScalableTSDFVolume at the poses found: the usual recipe without colour, for benchmarks.
 
-Usage: python3 jobs/open3d_track.py SEQ_DIR VOXEL OUT.ply TRAJECTORY.txt
+Usage: python3 jobs/open3d_track.py SEQ_DIR VOXEL OUT.ply TRAJECTORY.txt [FIRST_POSE]
 
 SEQ_DIR is a TUM folder (depth.txt, depth in 1/5000 m) or a Redwood / recorder one (depth/*.png
 in name order, depth in mm), with camera_intrinsic.json; any trajectory in it is ignored. Each
 frame is registered to the previous one by point-to-plane ICP on down-sampled point clouds,
 coarse to fine (4, 2 and 1 voxels; correspondences within 2 of the level's voxels), started
 from the previous frame's motion. Writes the trajectory in TUM format (camera to world, the
-first camera at the identity) and prints the seconds spent tracking and fusing.
+first camera at the identity or at FIRST_POSE 'tx,ty,tz,qx,qy,qz,qw') and prints the seconds
+spent tracking and fusing.
 """
 import json
 import os
@@ -56,6 +57,14 @@ def main():
         sys.exit(__doc__)
     seq, voxel, out, trajectory = sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4]
     frames, scale = frames_of(seq)
+    first = np.eye(4)
+    if len(sys.argv) > 5:
+        v = [float(x) for x in sys.argv[5].split(",")]
+        x, y, z, w = v[3:7]
+        first[:3, :3] = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        first[:3, 3] = v[:3]
     cam = json.load(open(f"{seq}/camera_intrinsic.json"))
     k = cam["intrinsic_matrix"]
     intrinsic = o3d.camera.PinholeCameraIntrinsic(cam["width"], cam["height"], k[0], k[4], k[6],
@@ -71,7 +80,7 @@ def main():
                                                                 depth_scale=scale, depth_trunc=1e9)
         levels = pyramid(cloud, voxel)
         if previous is None:
-            poses.append(np.eye(4))
+            poses.append(first)
         else:
             step = motion
             for (source, v), (target, _) in zip(levels, previous):

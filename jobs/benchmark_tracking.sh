@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Depth streams without poses (issue 34): rangefuse tracks every frame against its field and
+# fuses it; Open3D 0.16 tracks frame to frame (point-to-plane ICP, coarse to fine) and fuses
+# with ScalableTSDFVolume, in the same run. Sequences: the bunny scaled to 1.5 m along an orbit
+# and along a hand-held path with fast turns, 640 x 480, Kinect-like noise (0.5 voxel at the
+# path's distance, growing with the square of the range), 0.5 % outliers; written as TUM
+# folders whose groundtruth.txt is kept aside. Prints, per sequence and tool: ATE and RPE
+# against the truth, seconds read to mesh (best of two), frames/s, peak memory, and the mesh's
+# Chamfer distance to the true surface; and rangefuse at the true poses (no tracking), the
+# Chamfer tracking should come within 10 % of.
+# Usage: bash jobs/benchmark_tracking.sh [FRAMES WIDTH HEIGHT VOXEL]  (default 300 640 480 0.01)
+# SEQ_ROOT=folder keeps the generated sequences there (and reuses them).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash jobs/setup.sh >/dev/null
+source jobs/mpi_env.sh
+frames=${1:-300} width=${2:-640} height=${3:-480} voxel=${4:-0.01}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+bin=build/rangefuse
+root=${SEQ_ROOT:-$tmp}
+
+chamfer() {  # mesh truth.ply -> Chamfer in voxels
+  $bin eval --mesh "$1" --reference "$2" --voxel "$voxel" --json |
+    python3 -c 'import json, sys; print("%.3f" % (json.load(sys.stdin)["chamfer"] / float(sys.argv[1])))' "$voxel"
+}
+ate() {  # trajectory truth -> "ATE mm | RPE mm/s"
+  $bin eval --trajectory "$1" --reference "$2" --json |
+    python3 -c 'import json, sys; j = json.load(sys.stdin); print("%.2f | %.2f" % (1e3 * j["ate_rmse"], 1e3 * j["rpe_translation_rmse_per_s"]))'
+}
+best() {  # best of two timed runs of a command; prints seconds, keeps the faster log in $tmp/log
+  local seconds=
+  for run in 1 2; do
+    local start took
+    start=$(date +%s.%N)
+    "$@" >"$tmp/log.$run" 2>&1
+    took=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
+    if [[ -z $seconds ]] || awk -v a="$took" -v b="$seconds" 'BEGIN { exit !(a < b) }'; then
+      seconds=$took
+      mv "$tmp/log.$run" "$tmp/log"
+    fi
+  done
+  echo "$seconds"
+}
+
+echo "| sequence | tool | ATE (mm) | RPE (mm/s) | seconds read to mesh | frames/s | peak memory (MiB) | Chamfer (voxel) |"
+echo "|---|---|---|---|---|---|---|---|"
+for path in orbit handheld; do
+  seq=$root/$path
+  [[ -f $seq/groundtruth.txt ]] ||
+    $bin scan --mesh tests/data/bunny/bun_zipper.ply --scale 10 --views "$frames" \
+      --width "$width" --height "$height" --voxel "$voxel" --noise 0.5 --depth-noise \
+      --outliers 0.005 --path "$path" --format tum --out "$seq" >/dev/null
+  stream=$tmp/$path-stream
+  mkdir -p "$stream"
+  cp -r "$seq/depth" "$seq/depth.txt" "$seq/camera_intrinsic.json" "$stream/"
+  first=$(awk '!/^#/ { print $2 "," $3 "," $4 "," $5 "," $6 "," $7 "," $8; exit }' "$seq/groundtruth.txt")
+  seconds=$(best mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
+    --first-pose "$first" --out "$tmp/track.ply" --trajectory-out "$tmp/track.txt")
+  memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
+  fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
+  echo "| $path | rangefuse, 2 ranks | $(ate "$tmp/track.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/track.ply" "$seq/truth.ply") |"
+  seconds=$(best mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" \
+    --out "$tmp/true.ply")
+  echo "| $path | rangefuse at the true poses | | | $seconds | | | $(chamfer "$tmp/true.ply" "$seq/truth.ply") |"
+  o3d=$(/usr/bin/python3 jobs/open3d_track.py "$stream" "$voxel" "$tmp/o3d.ply" "$tmp/o3d.txt" "$first" 2>/dev/null)
+  seconds=$(echo "$o3d" | sed 's/.*total \([0-9.]*\) s.*/\1/')
+  memory=$(echo "$o3d" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
+  fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
+  echo "| $path | Open3D frame-to-frame ICP + TSDF, 1 process | $(ate "$tmp/o3d.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/o3d.ply" "$seq/truth.ply") |"
+  grep -E "\] (open|track|mesh) " "$tmp/log" || true
+done
