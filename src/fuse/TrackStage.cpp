@@ -209,7 +209,8 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   bool ok = false;
   try {
     ok = trackFrames(
-        *scans.held, scans.poses, scans.posed ? &guide : nullptr, settings, tracked, comm, state,
+        *scans.held, scans.poses, scans.times, scans.posed ? &guide : nullptr, settings, tracked,
+        comm, state,
         [&](size_t i, bool done) {
           // The reader reads a frame once, when it comes, and forgets it once fused.
           if (done)

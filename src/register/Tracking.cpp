@@ -1,5 +1,6 @@
 #include "rangefuse/register/Tracking.h"
 
+#include <Eigen/LU>
 #include <cmath>
 #include <cstdio>
 
@@ -125,6 +126,28 @@ class FrameFit {
   MPI_Comm comm_;
 };
 
+/// V(w) of SE(3)'s exponential: t = V(w) v for the twist (w, v).
+Eigen::Matrix3d twistV(const Eigen::Vector3d& w) {
+  const double a = w.norm();
+  Eigen::Matrix3d W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  if (a < 1e-9) return Eigen::Matrix3d::Identity() + 0.5 * W;
+  return Eigen::Matrix3d::Identity() + (1 - std::cos(a)) / (a * a) * W +
+         (a - std::sin(a)) / (a * a * a) * W * W;
+}
+
+/// The rigid motion `scale` times as far along the same screw (exp(scale log m)).
+Pose scaledMotion(const Pose& m, double scale) {
+  const Eigen::AngleAxisd turn(m.R);
+  const Eigen::Vector3d w = turn.angle() * turn.axis();
+  const Eigen::Vector3d v = twistV(w).lu().solve(m.t);
+  const Eigen::Vector3d ws = scale * w;
+  const double a = ws.norm();
+  const Eigen::Matrix3d R =
+      a > 0 ? Eigen::AngleAxisd(a, ws / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  return Pose{R, twistV(ws) * (scale * v)};
+}
+
 /// True when two starts lie within the convergence tolerance of each other.
 bool samePlace(const Pose& a, const Pose& b, const RegistrationOptions& o) {
   const Pose d = between(a, b);
@@ -150,13 +173,23 @@ std::vector<size_t> fusedBefore(const TrackingState& state) {
 }  // namespace
 
 Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide, long prev,
-                 size_t last, size_t next) {
+                 size_t last, size_t next, const std::vector<double>& times) {
   if (guide) return compose(poses[last], between((*guide)[last], (*guide)[next]));
-  if (prev < 0 || next - last != last - static_cast<size_t>(prev)) return poses[last];
-  return compose(poses[last], between(poses[prev], poses[last]));
+  if (prev < 0) return poses[last];
+  const size_t p = static_cast<size_t>(prev);
+  auto time = [&](size_t k) { return times.empty() ? static_cast<double>(k) : times[k]; };
+  const double before = time(last) - time(p), after = time(next) - time(last);
+  Pose motion = between(poses[p], poses[last]);
+  if (!(before > 0 && after > 0)) return poses[last];
+  // The same velocity over the next interval: the motion scaled by the ratio of the intervals
+  // (frames dropped by the sensor, or left out as lost), at most three times over.
+  const double scale = std::min(3.0, after / before);
+  if (scale != 1) motion = scaledMotion(motion, scale);
+  return compose(poses[last], motion);
 }
 
-bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::vector<Pose>* guide,
+bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
+                 const std::vector<double>& times, const std::vector<Pose>* guide,
                  const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
                  TrackingState& state, const FrameHook& frameHook, const FrameMotion& frameMotion,
                  const std::function<void(const FrameReport&)>& onFrame,
@@ -198,7 +231,7 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses, const std::
     // or the fit from it failed or went farther than the field's band reaches, the pixels of
     // the last frame and this one give a second start (they reach farther, but are blind along
     // directions the view does not pin down), and the field decides between the two.
-    const Pose predicted = predictPose(poses, guide, prev, last, i);
+    const Pose predicted = predictPose(poses, guide, prev, last, i, times);
     report = fit.fit(i, poses, predicted, last, report);
     Pose chosen = poses[i];
     const Pose moved = between(predicted, chosen);

@@ -115,9 +115,15 @@ TEST(Tracking, PredictionContinuesTheLastMotionOrFollowsTheGuide) {
   const Pose p = predictPose(poses, nullptr, 0, 1, 2);
   EXPECT_LT((p.R - c.R).norm(), 1e-12);
   EXPECT_LT((p.t - c.t).norm(), 1e-12);
-  // After a gap the last pose stands (no guess of how far the camera went).
+  // Over two intervals (a frame dropped), twice the motion; by frame times, the same.
+  const Pose d{c.R * step.R, c.R * step.t + c.t};
   const Pose q = predictPose(poses, nullptr, 0, 1, 3);
-  EXPECT_LT((q.t - b.t).norm(), 1e-15);
+  EXPECT_LT((q.R - d.R).norm(), 1e-12);
+  EXPECT_LT((q.t - d.t).norm(), 1e-12);
+  const Pose r = predictPose(poses, nullptr, 0, 1, 3, {0.0, 0.5, 0.75, 1.5});
+  EXPECT_LT((r.t - d.t).norm(), 1e-12);
+  // No earlier frame: the last pose stands.
+  EXPECT_LT((predictPose(poses, nullptr, -1, 1, 2).t - b.t).norm(), 1e-15);
   // A guide's relative motion is applied to where the tracker put the last frame.
   const std::vector<Pose> guide = {Pose{}, Pose{}, step};
   const Pose g = predictPose(poses, &guide, 0, 1, 2);
