@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <future>
 #include <memory>
 #include <sstream>
 
@@ -137,6 +138,47 @@ class PixelMotion {
   int next_ = 0;
 };
 
+/// The frames of a stream on their readers: each read once, the next one this rank reads
+/// prepared on a thread of its own while the frames before it are tracked (reading is a
+/// rank's own work; tracking a frame makes every rank wait in turn on the others).
+class FrameReader {
+ public:
+  FrameReader(LoadedScans& scans, MPI_Comm comm) : scans_(scans), comm_(comm) {}
+  ~FrameReader() {
+    if (ahead_.valid()) ahead_.wait();
+  }
+
+  /// Collective: frame i is about to be tracked (done false) or has been (done true).
+  void operator()(size_t i, bool done) {
+    if (done) return scans_.held->release(i);
+    mpi::collectivelyOrThrow(comm_, [&] {
+      if (!scans_.holds(i)) return;
+      if (ahead_.valid() && aheadFrame_ == i)
+        scans_.held->offer(i, ahead_.get());
+      else
+        scans_.held->readAndOffer(i);
+      readAhead(i);
+    });
+  }
+
+ private:
+  /// Starts reading the next frame after i that this rank reads.
+  void readAhead(size_t i) {
+    for (size_t j = i + 1; j < scans_.names.size(); ++j)
+      if (scans_.holds(j)) {
+        aheadFrame_ = j;
+        const HeldScans* held = scans_.held.get();
+        ahead_ = std::async(std::launch::async, [held, j] { return held->get(j); });
+        return;
+      }
+  }
+
+  LoadedScans& scans_;
+  MPI_Comm comm_;
+  std::future<std::shared_ptr<const PrismScan>> ahead_;
+  size_t aheadFrame_ = 0;
+};
+
 /// Prints one frame's line on rank 0.
 class FrameLines {
  public:
@@ -203,6 +245,7 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   TrackingField tracked(fieldSettings, scans, comm);
   TrackingState state;
   FrameLines lines(scans, o.voxel);
+  FrameReader reader(scans, comm);
   std::unique_ptr<PixelMotion> pixels;
   if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(o, comm); })) return false;
   size_t lostCount = 0;
@@ -210,16 +253,7 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   try {
     ok = trackFrames(
         *scans.held, scans.poses, scans.times, scans.posed ? &guide : nullptr, settings, tracked,
-        comm, state,
-        [&](size_t i, bool done) {
-          // The reader reads a frame once, when it comes, and forgets it once fused.
-          if (done)
-            scans.held->release(i);
-          else
-            mpi::collectivelyOrThrow(comm, [&] {
-              if (scans.holds(i)) scans.held->readAndOffer(i);
-            });
-        },
+        comm, state, [&](size_t i, bool done) { reader(i, done); },
         [&](size_t last, size_t next, const Pose& guess) { return (*pixels)(last, next, guess); },
         [&](const FrameReport& r) {
           lostCount += !r.fused;

@@ -36,15 +36,15 @@ class HeldScans : public ScanSource {
   std::vector<std::shared_ptr<const PrismScan>> readAndOffer(const std::vector<size_t>& which,
                                                              int threads);
 
+  /// Keeps scan i, read elsewhere (another thread), if it fits what is left of the budget.
+  std::shared_ptr<const PrismScan> offer(size_t i, std::shared_ptr<const PrismScan> scan);
+
   /// Forgets scan i (a tracked frame once fused), returning its bytes to the budget.
   void release(size_t i);
 
   size_t keptCount() const;
 
  private:
-  /// Keeps scan i if it fits what is left of the budget; returns it.
-  std::shared_ptr<const PrismScan> offer(size_t i, std::shared_ptr<const PrismScan> scan);
-
   std::vector<io::ConfScan> scans_;
   std::vector<int> readers_;
   int rank_;
