@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "TextLines.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/io/Trajectory.h"
@@ -62,21 +63,11 @@ DepthCamera cameraFor(const std::string& dir, const DepthReading& reading, doubl
 }
 
 std::string at(const fs::path& path, int line) {
-  return path.string() + ": line " + std::to_string(line);
+  return internal::lineOf(path.string(), line);
 }
 
-/// The data lines of a text file with their numbers, '#' comments and blank lines skipped.
 std::vector<std::pair<int, std::string>> dataLines(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot open file");
-  std::vector<std::pair<int, std::string>> lines;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    const size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    lines.emplace_back(n, line);
-  }
-  return lines;
+  return internal::dataLines(path.string());
 }
 
 struct Timed {

@@ -3,32 +3,20 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
+#include "TextLines.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
 
 namespace rangefuse::io {
 namespace {
 
-/// The data lines of a text file with their numbers, '#' comments and blank lines skipped.
-std::vector<std::pair<int, std::string>> dataLines(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open file");
-  std::vector<std::pair<int, std::string>> lines;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    const size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    lines.emplace_back(n, line);
-  }
-  return lines;
-}
+using internal::dataLines;
 
 std::string at(const std::string& path, int line) {
-  return path + ": line " + std::to_string(line);
+  return internal::lineOf(path, line);
 }
 
 /// Reads `count` finite numbers from a line, refusing fewer, more or non-finite ones (strtod,

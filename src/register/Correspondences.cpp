@@ -48,6 +48,36 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
   return true;
 }
 
+namespace {
+
+/// Collective: the per-brick sums of every rank (`used` marks those this rank made), added in
+/// the bricks' global order, so that every rank gets the same bits whatever the rank count.
+template <class Sums>
+Sums addInBrickOrder(const BrickStore& store, const std::vector<Sums>& perBrick,
+                     const std::vector<char>& used, MPI_Comm comm) {
+  std::vector<char> buf;
+  for (size_t local = 0; local < perBrick.size(); ++local) {
+    if (!used[local]) continue;
+    const uint64_t pos = store.globalIndex(local);
+    mpi::pack(buf, &pos, 1);
+    mpi::pack(buf, &perBrick[local], 1);
+  }
+  std::map<uint64_t, Sums> all;
+  for (const auto& part : mpi::allgatherBytes(buf, comm))
+    for (size_t at = 0; at < part.size();) {
+      uint64_t pos;
+      Sums s;
+      mpi::unpack(part, at, &pos, 1);
+      mpi::unpack(part, at, &s, 1);
+      all[pos] = s;
+    }
+  Sums total;
+  for (const auto& kv : all) total += kv.second;  // brick order: rank-count independent
+  return total;
+}
+
+}  // namespace
+
 RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::Vector3d>& points,
                              const std::vector<Eigen::Vector3d>& normals,
                              const std::vector<double>& weights,
@@ -66,25 +96,7 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
     perBrick[c.brick].add(points[i] - g.origin, c.q - g.origin, weights[i] * c.weight);
     used[c.brick] = 1;
   }
-  std::vector<char> buf;
-  for (size_t local = 0; local < perBrick.size(); ++local) {
-    if (!used[local]) continue;
-    const uint64_t pos = store.globalIndex(local);
-    mpi::pack(buf, &pos, 1);
-    mpi::pack(buf, &perBrick[local], 1);
-  }
-  std::map<uint64_t, RigidSums> all;
-  for (const auto& part : mpi::allgatherBytes(buf, comm))
-    for (size_t at = 0; at < part.size();) {
-      uint64_t pos;
-      RigidSums s;
-      mpi::unpack(part, at, &pos, 1);
-      mpi::unpack(part, at, &s, 1);
-      all[pos] = s;
-    }
-  RigidSums total;
-  for (const auto& kv : all) total += kv.second;  // brick order: rank-count independent
-  return total;
+  return addInBrickOrder(store, perBrick, used, comm);
 }
 
 void PlaneSums::add(const Eigen::Vector3d& lever, const Eigen::Vector3d& f, double r,
@@ -118,25 +130,7 @@ PlaneSums planeSums(const BrickStore& store, const std::vector<Eigen::Vector3d>&
     perBrick[s.brick].add(points[i] - centre, s.f, s.distance, weights[i] * huber);
     used[s.brick] = 1;
   }
-  std::vector<char> buf;
-  for (size_t local = 0; local < perBrick.size(); ++local) {
-    if (!used[local]) continue;
-    const uint64_t pos = store.globalIndex(local);
-    mpi::pack(buf, &pos, 1);
-    mpi::pack(buf, &perBrick[local], 1);
-  }
-  std::map<uint64_t, PlaneSums> all;
-  for (const auto& part : mpi::allgatherBytes(buf, comm))
-    for (size_t at = 0; at < part.size();) {
-      uint64_t pos;
-      PlaneSums s;
-      mpi::unpack(part, at, &pos, 1);
-      mpi::unpack(part, at, &s, 1);
-      all[pos] = s;
-    }
-  PlaneSums total;
-  for (const auto& kv : all) total += kv.second;  // brick order: rank-count independent
-  return total;
+  return addInBrickOrder(store, perBrick, used, comm);
 }
 
 }  // namespace rangefuse
