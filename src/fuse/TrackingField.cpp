@@ -15,16 +15,16 @@ namespace {
 using mpi::collectivelyOrThrow;
 using namespace internal;
 
-/// The bricks of `work` and their 26 neighbours, as (code, work) pairs sorted by code: room for
-/// the next frame's small motion without growing again.
-std::vector<std::pair<uint64_t, uint64_t>> withNeighbours(const BrickWork& work) {
+/// The bricks of `work` and those within `reach` bricks of them, as (code, work) pairs sorted by
+/// code: room for the next frames' motion without growing again.
+std::vector<std::pair<uint64_t, uint64_t>> withNeighbours(const BrickWork& work, int reach) {
   std::vector<std::pair<uint64_t, uint64_t>> pairs;
   pairs.reserve(work.size() * 4);
   for (const auto& [code, count] : work) {
     const BrickCoord b = mortonDecode(code);
-    for (int z = -1; z <= 1; ++z)
-      for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x) {
+    for (int z = -reach; z <= reach; ++z)
+      for (int y = -reach; y <= reach; ++y)
+        for (int x = -reach; x <= reach; ++x) {
           const BrickCoord n = b + BrickCoord(x, y, z);
           if ((n.array() >= 0).all()) pairs.emplace_back(mortonEncode(n), x || y || z ? 0 : count);
         }
@@ -145,7 +145,14 @@ void TrackingField::grow(size_t i, const Pose& pose) {
                        " voxels from the first frames: tracking lost");
     BrickWork work;
     addPrismWork(one[0], grid_, settings_.maxVoxels, work, settings_.threads);
-    for (const auto& [code, count] : withNeighbours(work)) {
+    // A frame whose prisms reach bricks the layout lacks brings a room of two bricks around
+    // its own: the field grows (reallocated and moved) every few frames, not at every frame.
+    std::vector<std::pair<uint64_t, uint64_t>> pairs = withNeighbours(work, 0);
+    const bool grows = std::any_of(pairs.begin(), pairs.end(), [&](const auto& p) {
+      return store_->layout().find(p.first) < 0;
+    });
+    if (grows) pairs = withNeighbours(work, 2);
+    for (const auto& [code, count] : pairs) {
       const int64_t at = store_->layout().find(code);
       if (at >= 0 && count == 0) continue;  // known, and no work to add
       mpi::pack(mine, &code, 1);
