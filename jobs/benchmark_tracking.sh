@@ -58,6 +58,7 @@ for path in orbit handheld; do
   seconds=$(best mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
     --first-pose "$first" --out "$tmp/track.ply" --trajectory-out "$tmp/track.txt")
   memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
+  mv "$tmp/log" "$tmp/track.log"
   fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
   echo "| $path | rangefuse, 2 ranks | $(ate "$tmp/track.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/track.ply" "$seq/truth.ply") |"
   seconds=$(best mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" \
@@ -68,5 +69,5 @@ for path in orbit handheld; do
   memory=$(echo "$o3d" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
   fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
   echo "| $path | Open3D frame-to-frame ICP + TSDF, 1 process | $(ate "$tmp/o3d.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/o3d.ply" "$seq/truth.ply") |"
-  grep -E "\] (open|track|mesh) " "$tmp/log" || true
+  grep -E "\] (track|mesh|done) " "$tmp/track.log" || true
 done
