@@ -295,6 +295,10 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
         conf = io::readScanList(o.scans, o.limits, o.source);
+        if (!conf.posed && !poses)
+          throw InputError(o.scans +
+                           ": a depth stream without a trajectory has no poses to place its "
+                           "frames: fuse tracks it (rangefuse fuse --scans ... --trajectory-out)");
       }))
     return false;
   if (progress.isRoot() && !poses)
