@@ -297,6 +297,14 @@ std::vector<FuseParameter> makeTable() {
        "tracking: leave frames that lost tracking out and go on (else the run stops at the first "
        "with an error)",
        at(&FuseOptions::skipLost), nullptr, "true"},
+      {"preview-every", "", R::No, false,
+       "tracking: every N frames, write --preview as the partial model seen from the current "
+       "camera (the last picture is the finished field's)",
+       at(&FuseOptions::previewEvery),
+       [](const FuseOptions& o) {
+         if (o.previewEvery < 0) return "must be a number of frames >= 0 (0: never)";
+         return o.previewEvery > 0 && o.preview.empty() ? "needs --preview FILE.png" : "";
+       }},
       {"trajectory-out", "", R::No, false,
        "write the camera trajectory: TUM text (timestamp tx ty tz qx qy qz qw), or a Redwood "
        ".log by extension",

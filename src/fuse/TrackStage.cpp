@@ -11,10 +11,12 @@
 #include "rangefuse/fuse/TrackingField.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/DepthPng.h"
+#include "rangefuse/io/Png.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ProjectiveIcp.h"
+#include "rangefuse/render/Render.h"
 
 namespace rangefuse {
 
@@ -205,6 +207,20 @@ class FrameLines {
   size_t done_ = 0;
 };
 
+/// Collective: the partial model seen from `camera` (a 320 x 240 view with a 60-degree field
+/// of view, up to 1000 voxels deep), written to --preview by rank 0.
+void previewFrom(const BrickStore& store, const Pose& camera, const FuseOptions& o, MPI_Comm comm) {
+  ViewSettings view;
+  view.width = 320, view.height = 240;
+  view.camera = camera;
+  view.focal = 0.5 * view.width / std::tan(M_PI / 6);
+  view.farthest = 1000 * o.voxel;
+  const Image picture = renderDistributed(store, o.minWeight, view, 0, comm);
+  mpi::collectivelyOrThrow(comm, [&] {
+    if (mpi::rank(comm) == 0) io::writePng(o.preview, picture);
+  });
+}
+
 }  // namespace
 
 bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
@@ -248,7 +264,7 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   FrameReader reader(scans, comm);
   std::unique_ptr<PixelMotion> pixels;
   if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(o, comm); })) return false;
-  size_t lostCount = 0;
+  size_t lostCount = 0, fused = 0;
   bool ok = false;
   try {
     ok = trackFrames(
@@ -258,6 +274,9 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
         [&](const FrameReport& r) {
           lostCount += !r.fused;
           if (progress.isRoot()) lines(r);
+          fused += r.fused;
+          if (r.fused && o.previewEvery > 0 && fused % o.previewEvery == 0)
+            previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), o, comm);
         },
         [](const TrackingState&) {});
   } catch (const mpi::Reported&) {

@@ -72,12 +72,41 @@ double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen
   return NAN;
 }
 
+/// Shaded like the orbit view, by the gradient facing back along the ray.
+PixelHit shadedHit(const SparseField& field, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                   double t) {
+  const Eigen::Vector3d n = field.gradient(o + t * d);
+  const double shade = 0.15 + 0.85 * std::max(0.0, -n.dot(d));
+  return PixelHit{t,
+                  {static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
+                   static_cast<uint8_t>(205 * shade)}};
+}
+
+/// One ray per pixel through a pinhole camera (the tracker's current view).
+std::vector<PixelHit> castFromCamera(const SparseField& field, const ViewSettings& view,
+                                     const BrickFilter& counts) {
+  std::vector<PixelHit> hits(static_cast<size_t>(view.width) * view.height);
+  const Pose& cam = *view.camera;
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      const Eigen::Vector3d d =
+          cam.R * Eigen::Vector3d((x + 0.5 - 0.5 * view.width) / view.focal,
+                                  (y + 0.5 - 0.5 * view.height) / view.focal, 1)
+                      .normalized();
+      const double t = firstCrossing(field, cam.t, d, view.farthest, counts);
+      if (!std::isnan(t))
+        hits[static_cast<size_t>(y) * view.width + x] = shadedHit(field, cam.t, d, t);
+    }
+  return hits;
+}
+
 }  // namespace
 
 std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
                                const ViewSettings& view, const BrickFilter& counts) {
   std::vector<PixelHit> hits(static_cast<size_t>(view.width) * view.height);
   if (bounds.isEmpty()) return hits;
+  if (view.camera) return castFromCamera(field, view, counts);
   const Camera cam = makeCamera(bounds, view);
   const double aspect = double(view.width) / view.height;
   for (int y = 0; y < view.height; ++y)

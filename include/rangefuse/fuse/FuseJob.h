@@ -54,6 +54,7 @@ struct FuseOptions {
   double maxStep = 30;         ///< tracking: camera motion a frame may make, voxels
   bool skipLost = false;       ///< tracking: leave lost frames out and go on
   std::string trajectoryOut;   ///< camera trajectory, TUM text or .log (optional)
+  int previewEvery = 0;        ///< tracking: --preview from the current camera every N frames
   std::string checkpoint;      ///< HDF5 checkpoint to write (optional)
   std::string resume;          ///< HDF5 checkpoint to continue from (optional)
   double checkpointEvery = 0;  ///< seconds between registration checkpoints (0: each)

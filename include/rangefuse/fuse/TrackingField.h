@@ -40,6 +40,8 @@ class TrackingField : public RegistrationField {
   const BrickStore& add(size_t i, const std::vector<Pose>& poses) override;
   std::vector<double> latticeOrigin() const override;
 
+  /// The field as it stands (valid until the next add).
+  const BrickStore& store() const { return *store_; }
   /// The field as it stands, for meshing; the tracking field is empty afterwards.
   std::unique_ptr<BrickStore> release();
   /// Voxel updates made so far on this rank.

@@ -4,10 +4,12 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rangefuse/core/Image.h"
+#include "rangefuse/core/Pose.h"
 #include "rangefuse/render/SparseField.h"
 
 namespace rangefuse {
@@ -18,6 +20,10 @@ struct ViewSettings {
   double elevationDeg = 20;
   int width = 512;
   int height = 512;
+  /// When set, a perspective picture from this camera (camera to world; x right, y down,
+  /// looking along +z) with `focal` pixels, seeing up to `farthest`, instead of the orbit view.
+  std::optional<Pose> camera;
+  double focal = 0, farthest = 0;
 };
 
 /// Which bricks a caller takes crossings from (null: all).
