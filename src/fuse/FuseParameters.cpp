@@ -288,8 +288,8 @@ std::vector<FuseParameter> makeTable() {
            &FuseOptions::minInliers, [](double v) { return v >= 0 && v <= 1; },
            "must be a share in [0, 1]")},
       {"max-step", "max_step_voxels", R::Result, false,
-       "tracking: a frame is lost when the camera moved more than this many voxels since the "
-       "last frame",
+       "tracking: a frame is lost when its fit puts the camera more than this many voxels from "
+       "where its motion so far predicted (a slide along a wall, not a motion)",
        at(&FuseOptions::maxStep),
        must<double>(
            &FuseOptions::maxStep, [](double v) { return v > 0; }, "must be positive voxels")},

@@ -36,9 +36,10 @@ std::string percent(double share) {
 /// One frame's fit from one start: coarse level, then every control point.
 class FrameFit {
  public:
+  /// `predicted`: where the camera's motion so far puts the frame.
   FrameFit(const TrackingSettings& s, ControlRouting& control, const BrickStore& store,
-           MPI_Comm comm)
-      : s_(s), control_(control), store_(store), comm_(comm) {}
+           const Pose& predicted, MPI_Comm comm)
+      : s_(s), control_(control), store_(store), predicted_(predicted), comm_(comm) {}
 
   /// Fits frame i from `start`; the report's `why` is empty when the fit holds.
   FrameReport fit(size_t i, std::vector<Pose>& poses, const Pose& start, size_t last,
@@ -65,6 +66,7 @@ class FrameFit {
     const Pose motion = between(poses[last], poses[i]);
     report.step = motion.t.norm();
     report.turnDeg = rotationDegrees(motion.R);
+    report.surprise = between(predicted_, poses[i]).t.norm();
     report.why = judge(final, converged, report, static_cast<double>(i - last));
     return report;
   }
@@ -107,9 +109,15 @@ class FrameFit {
       std::snprintf(text, sizeof text, "residual %.3g above %.3g", r.rms, s_.maxResidual);
       return text;
     }
-    if ((s_.maxStep > 0 && r.step > s_.maxStep * frames) || r.turnDeg > s_.maxTurnDeg * frames) {
-      std::snprintf(text, sizeof text, "moved %.3g and turned %.3g deg since the last frame",
-                    r.step, r.turnDeg);
+    // A hand-held camera cannot change its velocity by much in a frame: a fit that lands far
+    // from the prediction has more likely slid along the surface (a wall, a floor) than moved.
+    if (s_.maxStep > 0 && r.surprise > s_.maxStep * frames) {
+      std::snprintf(text, sizeof text, "landed %.3g from where its motion predicted it",
+                    r.surprise);
+      return text;
+    }
+    if (r.turnDeg > s_.maxTurnDeg * frames) {
+      std::snprintf(text, sizeof text, "turned %.3g deg since the last frame", r.turnDeg);
       return text;
     }
     // Still moving after every fit: the fit slides along the surface rather than settling.
@@ -123,6 +131,7 @@ class FrameFit {
   const TrackingSettings& s_;
   ControlRouting& control_;
   const BrickStore& store_;
+  Pose predicted_;
   MPI_Comm comm_;
 };
 
@@ -223,7 +232,6 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
     const size_t last = fused.back();
     const long prev = fused.size() > 1 ? static_cast<long>(fused[fused.size() - 2]) : -1;
     frameHook(i, false);
-    FrameFit fit(s, control, *store, comm);
     FrameReport report;
     report.frame = i;
     // The start: the motion so far continued, then what the pixels say.
@@ -232,6 +240,7 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
     // the last frame and this one give a second start (they reach farther, but are blind along
     // directions the view does not pin down), and the field decides between the two.
     const Pose predicted = predictPose(poses, guide, prev, last, i, times);
+    FrameFit fit(s, control, *store, predicted, comm);
     report = fit.fit(i, poses, predicted, last, report);
     Pose chosen = poses[i];
     const Pose moved = between(predicted, chosen);

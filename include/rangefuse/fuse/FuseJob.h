@@ -51,7 +51,7 @@ struct FuseOptions {
   std::string track = "auto";  ///< depth streams: on, off, auto (on when there is no trajectory)
   std::string firstPose;       ///< tracking: the first camera's pose "tx,ty,tz,qx,qy,qz,qw"
   double minInliers = 0.25;    ///< tracking: share of a frame's points that must find the field
-  double maxStep = 30;         ///< tracking: camera motion a frame may make, voxels
+  double maxStep = 10;         ///< tracking: how far from its prediction a frame may land, voxels
   bool skipLost = false;       ///< tracking: leave lost frames out and go on
   std::string trajectoryOut;   ///< camera trajectory, TUM text or .log (optional)
   int previewEvery = 0;        ///< tracking: --preview from the current camera every N frames

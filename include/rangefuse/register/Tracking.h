@@ -36,6 +36,7 @@ struct FrameReport {
   double inliers = 0;            ///< share of control points with a correspondence
   double rms = 0;                ///< RMS residual at the last fit, world units
   double step = 0, turnDeg = 0;  ///< camera motion from the last good frame
+  double surprise = 0;           ///< distance of the fitted camera from the predicted one
   std::string why;               ///< why it was lost (empty when fused)
 };
 
