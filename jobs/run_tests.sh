@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set up, build and run the whole test suite (unit tests, 2-rank MPI tests, CLI tests), then
 # build again under AddressSanitizer + UndefinedBehaviorSanitizer and run it once more, less
-# the slow repeats (1-rank MPI run, 1/2/3-rank determinism, kill-and-resume).
+# the slow repeats (1-rank MPI run, 1/2/3-rank determinism and tracking, kill-and-resume).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh
