@@ -43,8 +43,6 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
   out.q = p - sample.f * sample.distance;
   out.brick = sample.brick;
   out.weight = s.weightByImages ? sample.images / (sample.images + 1.0) : 1.0;
-  const double r = std::abs(sample.distance);
-  if (s.huber > 0 && r > s.huber) out.weight *= s.huber / r;
   return true;
 }
 

@@ -17,8 +17,8 @@ struct CorrespondenceSettings {
   double minCosine = 0.5;   ///< ignore voxels whose gradient makes a larger angle with the normal
   float minImages = 1;      ///< ignore voxels fewer images contributed to
   bool weightByImages = false;  ///< weight by k / (k + 1), k images saw the voxel
-  /// Huber's robust weight min(1, huber / |r|) on the residual r (world units; 0: none), so a
-  /// few wrong correspondences pull a fit less than many right ones.
+  /// planeSums: Huber's robust weight min(1, huber / |r|) on the residual r (world units; 0:
+  /// none), so a few wrong correspondences pull a fit less than many right ones.
   double huber = 0;
 };
 
