@@ -15,37 +15,19 @@ namespace {
 using mpi::collectivelyOrThrow;
 using namespace internal;
 
-/// The bricks of `work` and those within `reach` bricks of them, as (code, work) pairs sorted by
-/// code: room for the next frames' motion without growing again.
-std::vector<std::pair<uint64_t, uint64_t>> withNeighbours(const BrickWork& work, int reach) {
-  std::vector<std::pair<uint64_t, uint64_t>> pairs;
-  pairs.reserve(work.size() * 4);
-  for (const auto& [code, count] : work) {
-    const BrickCoord b = mortonDecode(code);
-    for (int z = -reach; z <= reach; ++z)
-      for (int y = -reach; y <= reach; ++y)
-        for (int x = -reach; x <= reach; ++x) {
-          const BrickCoord n = b + BrickCoord(x, y, z);
-          if ((n.array() >= 0).all()) pairs.emplace_back(mortonEncode(n), x || y || z ? 0 : count);
-        }
-  }
+/// The (code, work) pairs of `work`, sorted by code.
+std::vector<std::pair<uint64_t, uint64_t>> sortedPairs(const BrickWork& work) {
+  std::vector<std::pair<uint64_t, uint64_t>> pairs(work.begin(), work.end());
   std::sort(pairs.begin(), pairs.end());
-  // One entry a code, its work the sum (the brick's own count; neighbours add nothing).
-  size_t out = 0;
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    if (out > 0 && pairs[out - 1].first == pairs[k].first)
-      pairs[out - 1].second += pairs[k].second;
-    else
-      pairs[out++] = pairs[k];
-  }
-  pairs.resize(out);
   return pairs;
 }
 
-/// The sorted union of a layout's bricks and `more` (code, work) pairs, work added.
-BrickLayout merged(const BrickLayout& layout, const std::vector<uint64_t>& more, int ranks) {
+/// The sorted union of a layout's bricks and `more` (code, work) pairs, work added; no owners.
+BrickLayout joined(const BrickLayout& layout, const std::vector<uint64_t>& more) {
   BrickLayout out;
   out.grid = layout.grid;
+  out.codes.reserve(layout.codes.size() + more.size() / 2);
+  out.work.reserve(out.codes.capacity());
   size_t a = 0, b = 0;
   while (a < layout.codes.size() || b < more.size()) {
     const uint64_t ca = a < layout.codes.size() ? layout.codes[a] : ~uint64_t{0};
@@ -57,8 +39,27 @@ BrickLayout merged(const BrickLayout& layout, const std::vector<uint64_t>& more,
     out.codes.push_back(code);
     out.work.push_back(work);
   }
-  out.rankStart = partitionWork(out.work, ranks);
   return out;
+}
+
+/// The first code each rank owns (ranks + 1 entries, the last past every code): a brick that
+/// joins later goes to the rank whose range holds its code, so no old brick changes owner.
+std::vector<uint64_t> ownedRanges(const BrickLayout& layout) {
+  std::vector<uint64_t> bounds(layout.rankStart.size(), ~uint64_t{0});
+  bounds[0] = 0;
+  for (size_t r = 1; r + 1 < bounds.size(); ++r)
+    if (layout.rankStart[r] < layout.codes.size()) bounds[r] = layout.codes[layout.rankStart[r]];
+  return bounds;
+}
+
+/// Rank runs of `layout` by code ranges `bounds` (see ownedRanges).
+void ownByRanges(BrickLayout& layout, const std::vector<uint64_t>& bounds) {
+  layout.rankStart.resize(bounds.size());
+  for (size_t r = 0; r < bounds.size(); ++r)
+    layout.rankStart[r] =
+        static_cast<size_t>(std::lower_bound(layout.codes.begin(), layout.codes.end(), bounds[r]) -
+                            layout.codes.begin());
+  layout.rankStart.back() = layout.codes.size();
 }
 
 /// Collective: a store on `layout` holding the sums of `from` (on another layout of the same
@@ -124,6 +125,7 @@ const BrickStore& TrackingField::build(const std::vector<size_t>& which,
   empty.rankStart.assign(mpi::size(comm_) + 1, 0);
   store_ = std::make_unique<BrickStore>(empty, mpi::rank(comm_));
   integrator_.reset();
+  balancedBricks_ = 0;
   for (size_t i : which) add(i, poses);
   return *store_;
 }
@@ -135,6 +137,37 @@ const BrickStore& TrackingField::add(size_t i, const std::vector<Pose>& poses) {
 }
 
 void TrackingField::grow(size_t i, const Pose& pose) {
+  const std::vector<uint64_t> fresh = newBricks(i, pose);
+  if (fresh.empty()) return;
+  BrickLayout next = joined(store_->layout(), fresh);
+  collectivelyOrThrow(comm_, [&] {
+    const double voxels = static_cast<double>(next.codes.size()) * std::pow(grid_.brick, 3);
+    if (voxels > static_cast<double>(settings_.maxVoxels))
+      throw InputError("--voxel " + std::to_string(settings_.voxel) + ": the tracked field needs " +
+                       std::to_string(static_cast<uint64_t>(voxels)) +
+                       " voxels, more than --max-voxels " + std::to_string(settings_.maxVoxels));
+  });
+  // Split by work anew (the sums move) only when the field has grown by half since it last
+  // was: moving every brick at every frame costs more than the frame, and growing by half
+  // bounds the moves to three times the final field.
+  if (2 * next.codes.size() > 3 * balancedBricks_) {
+    next.rankStart = partitionWork(next.work, mpi::size(comm_));
+    store_ = moveSums(*store_, next, comm_);
+    balancedBricks_ = next.codes.size();
+    ranges_ = ownedRanges(next);
+    integrator_.reset();
+    return;
+  }
+  ownByRanges(next, ranges_);
+  std::vector<uint64_t> mine;
+  const int me = mpi::rank(comm_);
+  for (size_t k = 0; k < fresh.size(); k += 2)
+    if (next.ownerOf(static_cast<size_t>(next.find(fresh[k]))) == me) mine.push_back(fresh[k]);
+  store_->grow(next, mine);
+  if (integrator_) integrator_->storeGrew();
+}
+
+std::vector<uint64_t> TrackingField::newBricks(size_t i, const Pose& pose) {
   // The reader plans the frame's bricks; every rank learns the (brick, work) pairs.
   std::vector<char> mine;
   collectivelyOrThrow(comm_, [&] {
@@ -145,50 +178,23 @@ void TrackingField::grow(size_t i, const Pose& pose) {
                        " voxels from the first frames: tracking lost");
     BrickWork work;
     addPrismWork(one[0], grid_, settings_.maxVoxels, work, settings_.threads);
-    // A frame whose prisms reach bricks the layout lacks brings a room of two bricks around
-    // its own: the field grows (reallocated and moved) every few frames, not at every frame.
-    std::vector<std::pair<uint64_t, uint64_t>> pairs = withNeighbours(work, 0);
-    const bool grows = std::any_of(pairs.begin(), pairs.end(), [&](const auto& p) {
-      return store_->layout().find(p.first) < 0;
-    });
-    if (grows) pairs = withNeighbours(work, 2);
-    for (const auto& [code, count] : pairs) {
-      const int64_t at = store_->layout().find(code);
-      if (at >= 0 && count == 0) continue;  // known, and no work to add
+    for (const auto& [code, count] : sortedPairs(work)) {
       mpi::pack(mine, &code, 1);
       mpi::pack(mine, &count, 1);
     }
   });
-  std::vector<uint64_t> pairs;
+  std::vector<uint64_t> fresh;
   for (const auto& part : mpi::allgatherBytes(mine, comm_))
     for (size_t at = 0; at < part.size();) {
       uint64_t v[2];
       mpi::unpack(part, at, v, 2);
-      pairs.insert(pairs.end(), v, v + 2);
+      const int64_t known = store_->layout().find(v[0]);
+      if (known >= 0)
+        store_->addWork(static_cast<size_t>(known), v[1]);
+      else
+        fresh.insert(fresh.end(), v, v + 2);
     }
-  const BrickLayout& layout = store_->layout();
-  bool grows = false;
-  for (size_t k = 0; k < pairs.size(); k += 2) {
-    const int64_t at = layout.find(pairs[k]);
-    if (at >= 0)
-      store_->addWork(static_cast<size_t>(at), pairs[k + 1]);
-    else
-      grows = true;
-  }
-  if (!grows) return;
-  std::vector<uint64_t> fresh;
-  for (size_t k = 0; k < pairs.size(); k += 2)
-    if (layout.find(pairs[k]) < 0) fresh.insert(fresh.end(), {pairs[k], pairs[k + 1]});
-  const BrickLayout next = merged(layout, fresh, mpi::size(comm_));
-  collectivelyOrThrow(comm_, [&] {
-    const double voxels = static_cast<double>(next.codes.size()) * std::pow(grid_.brick, 3);
-    if (voxels > static_cast<double>(settings_.maxVoxels))
-      throw InputError("--voxel " + std::to_string(settings_.voxel) + ": the tracked field needs " +
-                       std::to_string(static_cast<uint64_t>(voxels)) +
-                       " voxels, more than --max-voxels " + std::to_string(settings_.maxVoxels));
-  });
-  store_ = moveSums(*store_, next, comm_);
-  integrator_.reset();
+  return fresh;
 }
 
 void TrackingField::integrate(size_t i, const std::vector<Pose>& poses) {
@@ -200,6 +206,7 @@ void TrackingField::integrate(size_t i, const std::vector<Pose>& poses) {
 
 std::unique_ptr<BrickStore> TrackingField::release() {
   integrator_.reset();
+  store_->sortBricks();
   return std::move(store_);
 }
 

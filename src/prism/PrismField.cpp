@@ -116,16 +116,25 @@ PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypothes
       hypotheses_(hypotheses),
       latest_(store.sums().size(), 0),
       slabs_(std::max(1, threads)) {
+  measureStore();
+}
+
+void PrismIntegrator::storeGrew() {
+  latest_.resize(store_.sums().size(), 0);
+  measureStore();
+}
+
+void PrismIntegrator::measureStore() {
   // Voxel offsets and positions in a slab's list (at most the rank's voxels) take 32 bits.
-  if (store.sums().size() > std::numeric_limits<uint32_t>::max())
-    throw InputError("a field of " + std::to_string(store.sums().size()) +
+  if (store_.sums().size() > std::numeric_limits<uint32_t>::max())
+    throw InputError("a field of " + std::to_string(store_.sums().size()) +
                      " voxels on one rank: more than 2^32 (use more ranks)");
   int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
-  for (size_t b = 0; b < store.brickCount(); ++b) {
-    const int z = mortonDecode(store.code(b)).z();
+  for (size_t b = 0; b < store_.brickCount(); ++b) {
+    const int z = mortonDecode(store_.code(b)).z();
     lo = std::min(lo, z), hi = std::max(hi, z);
   }
-  if (lo <= hi) zFirst_ = lo * store.grid().brick, zLayers_ = (hi - lo + 1) * store.grid().brick;
+  if (lo <= hi) zFirst_ = lo * store_.grid().brick, zLayers_ = (hi - lo + 1) * store_.grid().brick;
 }
 
 PrismIntegrator::Sample* PrismIntegrator::sampleOf(Slab& slab, size_t at) const {

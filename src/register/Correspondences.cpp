@@ -49,14 +49,15 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
 namespace {
 
 /// Collective: the per-brick sums of every rank (`used` marks those this rank made), added in
-/// the bricks' global order, so that every rank gets the same bits whatever the rank count.
+/// the bricks' code order (a growing store's local order is not), so that every rank gets the same
+/// bits whatever the rank count.
 template <class Sums>
 Sums addInBrickOrder(const BrickStore& store, const std::vector<Sums>& perBrick,
                      const std::vector<char>& used, MPI_Comm comm) {
   std::vector<char> buf;
   for (size_t local = 0; local < perBrick.size(); ++local) {
     if (!used[local]) continue;
-    const uint64_t pos = store.globalIndex(local);
+    const uint64_t pos = store.code(local);  // code order is layout order
     mpi::pack(buf, &pos, 1);
     mpi::pack(buf, &perBrick[local], 1);
   }

@@ -1,9 +1,11 @@
 #include "rangefuse/volume/BrickStore.h"
 
+#include <algorithm>
+
 namespace rangefuse {
 
 BrickStore::BrickStore(const BrickLayout& layout, int rank)
-    : layout_(layout), first_(layout.rankStart[rank]) {
+    : layout_(layout), rank_(rank), first_(layout.rankStart[rank]) {
   const int B = layout.grid.brick;
   perBrick_ = static_cast<size_t>(B) * B * B;
   for (size_t i = layout.rankStart[rank]; i < layout.rankStart[rank + 1]; ++i) {
@@ -11,6 +13,44 @@ BrickStore::BrickStore(const BrickLayout& layout, int rank)
     codes_.push_back(layout.codes[i]);
   }
   sums_.resize(codes_.size() * perBrick_);
+}
+
+void BrickStore::grow(const BrickLayout& layout, const std::vector<uint64_t>& fresh) {
+  layout_ = layout;
+  first_ = layout.rankStart[rank_];
+  for (const uint64_t code : fresh) {
+    if (code < (codes_.empty() ? 0 : codes_.back())) ordered_ = false;
+    index_[code] = static_cast<int64_t>(codes_.size());
+    codes_.push_back(code);
+  }
+  sums_.resize(codes_.size() * perBrick_);
+}
+
+void BrickStore::sortBricks() {
+  if (ordered_) return;
+  // slot[k]: where the brick that belongs at sorted position k is now. Follow each cycle of
+  // that permutation, moving one brick at a time through a scratch brick.
+  std::vector<size_t> slot(codes_.size());
+  for (size_t k = 0; k < slot.size(); ++k) slot[k] = k;
+  std::sort(slot.begin(), slot.end(), [&](size_t a, size_t b) { return codes_[a] < codes_[b]; });
+  std::vector<VoxelSums> scratch(perBrick_);
+  std::vector<char> done(slot.size(), 0);
+  auto brick = [&](size_t b) { return sums_.begin() + static_cast<std::ptrdiff_t>(b * perBrick_); };
+  for (size_t start = 0; start < slot.size(); ++start) {
+    if (done[start] || slot[start] == start) continue;
+    std::copy(brick(start), brick(start + 1), scratch.begin());
+    size_t k = start;
+    while (slot[k] != start) {
+      std::copy(brick(slot[k]), brick(slot[k] + 1), brick(k));
+      done[k] = 1;
+      k = slot[k];
+    }
+    std::copy(scratch.begin(), scratch.end(), brick(k));
+    done[k] = 1;
+  }
+  std::sort(codes_.begin(), codes_.end());
+  for (size_t k = 0; k < codes_.size(); ++k) index_[codes_[k]] = static_cast<int64_t>(k);
+  ordered_ = true;
 }
 
 size_t BrickStore::offset(size_t b, const VoxelIndex& v) const {

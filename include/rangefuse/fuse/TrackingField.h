@@ -21,11 +21,13 @@ struct TrackingFieldSettings {
   int threads = 1;
 };
 
-/// A RegistrationField whose add() never rebuilds: the bricks a new frame needs (with a brick
-/// of room around them) join the layout, the bricks are split over the ranks anew, and the sums
-/// move to their new owners unchanged. A voxel's sums are therefore those of adding the frames
-/// in order, on any number of ranks. The lattice is fixed by the first call and reaches
-/// kRoom voxels beyond the first frame in every direction; a frame outside it is an error.
+/// A RegistrationField whose add() never rebuilds: the bricks a new frame's prisms reach join
+/// the layout, each on the rank whose range of codes holds it, and the sums already held stay
+/// where they are; when the field has grown by half, the bricks are split over the ranks by
+/// work anew and the sums move to their new owners unchanged. A voxel's sums are therefore
+/// those of adding the frames in order, on any number of ranks. The lattice is fixed by the
+/// first call and reaches kRoom voxels beyond the first frame in every direction; a frame
+/// outside it is an error.
 class TrackingField : public RegistrationField {
  public:
   static constexpr int kRoom = 1 << 14;  ///< voxels of lattice around the first frames
@@ -48,9 +50,11 @@ class TrackingField : public RegistrationField {
   uint64_t voxelUpdates() const { return voxelUpdates_; }
 
  private:
-  /// Collective: the layout grown by the bricks scan i's prisms touch at `pose` and their
-  /// neighbours, with the sums moved to their owners.
+  /// Collective: the layout grown by the bricks scan i's prisms touch at `pose`.
   void grow(size_t i, const Pose& pose);
+  /// Collective: the (code, work) pairs, flat, of the bricks scan i reaches at `pose` that the
+  /// layout lacks; the work of those it has is added to them.
+  std::vector<uint64_t> newBricks(size_t i, const Pose& pose);
   /// Collective: scan i added to the sums.
   void integrate(size_t i, const std::vector<Pose>& poses);
 
@@ -60,6 +64,8 @@ class TrackingField : public RegistrationField {
   VoxelGrid grid_;
   std::unique_ptr<BrickStore> store_;
   std::unique_ptr<PrismIntegrator> integrator_;
+  size_t balancedBricks_ = 0;     ///< bricks when last split by work
+  std::vector<uint64_t> ranges_;  ///< first code each rank owns since then (ownedRanges)
   uint64_t voxelUpdates_ = 0;
 };
 

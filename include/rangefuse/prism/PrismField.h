@@ -80,6 +80,8 @@ class PrismIntegrator {
   IntegrationStats addImage(const Image& parts);
   /// Images in order: the same bits as adding them one at a time.
   IntegrationStats addImages(const std::vector<Image>& images);
+  /// Follows the store after BrickStore::grow(): its new bricks take samples too.
+  void storeGrew();
 
  private:
   /// The value the image gives voxel `at` (its offset in the sums: a rank holds under 2^32
@@ -93,6 +95,8 @@ class PrismIntegrator {
     int zLo = 0, zHi = -1;
     std::vector<Sample> samples;
   };
+  /// Checks the store fits 32-bit offsets and finds the voxel layers its bricks span.
+  void measureStore();
   bool touchesOwnedBrick(const BrickCoord& lo, const BrickCoord& hi) const;
   void cutSlabs(const std::vector<Image>& images);
   /// Adds the images' samples within the slab; returns the prisms counted (see rasterizeSlab).

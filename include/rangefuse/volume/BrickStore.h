@@ -42,8 +42,11 @@ class BrickStore {
   const VoxelGrid& grid() const { return layout_.grid; }
   size_t brickCount() const { return codes_.size(); }
   uint64_t code(size_t local) const { return codes_[local]; }
-  /// Position in layout().codes of local brick `local` (a rank owns one contiguous run).
+  /// Position in layout().codes of local brick `local` (a rank owns one contiguous run); only
+  /// while ordered().
   size_t globalIndex(size_t local) const { return first_ + local; }
+  /// Whether local bricks follow code order (always, until grow(); again after sortBricks()).
+  bool ordered() const { return ordered_; }
   size_t voxelsPerBrick() const { return perBrick_; }
 
   /// Local brick index of a Morton code, or -1 when this rank does not own it.
@@ -67,12 +70,22 @@ class BrickStore {
   Sums& sums() { return sums_; }
   const Sums& sums() const { return sums_; }
 
+  /// Takes `layout`, a superset of this one on the same lattice in which this rank's run holds
+  /// its old bricks and `fresh` (new codes): their sums start at zero after the old ones, which
+  /// stay where they are, so a field grows without moving (amortised over the vector's
+  /// doubling). Local indices then no longer follow code order.
+  void grow(const BrickLayout& layout, const std::vector<uint64_t>& fresh);
+  /// Puts the local bricks back in code order, in place (one brick of scratch).
+  void sortBricks();
+
  private:
   BrickLayout layout_;
   std::vector<uint64_t> codes_;
   std::unordered_map<uint64_t, int64_t> index_;
+  int rank_;
   size_t first_;  ///< layout position of local brick 0
   size_t perBrick_;
+  bool ordered_ = true;
   Sums sums_;
 };
 
