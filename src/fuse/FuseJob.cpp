@@ -155,11 +155,30 @@ uint64_t peakMemoryMiB() {
   return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
 }
 
-bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
+namespace {
+
+/// The list's scans at `poses` (when given, one per scan of the list), without those marked
+/// `lost` (when given).
+void placeAndKeep(io::ConfFile& conf, const std::vector<Pose>* poses,
+                  const std::vector<char>* lost) {
+  std::vector<io::ConfScan> kept;
+  for (size_t i = 0; i < conf.scans.size(); ++i) {
+    if (lost && (*lost)[i]) continue;
+    if (poses) conf.scans[i].pose = (*poses)[i];
+    kept.push_back(conf.scans[i]);
+  }
+  conf.scans = std::move(kept);
+}
+
+}  // namespace
+
+bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+               const std::vector<Pose>* poses, const std::vector<char>* lost) {
   io::ConfFile conf;
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
         conf = io::readScanList(o.scans, o.limits, o.source);
+        placeAndKeep(conf, poses, lost);
       }))
     return false;
   scans.rank = mpi::rank(comm);
@@ -304,16 +323,12 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   if (progress.isRoot() && !poses)
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
   scans.names.clear(), scans.paths.clear(), scans.poses.clear();
-  std::vector<io::ConfScan> kept;
-  for (size_t i = 0; i < conf.scans.size(); ++i) {
-    if (lost && (*lost)[i]) continue;
-    if (poses) conf.scans[i].pose = (*poses)[i];
-    scans.names.push_back(conf.scans[i].name);
-    scans.paths.push_back(conf.scans[i].path);
-    scans.poses.push_back(conf.scans[i].pose);
-    kept.push_back(conf.scans[i]);
+  placeAndKeep(conf, poses, lost);
+  for (const io::ConfScan& c : conf.scans) {
+    scans.names.push_back(c.name);
+    scans.paths.push_back(c.path);
+    scans.poses.push_back(c.pose);
   }
-  conf.scans = std::move(kept);
   if (!buildStreamedField(streamOptions(o, comm), conf, comm, progress, field, counters))
     return false;
   if (closestSurface(o) && !collectively(comm, [&] {
@@ -404,11 +419,41 @@ bool writeFieldCheckpoint(const FuseOptions& o, MPI_Comm comm, Progress& progres
 
 /// A depth stream tracked frame by frame into the field that is meshed. Other methods than
 /// prism fuse the tracked frames again, lost ones left out.
+/// Algorithm 2 after the stream: the tracked frames (lost ones left out) registered together
+/// against the field of all of them, then fused again at the refined poses.
+int refineTracked(const FuseOptions& o, MPI_Comm comm, Progress& progress,
+                  const std::vector<Pose>& tracked, const std::vector<char>& lost) {
+  LoadedScans scans;
+  if (!loadScans(o, comm, progress, scans, &tracked, &lost)) return 1;
+  RegistrationProgress state;
+  std::vector<RegistrationStep> steps;
+  if (!registerPoses(o, comm, progress, scans, state, steps) ||
+      !writeTrajectoryFile(o.trajectoryOut, scans, {}, comm))
+    return 1;
+  // Back to one pose per frame of the list, for the final field that reads the list again.
+  std::vector<Pose> refined = tracked;
+  for (size_t i = 0, k = 0; i < refined.size(); ++i)
+    if (!lost[i]) refined[i] = scans.poses[k++];
+  scans.held.reset();
+  FusedField field;
+  RankCounters counters;
+  if (!buildStreamed(o, comm, progress, scans, field, counters, &refined, &lost) ||
+      !writeFieldCheckpoint(o, comm, progress, scans, field))
+    return 1;
+  return finish(o, comm, progress, scans, field, counters, steps);
+}
+
 int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress) {
   if (!collectively(comm, [&] {
-        if (o.registration != RegistrationMode::None)
+        if (o.registration != RegistrationMode::None &&
+            o.registration != RegistrationMode::Simultaneous)
           throw InputError("--register " + std::string(toString(o.registration)) +
-                           ": tracked frames are registered as they arrive; leave out --register");
+                           ": tracked frames are registered as they arrive (Algorithm 1); after "
+                           "the stream only --register simultaneous refines them");
+        if (o.registration == RegistrationMode::Simultaneous && !o.checkpoint.empty())
+          throw InputError(
+              "--checkpoint: a tracked stream refined by --register simultaneous "
+              "cannot be checkpointed yet");
       }))
     return 1;
   LoadedScans scans;
@@ -416,9 +461,15 @@ int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress) {
   FusedField field;
   RankCounters counters;
   if (!openStream(o, comm, progress, scans) ||
-      !trackStream(o, comm, progress, scans, lost, field, counters) ||
-      !writeTrajectoryFile(o.trajectoryOut, scans, lost, comm))
+      !trackStream(o, comm, progress, scans, lost, field, counters))
     return 1;
+  if (o.registration == RegistrationMode::Simultaneous) {
+    const std::vector<Pose> tracked = scans.poses;
+    scans.held.reset();
+    field = FusedField{};
+    return refineTracked(o, comm, progress, tracked, lost);
+  }
+  if (!writeTrajectoryFile(o.trajectoryOut, scans, lost, comm)) return 1;
   if (o.method != FieldMethod::Prism) {
     const std::vector<Pose> tracked = scans.poses;
     scans.held.reset();

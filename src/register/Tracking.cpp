@@ -75,8 +75,11 @@ class FrameFit {
   /// One Gauss-Newton step of frame i's control points (every `every`-th) against the field's
   /// distance and gradient, point to plane, about the camera centre; reports the sums before.
   RegistrationStep planeStep(size_t i, Pose& pose, int every) {
-    const ControlPoints c = control_.at(i, pose, store_, every);
+    ControlPoints c = control_.at(i, pose, store_, every);
     const Eigen::Vector3d centre = c.sensor.isPoint ? c.sensor.point : pose.t;
+    if (c.sensor.isPoint && s_.rangeWeightPower != 0)
+      for (size_t k = 0; k < c.points.size(); ++k)
+        c.weights[k] *= std::pow((c.points[k] - centre).norm(), -s_.rangeWeightPower);
     const PlaneSums sums =
         planeSums(store_, c.points, c.normals, c.weights, centre, s_.fit.correspondences, comm_);
     RegistrationStep step;

@@ -100,9 +100,11 @@ struct RankCounters {
   HypothesisStats robust;        ///< robust: how this rank's voxels were decided
 };
 
-/// Collective: reads the scans (each rank a share, then shared). False when any rank failed
+/// Collective: reads the scans (each rank a share, then shared), at `poses` when given (one per
+/// scan of the list) and without those marked `lost` when given. False when any rank failed
 /// (the failure printed once).
-bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans);
+bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+               const std::vector<Pose>* poses = nullptr, const std::vector<char>* lost = nullptr);
 
 /// Collective: the field of world-placed scans on new bricks. False on failure (printed once).
 bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_Comm comm,

@@ -20,11 +20,15 @@ struct TrackingSettings {
   int coarseIterations = 12;  ///< fits at the coarse level
   int fineIterations = 12;    ///< fits with every control point
   double minInliers = 0.25;   ///< share of control points that must find the field
-  double maxResidual = 0;     ///< RMS residual a frame may keep, world units (0: any)
-  double maxStep = 0;         ///< camera motion a frame may make, world units (0: any)
-  double maxTurnDeg = 30;     ///< camera turn a frame may make, degrees
-  bool skipLost = false;      ///< go on past a lost frame (else the stream ends there)
-  int maxLostInRow = 30;      ///< with skipLost: give up after this many lost frames in a row
+  /// Control points weigh range^-rangeWeightPower: a depth camera's noise grows with range
+  /// (as its square for structured light and stereo), and far points, many and noisy, would
+  /// otherwise outvote the near ones that pin the pose.
+  double rangeWeightPower = 2;
+  double maxResidual = 0;  ///< RMS residual a frame may keep, world units (0: any)
+  double maxStep = 0;      ///< camera motion a frame may make, world units (0: any)
+  double maxTurnDeg = 30;  ///< camera turn a frame may make, degrees
+  bool skipLost = false;   ///< go on past a lost frame (else the stream ends there)
+  int maxLostInRow = 30;   ///< with skipLost: give up after this many lost frames in a row
 };
 
 /// What became of one frame.
