@@ -443,7 +443,8 @@ int refineTracked(const FuseOptions& o, MPI_Comm comm, Progress& progress,
   return finish(o, comm, progress, scans, field, counters, steps);
 }
 
-int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress) {
+int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress,
+                const io::CheckpointMeta* resumed = nullptr) {
   if (!collectively(comm, [&] {
         if (o.registration != RegistrationMode::None &&
             o.registration != RegistrationMode::Simultaneous)
@@ -461,7 +462,7 @@ int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress) {
   FusedField field;
   RankCounters counters;
   if (!openStream(o, comm, progress, scans) ||
-      !trackStream(o, comm, progress, scans, lost, field, counters))
+      !trackStream(o, comm, progress, scans, lost, field, counters, resumed))
     return 1;
   if (o.registration == RegistrationMode::Simultaneous) {
     const std::vector<Pose> tracked = scans.poses;
@@ -509,6 +510,7 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
   if (!o.resume.empty()) {
     const std::string stage = resumed.progress.value("stage", "");
     if (stage == "field") return resumeFromField(o, resumed, comm, progress);
+    if (stage == "tracking") return runTracking(o, comm, progress, &resumed);
     if (stage != "registration" && !collectively(comm, [&] {
           throw InputError(o.resume + ": unknown stage '" + stage + "'");
         }))

@@ -8,12 +8,14 @@
 #include <sstream>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/TrackingField.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
+#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ProjectiveIcp.h"
 #include "rangefuse/render/Render.h"
@@ -221,6 +223,68 @@ void previewFrom(const BrickStore& store, const Pose& camera, const FuseOptions&
   });
 }
 
+nlohmann::json toJson(const TrackingState& s) {
+  std::vector<int> lost(s.lost.begin(), s.lost.end());
+  return {{"next_frame", s.nextFrame},
+          {"lost", lost},
+          {"lost_in_row", s.lostInRow},
+          {"lattice_origin", s.latticeOrigin}};
+}
+
+/// A stream's state from its checkpoint; throws InputError naming the checkpoint when it does
+/// not fit a stream of `frames` frames.
+TrackingState trackingState(const io::CheckpointMeta& meta, size_t frames,
+                            const std::string& checkpoint) {
+  TrackingState s;
+  try {
+    const nlohmann::json& j = meta.progress.at("tracking");
+    s.nextFrame = j.at("next_frame").get<size_t>();
+    for (const int v : j.at("lost").get<std::vector<int>>()) s.lost.push_back(v ? 1 : 0);
+    s.lostInRow = j.at("lost_in_row").get<int>();
+    s.latticeOrigin = j.at("lattice_origin").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(checkpoint + ": tracking progress unreadable (" + e.what() + ")");
+  }
+  if (s.nextFrame < 1 || s.nextFrame > frames || s.lost.size() != frames ||
+      s.latticeOrigin.size() != 3 || meta.poses.size() != frames)
+    throw InputError(checkpoint + ": its tracking progress does not fit this stream of " +
+                     std::to_string(frames) + " frames");
+  return s;
+}
+
+/// Writes a stream's progress (its poses so far and TrackingState) to --checkpoint between
+/// frames, every --checkpoint-every seconds; every rank decides alike.
+class StreamCheckpointer {
+ public:
+  StreamCheckpointer(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
+      : o_(o), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
+    MPI_Bcast(&last_, 1, MPI_DOUBLE, 0, comm_);
+  }
+
+  /// Collective; throws mpi::Reported when writing failed on any rank (printed once).
+  void operator()(const TrackingState& state) {
+    if (o_.checkpoint.empty()) return;
+    double now = MPI_Wtime();
+    MPI_Bcast(&now, 1, MPI_DOUBLE, 0, comm_);
+    if (now - last_ < o_.checkpointEvery) return;
+    last_ = now;
+    mpi::collectivelyOrThrow(comm_, [&] {
+      if (hashes_.empty()) hashes_ = hashScans(scans_.paths, comm_);
+      const nlohmann::json progress = {{"stage", "tracking"}, {"tracking", toJson(state)}};
+      io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, scans_, hashes_, progress, nullptr),
+                          nullptr, comm_);
+    });
+    faultPoint("checkpoint");  // tests stop a run right after a given checkpoint
+  }
+
+ private:
+  const FuseOptions& o_;
+  const LoadedScans& scans_;
+  MPI_Comm comm_;
+  double last_;
+  std::vector<std::string> hashes_;
+};
+
 }  // namespace
 
 bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
@@ -247,19 +311,29 @@ bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedS
 }
 
 bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-                 std::vector<char>& lost, FusedField& field, RankCounters& counters) {
+                 std::vector<char>& lost, FusedField& field, RankCounters& counters,
+                 const io::CheckpointMeta* resumed) {
   TrackingSettings settings;
   std::vector<Pose> guide;
+  TrackingState state;
   if (!collectively(comm, [&] {
         settings = trackingSettings(o);
         if (scans.posed) guide = scans.poses;
         scans.poses = startingPoses(o, scans);
+        if (!resumed) return;
+        state = trackingState(*resumed, scans.names.size(), o.resume);
+        checkScanHashes(*resumed, scans, hashScans(scans.paths, comm));
+        scans.poses = resumed->poses;
       }))
     return false;
+  if (resumed)
+    progress.stage("resume", o.resume + ": tracking from frame " +
+                                 std::to_string(state.nextFrame + 1) + " (the " +
+                                 std::to_string(state.nextFrame) + " before fused again)");
   const TrackingFieldSettings fieldSettings{o.voxel, o.brick, o.envelope * o.voxel,
                                             o.limits.maxVoxels, o.threads};
   TrackingField tracked(fieldSettings, scans, comm);
-  TrackingState state;
+  StreamCheckpointer checkpointer(o, scans, comm);
   FrameLines lines(scans, o.voxel);
   FrameReader reader(scans, comm);
   std::unique_ptr<PixelMotion> pixels;
@@ -278,7 +352,7 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
           if (r.fused && o.previewEvery > 0 && fused % o.previewEvery == 0)
             previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), o, comm);
         },
-        [](const TrackingState&) {});
+        [&](const TrackingState& now) { checkpointer(now); });
   } catch (const mpi::Reported&) {
     return false;
   }

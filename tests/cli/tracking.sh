@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Depth streams without poses, tracked against the field: a synthetic orbit tracked to within a
 # stated ATE, the same trajectory and mesh bytes on 1, 2 and 3 ranks, refinement by Algorithm 2
-# that brings the poses no farther from the truth, a still camera that stays put, a frame of another scene spliced in (reported, not fused), and bad inputs refused by name.
+# that brings the poses no farther from the truth, a stream killed mid-way and resumed on
+# another rank count to the same bytes, a still camera that stays put, a frame of another scene
+# spliced in (reported, not fused), and bad inputs refused by name.
 set -euo pipefail
 bin=$1 data=$2
 tmp=$(mktemp -d)
@@ -43,6 +45,19 @@ python3 -c "import sys; sys.exit(0 if $refined <= 1.05 * $ate else 1)" ||
 mpirun -np 2 "$bin" fuse --scans "$tmp/truth" --voxel 0.01 --track --out "$tmp/guided.ply" \
   --trajectory-out "$tmp/guided.log" >/dev/null
 [[ $(grep -c . "$tmp/guided.log") -eq $((240 * 5)) ]] || fail "a .log trajectory of 240 poses"
+
+# Killed right after the 100th checkpoint (one is written after every frame), resumed on 3
+# ranks: the stream goes on from frame 101 to the same trajectory and mesh bytes.
+RANGEFUSE_FAULT="checkpoint:kill@0#100" mpirun -np 2 -x RANGEFUSE_FAULT "$bin" fuse \
+  --scans "$tmp/stream" --voxel 0.01 --out "$tmp/killed.ply" --checkpoint "$tmp/ck.h5" \
+  --checkpoint-every 0 >/dev/null 2>&1 && fail "the run was not killed"
+[[ $("$bin" info "$tmp/ck.h5") == *'"next_frame":100'* ]] || fail "no checkpoint at frame 100"
+[[ ! -e $tmp/killed.ply ]] || fail "a killed run left a mesh"
+mpirun --oversubscribe -np 3 "$bin" fuse --resume "$tmp/ck.h5" --out "$tmp/resumed.ply" \
+  --trajectory-out "$tmp/resumed.txt" >"$tmp/resumed.log"
+grep -q "tracking from frame 101" "$tmp/resumed.log" || fail "$(head -3 "$tmp/resumed.log")"
+cmp "$tmp/resumed.ply" "$tmp/mesh1.ply" && cmp "$tmp/resumed.txt" "$tmp/traj1.txt"
+echo "killed at frame 100 on 2 ranks, resumed on 3: identical trajectory and mesh"
 
 # A still camera (Open3D recorder layout: depth/, camera_intrinsic.json, color/): every frame
 # is the first, and the trajectory stays within a quarter voxel of the identity (the field's

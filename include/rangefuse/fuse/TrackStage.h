@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/register/Tracking.h"
 
 namespace rangefuse {
@@ -25,9 +26,13 @@ bool openStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, L
 
 /// Collective: tracks the frames of `scans` (their poses updated; lost frames keep the last
 /// good pose and are marked in `lost`), printing a line per frame on rank 0, and leaves the
-/// tracked field in `field`. False when any rank failed or tracking was lost (printed once).
+/// tracked field in `field`. With --checkpoint, the stream's progress is checkpointed between
+/// frames (every --checkpoint-every seconds); `resumed`, a checkpoint at stage "tracking",
+/// continues a stream from its next frame. False when any rank failed or tracking was lost
+/// (printed once).
 bool trackStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-                 std::vector<char>& lost, FusedField& field, RankCounters& counters);
+                 std::vector<char>& lost, FusedField& field, RankCounters& counters,
+                 const io::CheckpointMeta* resumed = nullptr);
 
 /// Collective: rank 0 writes the camera trajectory of the frames not lost to `path` (TUM text,
 /// or .log by extension). False on failure (printed once).
