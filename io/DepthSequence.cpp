@@ -22,13 +22,16 @@ bool present(const fs::path& p) {
   return fs::exists(p, ec);
 }
 
-/// The .png files of DIR/depth, sorted by name.
+/// The .png files of DIR/depth, sorted by name; hidden ones (a recorder's files being
+/// written, .name.png) are not frames.
 std::vector<fs::path> depthImages(const std::string& dir) {
   std::vector<fs::path> images;
   std::error_code ec;
   for (fs::directory_iterator it(fs::path(dir) / "depth", ec), end; !ec && it != end;
-       it.increment(ec))
-    if (it->path().extension() == ".png") images.push_back(it->path());
+       it.increment(ec)) {
+    const fs::path& p = it->path();
+    if (p.extension() == ".png" && p.filename().string()[0] != '.') images.push_back(p);
+  }
   if (ec) throw InputError(dir + "/depth: cannot list the folder: " + ec.message());
   std::sort(images.begin(), images.end());
   return images;

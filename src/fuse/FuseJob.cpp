@@ -484,6 +484,12 @@ int runTracking(const FuseOptions& o, MPI_Comm comm, Progress& progress,
 /// Collective: whether the run tracks a depth stream (reads the scan list).
 bool decideTracking(const FuseOptions& o, MPI_Comm comm, bool& tracking) {
   return collectively(comm, [&] {
+    if (o.follow) {  // the folder may hold no frames yet
+      if (o.track == "off")
+        throw InputError("--follow tracks a stream while it is recorded: leave out --track off");
+      tracking = true;
+      return;
+    }
     const io::ConfFile conf = io::readScanList(o.scans, o.limits, o.source);
     tracking = tracksFrames(o.track, conf.posed, o.scans);
   });

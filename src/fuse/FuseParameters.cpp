@@ -305,6 +305,16 @@ std::vector<FuseParameter> makeTable() {
          if (o.previewEvery < 0) return "must be a number of frames >= 0 (0: never)";
          return o.previewEvery > 0 && o.preview.empty() ? "needs --preview FILE.png" : "";
        }},
+      {"follow", "", R::No, false,
+       "tracking: the folder is still being recorded: frames that appear in it join the stream "
+       "until a file named STOP appears there or --follow-timeout passes with no new frame",
+       at(&FuseOptions::follow), nullptr, "true"},
+      {"follow-timeout", "", R::No, false,
+       "tracking: with --follow, seconds without a new frame after which the stream ends",
+       at(&FuseOptions::followTimeout),
+       must<double>(
+           &FuseOptions::followTimeout, [](double v) { return v > 0 && finite(v); },
+           "must be a positive number of seconds")},
       {"trajectory-out", "", R::No, false,
        "write the camera trajectory: TUM text (timestamp tx ty tz qx qy qz qw), or a Redwood "
        ".log by extension",
@@ -312,7 +322,8 @@ std::vector<FuseParameter> makeTable() {
       {"checkpoint", "", R::No, false, "write an HDF5 checkpoint of the field (.h5)",
        at(&FuseOptions::checkpoint), nullptr},
       {"checkpoint-every", "", R::No, false,
-       "seconds between registration checkpoints (0: after every scan / iteration)",
+       "seconds between registration or tracking checkpoints (0: after every scan, iteration "
+       "or frame)",
        at(&FuseOptions::checkpointEvery),
        must<double>(
            &FuseOptions::checkpointEvery, [](double v) { return v >= 0 && finite(v); },

@@ -16,6 +16,13 @@ HeldScans::HeldScans(std::vector<io::ConfScan> scans, std::vector<int> readers, 
       kept_(scans_.size()),
       keptBytes_(scans_.size(), 0) {}
 
+void HeldScans::append(const std::vector<io::ConfScan>& more, const std::vector<int>& readers) {
+  scans_.insert(scans_.end(), more.begin(), more.end());
+  readers_.insert(readers_.end(), readers.begin(), readers.end());
+  kept_.resize(scans_.size());
+  keptBytes_.resize(scans_.size(), 0);
+}
+
 std::shared_ptr<const PrismScan> HeldScans::get(size_t i) const {
   if (kept_[i]) return kept_[i];
   const ScanPreparation& p = preparation_;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include "FollowedFolder.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/TrackingField.h"
@@ -92,7 +93,11 @@ Pose flipped(const Pose& p) {
 class PixelMotion {
  public:
   PixelMotion(const FuseOptions& o, MPI_Comm comm)
-      : comm_(comm), maxPixels_(o.limits.maxGridCells) {
+      : comm_(comm),
+        maxPixels_(o.limits.maxGridCells),
+        scansPath_(o.scans),
+        limits_(o.limits),
+        source_(o.source) {
     list_ = io::readScanList(o.scans, o.limits, o.source);
     settings_.maxDistance = 10 * o.voxel;
     settings_.huber = o.voxel;
@@ -120,6 +125,7 @@ class PixelMotion {
   const DepthMap& depthMap(size_t i) {
     for (auto& [index, map] : cache_)
       if (index == i) return map;
+    if (i >= list_.scans.size()) list_ = io::readScanList(scansPath_, limits_, source_);
     const io::ConfScan& scan = list_.scans[i];
     const io::DepthCamera& c = *scan.depth;
     const io::DepthImage image = io::readDepthPng(scan.path, maxPixels_);
@@ -136,6 +142,9 @@ class PixelMotion {
 
   MPI_Comm comm_;
   uint64_t maxPixels_;
+  std::string scansPath_;  ///< the list, read again when a followed stream grows
+  InputLimits limits_;
+  io::ScanSourceOptions source_;
   io::ConfFile list_;
   ProjectiveIcpSettings settings_;
   std::pair<size_t, DepthMap> cache_[2] = {{SIZE_MAX, {}}, {SIZE_MAX, {}}};
@@ -149,6 +158,11 @@ class FrameReader {
  public:
   FrameReader(LoadedScans& scans, MPI_Comm comm) : scans_(scans), comm_(comm) {}
   ~FrameReader() {
+    if (ahead_.valid()) ahead_.wait();
+  }
+
+  /// Waits for a read ahead still under way (before the list of frames grows).
+  void settle() {
     if (ahead_.valid()) ahead_.wait();
   }
 
@@ -269,7 +283,12 @@ class StreamCheckpointer {
     if (now - last_ < o_.checkpointEvery) return;
     last_ = now;
     mpi::collectivelyOrThrow(comm_, [&] {
-      if (hashes_.empty()) hashes_ = hashScans(scans_.paths, comm_);
+      if (hashes_.size() < scans_.paths.size()) {  // a followed stream grew
+        const std::vector<std::string> fresh(
+            scans_.paths.begin() + static_cast<std::ptrdiff_t>(hashes_.size()), scans_.paths.end());
+        const std::vector<std::string> more = hashScans(fresh, comm_);
+        hashes_.insert(hashes_.end(), more.begin(), more.end());
+      }
       const nlohmann::json progress = {{"stage", "tracking"}, {"tracking", toJson(state)}};
       io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, scans_, hashes_, progress, nullptr),
                           nullptr, comm_);
@@ -289,7 +308,11 @@ class StreamCheckpointer {
 
 bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
   io::ConfFile conf;
-  if (!collectively(comm, [&] { conf = io::readScanList(o.scans, o.limits, o.source); }))
+  if (o.follow) progress.stage("follow", o.scans + ": waiting for the first frames");
+  if (!collectively(comm, [&] {
+        conf = o.follow ? internal::FollowedFolder(o, comm).first()
+                        : io::readScanList(o.scans, o.limits, o.source);
+      }))
     return false;
   if (progress.isRoot())
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
@@ -336,23 +359,32 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
   StreamCheckpointer checkpointer(o, scans, comm);
   FrameLines lines(scans, o.voxel);
   FrameReader reader(scans, comm);
+  internal::FollowedFolder folder(o, comm);
   std::unique_ptr<PixelMotion> pixels;
   if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(o, comm); })) return false;
   size_t lostCount = 0, fused = 0;
   bool ok = false;
   try {
-    ok = trackFrames(
-        *scans.held, scans.poses, scans.times, scans.posed ? &guide : nullptr, settings, tracked,
-        comm, state, [&](size_t i, bool done) { reader(i, done); },
-        [&](size_t last, size_t next, const Pose& guess) { return (*pixels)(last, next, guess); },
-        [&](const FrameReport& r) {
-          lostCount += !r.fused;
-          if (progress.isRoot()) lines(r);
-          fused += r.fused;
-          if (r.fused && o.previewEvery > 0 && fused % o.previewEvery == 0)
-            previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), o, comm);
-        },
-        [&](const TrackingState& now) { checkpointer(now); });
+    StreamCalls calls;
+    calls.frame = [&](size_t i, bool done) { reader(i, done); };
+    calls.motion = [&](size_t last, size_t next, const Pose& guess) {
+      return (*pixels)(last, next, guess);
+    };
+    calls.onFrame = [&](const FrameReport& r) {
+      lostCount += !r.fused;
+      if (progress.isRoot()) lines(r);
+      fused += r.fused;
+      if (r.fused && o.previewEvery > 0 && fused % o.previewEvery == 0)
+        previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), o, comm);
+    };
+    calls.onBoundary = [&](const TrackingState& now) { checkpointer(now); };
+    if (o.follow)
+      calls.moreFrames = [&] {
+        reader.settle();
+        return folder.more(scans);
+      };
+    ok = trackFrames(*scans.held, scans.poses, scans.times, scans.posed ? &guide : nullptr,
+                     settings, tracked, comm, state, calls);
   } catch (const mpi::Reported&) {
     return false;
   }

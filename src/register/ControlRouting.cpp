@@ -72,6 +72,15 @@ ControlRouting::ControlRouting(const ScanSource& scans, int stride, MPI_Comm com
   learn(all);
 }
 
+void ControlRouting::follow() {
+  const size_t n = scans_.size();
+  spheres_.resize(n, Eigen::Vector4d::Zero());
+  sensors_.resize(n);
+  counts_.resize(n, 0.0);
+  known_.resize(n, 0);
+  held_.resize(n);
+}
+
 void ControlRouting::learn(const std::vector<size_t>& which) {
   std::vector<size_t> unknown;
   for (size_t i : which)

@@ -203,11 +203,12 @@ Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide,
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
                  const std::vector<double>& times, const std::vector<Pose>* guide,
                  const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
-                 TrackingState& state, const FrameHook& frameHook, const FrameMotion& frameMotion,
-                 const std::function<void(const FrameReport&)>& onFrame,
-                 const std::function<void(const TrackingState&)>& onBoundary) {
-  const size_t n = frames.size();
-  state.lost.resize(n, 0);
+                 TrackingState& state, const StreamCalls& calls) {
+  const FrameHook& frameHook = calls.frame;
+  const FrameMotion& frameMotion = calls.motion;
+  const auto& onFrame = calls.onFrame;
+  const auto& onBoundary = calls.onBoundary;
+  state.lost.resize(frames.size(), 0);
   frameHook(0, false);
   ControlRouting control(frames, s.fit.controlStride, comm, true);
   control.learn({0});
@@ -231,7 +232,14 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
     store = &field.build(fusedBefore(state), poses);
   }
   std::vector<size_t> fused = fusedBefore(state);
-  for (size_t i = state.nextFrame; i < n; ++i) {
+  for (size_t i = state.nextFrame;; ++i) {
+    if (i == frames.size()) {
+      if (!calls.moreFrames || !calls.moreFrames() || i == frames.size()) break;
+      // New frames start where the last one was; tracking puts them where they belong.
+      poses.resize(frames.size(), poses[fused.back()]);
+      state.lost.resize(frames.size(), 0);
+      control.follow();
+    }
     const size_t last = fused.back();
     const long prev = fused.size() > 1 ? static_cast<long>(fused[fused.size() - 2]) : -1;
     frameHook(i, false);

@@ -55,6 +55,8 @@ struct FuseOptions {
   bool skipLost = false;       ///< tracking: leave lost frames out and go on
   std::string trajectoryOut;   ///< camera trajectory, TUM text or .log (optional)
   int previewEvery = 0;        ///< tracking: --preview from the current camera every N frames
+  bool follow = false;         ///< tracking: read frames that appear while the stream runs
+  double followTimeout = 10;   ///< tracking: --follow ends after this long with no new frame, s
   std::string checkpoint;      ///< HDF5 checkpoint to write (optional)
   std::string resume;          ///< HDF5 checkpoint to continue from (optional)
   double checkpointEvery = 0;  ///< seconds between registration checkpoints (0: each)

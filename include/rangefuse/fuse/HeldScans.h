@@ -44,6 +44,10 @@ class HeldScans : public ScanSource {
 
   size_t keptCount() const;
 
+  /// Scans that joined the list since (a stream that is still being recorded), with their
+  /// readers; nothing is read yet.
+  void append(const std::vector<io::ConfScan>& more, const std::vector<int>& readers);
+
  private:
   std::vector<io::ConfScan> scans_;
   std::vector<int> readers_;

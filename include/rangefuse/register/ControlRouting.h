@@ -47,6 +47,8 @@ class ControlRouting {
   /// Collective: the ball, sensor and count of each listed scan not yet known, from its reader
   /// (route() learns the scans it routes).
   void learn(const std::vector<size_t>& which);
+  /// Takes in scans that joined the source since (a stream that is still being recorded).
+  void follow();
 
   /// How many control points scan i has, once learnt.
   double count(size_t i) const { return counts_[i]; }

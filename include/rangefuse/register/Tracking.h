@@ -62,19 +62,27 @@ using FrameMotion = std::function<Pose(size_t last, size_t next, const Pose& gue
 /// and once it is fused or left out (`done` true: it may be forgotten).
 using FrameHook = std::function<void(size_t frame, bool done)>;
 
+/// What the stream around trackFrames does at each point; every call is collective.
+struct StreamCalls {
+  FrameHook frame;     ///< before a frame is needed and once it is done
+  FrameMotion motion;  ///< optional: a second start from the pixels
+  std::function<void(const FrameReport&)> onFrame;       ///< every frame's outcome
+  std::function<void(const TrackingState&)> onBoundary;  ///< where a checkpoint may be taken
+  /// Optional: once every frame is tracked, whether more have joined `frames` (and `times`);
+  /// false ends the stream.
+  std::function<bool()> moreFrames;
+};
+
 /// Collective: tracks frames nextFrame.. of `frames` (taken at `times`) into `field`, starting from
 /// the field of the frames before (rebuilt from their poses when resuming). Frame 0 fixes the world
 /// frame at poses[0]. `guide`, when given, is a trajectory whose relative motion predicts each
-/// start; without it, the camera's last motion is assumed to continue; `frameMotion`, when given,
+/// start; without it, the camera's last motion is assumed to continue; `calls.motion`, when given,
 /// refines that start from the pixels of the last frame and this one. Every rank ends with the same
-/// poses and state; `onFrame` sees every frame, `onBoundary` every point a checkpoint may be
-/// taken. Returns false, with state.failure set, when a lost frame ends the stream.
+/// poses and state. Returns false, with state.failure set, when a lost frame ends the stream.
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
                  const std::vector<double>& times, const std::vector<Pose>* guide,
                  const TrackingSettings& settings, RegistrationField& field, MPI_Comm comm,
-                 TrackingState& state, const FrameHook& frameHook, const FrameMotion& frameMotion,
-                 const std::function<void(const FrameReport&)>& onFrame,
-                 const std::function<void(const TrackingState&)>& onBoundary);
+                 TrackingState& state, const StreamCalls& calls);
 
 /// The pose the motion so far predicts for a frame after `last`: the guide's motion from frame
 /// `last` to `next`, or (no guide) the velocity from `prev` to `last` kept for the time from
