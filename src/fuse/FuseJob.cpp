@@ -157,10 +157,15 @@ uint64_t peakMemoryMiB() {
 
 namespace {
 
-/// The list's scans at `poses` (when given, one per scan of the list), without those marked
-/// `lost` (when given).
-void placeAndKeep(io::ConfFile& conf, const std::vector<Pose>* poses,
-                  const std::vector<char>* lost) {
+/// The list's scans at `poses` (when given, one per scan of the list: a longer list is cut to
+/// them), without those marked `lost` (when given). `list` names it in errors.
+void placeAndKeep(io::ConfFile& conf, const std::vector<Pose>* poses, const std::vector<char>* lost,
+                  const std::string& list) {
+  if (poses && conf.scans.size() < poses->size())
+    throw InputError(list + ": the list now holds " + std::to_string(conf.scans.size()) +
+                     " scans, fewer than the " + std::to_string(poses->size()) + " placed");
+  // A followed folder may have gained frames after its stream ended: they are not part of it.
+  if (poses) conf.scans.resize(poses->size());
   std::vector<io::ConfScan> kept;
   for (size_t i = 0; i < conf.scans.size(); ++i) {
     if (lost && (*lost)[i]) continue;
@@ -178,7 +183,7 @@ bool loadScans(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedSc
   if (!collectively(comm, [&] {
         validateFuseOptions(o);
         conf = io::readScanList(o.scans, o.limits, o.source);
-        placeAndKeep(conf, poses, lost);
+        placeAndKeep(conf, poses, lost, o.scans);
       }))
     return false;
   scans.rank = mpi::rank(comm);
@@ -318,12 +323,12 @@ bool buildStreamed(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
           throw InputError(o.scans +
                            ": a depth stream without a trajectory has no poses to place its "
                            "frames: fuse tracks it (rangefuse fuse --scans ... --trajectory-out)");
+        placeAndKeep(conf, poses, lost, o.scans);
       }))
     return false;
   if (progress.isRoot() && !poses)
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
   scans.names.clear(), scans.paths.clear(), scans.poses.clear();
-  placeAndKeep(conf, poses, lost);
   for (const io::ConfScan& c : conf.scans) {
     scans.names.push_back(c.name);
     scans.paths.push_back(c.path);
