@@ -8,8 +8,10 @@
 # against the truth, seconds read to mesh (best of two), frames/s, peak memory, and the mesh's
 # Chamfer distance to the true surface; and rangefuse at the true poses (no tracking), the
 # Chamfer tracking should come within 10 % of; and the tracked poses refined afterwards by
-# --register simultaneous (one run). A third sequence walks through a synthetic room (8 x 6 x 3 m,
-# desk, cabinet, ball) with the same camera and noise: tracked with --skip-lost, one run each.
+# --register simultaneous (one run). A third sequence follows the hand-held path around a
+# synthetic desk (--shape desk: table top, legs, monitor, keyboard, book, ball, ring), and a
+# fourth walks through a synthetic room (8 x 6 x 3 m, desk, cabinet, ball) with the same camera
+# and noise: tracked with --skip-lost, one run each.
 # Usage: bash jobs/benchmark_tracking.sh [FRAMES WIDTH HEIGHT VOXEL]  (default 300 640 480 0.01)
 # SEQ_ROOT=folder keeps the generated sequences there (and reuses them).
 set -euo pipefail
@@ -58,10 +60,11 @@ once() {  # one timed run; prints seconds, keeps the log in $tmp/log
   "$@" >"$tmp/log" 2>&1 || true
   awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }'
 }
-for path in orbit handheld walk; do
-  seq=$root/$path
+for name in orbit handheld desk walk; do
+  seq=$root/$name path=$name
   shape=(--mesh tests/data/bunny/bun_zipper.ply --scale 10)
-  [[ $path == walk ]] && shape=(--shape room)
+  [[ $name == walk ]] && shape=(--shape room)
+  [[ $name == desk ]] && shape=(--shape desk) path=handheld
   [[ -f $seq/groundtruth.txt ]] ||
     $bin scan "${shape[@]}" --views "$frames" \
       --width "$width" --height "$height" --voxel "$voxel" --noise 0.5 --depth-noise \
@@ -77,21 +80,21 @@ for path in orbit handheld walk; do
   memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
   mv "$tmp/log" "$tmp/track.log"
   fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
-  echo "| $path | rangefuse, 2 ranks | $(ate "$tmp/track.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/track.ply" "$seq/truth.ply") |"
+  echo "| $name | rangefuse, 2 ranks | $(ate "$tmp/track.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/track.ply" "$seq/truth.ply") |"
   seconds=$($timed mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" \
     --out "$tmp/true.ply")
-  echo "| $path | rangefuse at the true poses | | | $seconds | | | $(chamfer "$tmp/true.ply" "$seq/truth.ply") |"
+  echo "| $name | rangefuse at the true poses | | | $seconds | | | $(chamfer "$tmp/true.ply" "$seq/truth.ply") |"
   if [[ $path != walk ]]; then
     seconds=$(once mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
       --first-pose "$first" --register simultaneous --out "$tmp/refined.ply" \
       --trajectory-out "$tmp/refined.txt")
     memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
-    echo "| $path | rangefuse, refined by --register simultaneous | $(ate "$tmp/refined.txt" "$seq/groundtruth.txt") | $seconds | | $memory | $(chamfer "$tmp/refined.ply" "$seq/truth.ply") |"
+    echo "| $name | rangefuse, refined by --register simultaneous | $(ate "$tmp/refined.txt" "$seq/groundtruth.txt") | $seconds | | $memory | $(chamfer "$tmp/refined.ply" "$seq/truth.ply") |"
   fi
   o3d=$(/usr/bin/python3 jobs/open3d_track.py "$stream" "$voxel" "$tmp/o3d.ply" "$tmp/o3d.txt" "$first" 2>/dev/null)
   seconds=$(echo "$o3d" | sed 's/.*total \([0-9.]*\) s.*/\1/')
   memory=$(echo "$o3d" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
   fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
-  echo "| $path | Open3D frame-to-frame ICP + TSDF, 1 process | $(ate "$tmp/o3d.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/o3d.ply" "$seq/truth.ply") |"
+  echo "| $name | Open3D frame-to-frame ICP + TSDF, 1 process | $(ate "$tmp/o3d.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/o3d.ply" "$seq/truth.ply") |"
   grep -E "\] (track|mesh|done) " "$tmp/track.log" || true
 done

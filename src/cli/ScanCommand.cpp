@@ -191,7 +191,8 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
   d.add_options()("help,h", "show this help")("config", po::value<std::string>(),
                                               "read options from an .ini file")(
       "mesh", po::value(&o.mesh), "mesh to scan (PLY)")(
-      "shape", po::value(&o.shape), "built-in shape instead: sphere, torus, composite or room")(
+      "shape", po::value(&o.shape),
+      "built-in shape instead: sphere, torus, composite, room (8 m, inside) or desk (1.2 m)")(
       "views", po::value(&s.views)->default_value(24), "number of scans")(
       "width", po::value(&s.width)->default_value(320), "pixels per row")(
       "height", po::value(&s.height)->default_value(240), "rows")(

@@ -23,6 +23,28 @@ Pose compose(const Pose& a, const Pose& b) {
   return Pose{q.normalized().toRotationMatrix(), a.R * b.t + a.t};
 }
 
+/// V(w) of SE(3)'s exponential: t = V(w) v for the twist (w, v).
+Eigen::Matrix3d twistV(const Eigen::Vector3d& w) {
+  const double a = w.norm();
+  Eigen::Matrix3d W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  if (a < 1e-9) return Eigen::Matrix3d::Identity() + 0.5 * W;
+  return Eigen::Matrix3d::Identity() + (1 - std::cos(a)) / (a * a) * W +
+         (a - std::sin(a)) / (a * a * a) * W * W;
+}
+
+/// The rigid motion `scale` times as far along the same screw (exp(scale log m)).
+Pose scaledMotion(const Pose& m, double scale) {
+  const Eigen::AngleAxisd turn(m.R);
+  const Eigen::Vector3d w = turn.angle() * turn.axis();
+  const Eigen::Vector3d v = twistV(w).lu().solve(m.t);
+  const Eigen::Vector3d ws = scale * w;
+  const double a = ws.norm();
+  const Eigen::Matrix3d R =
+      a > 0 ? Eigen::AngleAxisd(a, ws / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  return Pose{R, twistV(ws) * (scale * v)};
+}
+
 bool settled(const RegistrationStep& s, const RegistrationOptions& o) {
   return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
 }
@@ -31,6 +53,22 @@ std::string percent(double share) {
   char text[32];
   std::snprintf(text, sizeof text, "%.0f%%", 100 * share);
   return text;
+}
+
+/// True when the last step, shorter than `reach`, went back to where the fit was two steps
+/// before: a point or two entering and leaving the band flip a weakly pinned direction back and
+/// forth, and the fit would never settle by the step rule. The pose is then put halfway between
+/// the two places, where the fit would settle.
+bool cycled(const std::vector<Pose>& path, Pose& pose, double reach) {
+  if (path.size() < 3) return false;
+  const Pose& back = path[path.size() - 3];
+  const Pose& previous = path[path.size() - 2];
+  const Pose step = between(previous, pose), loop = between(back, pose);
+  if (!(step.t.norm() < reach && loop.t.norm() < 0.25 * step.t.norm() &&
+        rotationDegrees(loop.R) <= 0.25 * rotationDegrees(step.R) + 1e-9))
+    return false;
+  pose = compose(previous, scaledMotion(step, 0.5));
+  return true;
 }
 
 /// One frame's fit from one start: coarse level, then every control point.
@@ -52,11 +90,13 @@ class FrameFit {
       if (every == 1 && s_.coarse == 1 && converged) break;
       const int iterations = every == 1 ? s_.fineIterations : s_.coarseIterations;
       converged = false;
+      std::vector<Pose> path{poses[i]};
       for (int it = 0; it < iterations && !converged; ++it) {
         final = planeStep(i, poses[i], every);
+        path.push_back(poses[i]);
         ++report.fits;
         if (!final.applied) break;
-        converged = settled(final, s_.fit);
+        converged = settled(final, s_.fit) || cycled(path, poses[i], s_.fit.correspondences.huber);
       }
       if (!final.applied) break;
     }
@@ -137,28 +177,6 @@ class FrameFit {
   Pose predicted_;
   MPI_Comm comm_;
 };
-
-/// V(w) of SE(3)'s exponential: t = V(w) v for the twist (w, v).
-Eigen::Matrix3d twistV(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  Eigen::Matrix3d W;
-  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
-  if (a < 1e-9) return Eigen::Matrix3d::Identity() + 0.5 * W;
-  return Eigen::Matrix3d::Identity() + (1 - std::cos(a)) / (a * a) * W +
-         (a - std::sin(a)) / (a * a * a) * W * W;
-}
-
-/// The rigid motion `scale` times as far along the same screw (exp(scale log m)).
-Pose scaledMotion(const Pose& m, double scale) {
-  const Eigen::AngleAxisd turn(m.R);
-  const Eigen::Vector3d w = turn.angle() * turn.axis();
-  const Eigen::Vector3d v = twistV(w).lu().solve(m.t);
-  const Eigen::Vector3d ws = scale * w;
-  const double a = ws.norm();
-  const Eigen::Matrix3d R =
-      a > 0 ? Eigen::AngleAxisd(a, ws / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
-  return Pose{R, twistV(ws) * (scale * v)};
-}
 
 /// True when two starts lie within the convergence tolerance of each other.
 bool samePlace(const Pose& a, const Pose& b, const RegistrationOptions& o) {

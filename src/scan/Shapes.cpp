@@ -117,12 +117,35 @@ TriangleMesh makeRoom() {
   return m;
 }
 
+TriangleMesh makeDesk() {
+  // Cells of 5 cm: fine enough that the boxes' faces stay flat under the scanner's rays.
+  const double cell = 0.05, top = 0.75;
+  TriangleMesh m =
+      makeBox(Eigen::Vector3d(-0.6, -0.4, top - 0.03), Eigen::Vector3d(0.6, 0.4, top), true, cell);
+  for (const double x : {-0.55, 0.5})
+    for (const double y : {-0.35, 0.3})
+      appendMesh(m, makeBox(Eigen::Vector3d(x, y, 0),
+                            Eigen::Vector3d(x + 0.05, y + 0.05, top - 0.03), false, cell));
+  auto onTop = [&](double x0, double y0, double x1, double y1, double z0, double z1) {
+    appendMesh(m, makeBox(Eigen::Vector3d(x0, y0, top + z0), Eigen::Vector3d(x1, y1, top + z1),
+                          z0 > 0, cell));
+  };
+  onTop(-0.05, 0.26, 0.03, 0.34, 0, 0.1);     // monitor stand
+  onTop(-0.3, 0.28, 0.25, 0.32, 0.1, 0.43);   // monitor
+  onTop(-0.28, -0.2, 0.17, -0.05, 0, 0.025);  // keyboard
+  onTop(0.25, -0.3, 0.5, -0.12, 0, 0.05);     // book
+  appendMesh(m, makeSphere(Eigen::Vector3d(-0.42, -0.15, top + 0.07), 0.07, 24, 48));  // ball
+  appendMesh(m, makeTorus(Eigen::Vector3d(0.38, 0.15, top + 0.025), 0.08, 0.025, 64, 24));
+  return m;
+}
+
 TriangleMesh makeShape(const std::string& name) {
   if (name == "room") return makeRoom();
+  if (name == "desk") return makeDesk();
   if (name == "sphere") return makeSphere(Eigen::Vector3d::Zero(), 50, 96, 192);
   if (name == "torus") return makeTorus(Eigen::Vector3d::Zero(), 35, 15, 192, 80);
   if (name == "composite") return makeComposite();
-  throw InputError("--shape must be sphere, torus, composite or room, not '" + name + "'");
+  throw InputError("--shape must be sphere, torus, composite, room or desk, not '" + name + "'");
 }
 
 }  // namespace rangefuse

@@ -27,7 +27,12 @@ TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, bool 
 /// a scene for terrestrial scanner stations.
 TriangleMesh makeRoom();
 
-/// "sphere", "torus" or "composite", each about 100 units across, or "room" (8 m across);
+/// A desk 1.2 x 0.8 m on four legs with a monitor, a keyboard, a book, a ball and a ring lying
+/// on it: a scene for hand-held depth cameras, with no axis of symmetry, as real desks have.
+TriangleMesh makeDesk();
+
+/// "sphere", "torus" or "composite", each about 100 units across, "room" (8 m across) or
+/// "desk" (1.2 m);
 /// throws InputError.
 TriangleMesh makeShape(const std::string& name);
 
