@@ -35,6 +35,7 @@ internal::PlyMeshFormat formatOf(const MeshPart& part, MPI_Comm comm) {
   f.faces = part.totalFaces;
   f.wide = internal::needsDoubleVertices(maxAbs, allEdges, f.faces);
   f.normals = allNormals;
+  f.colour = part.colour;
   return f;
 }
 
@@ -44,7 +45,8 @@ std::string encodeVertices(const MeshPart& part, const internal::PlyMeshFormat& 
   for (size_t i = 0; i < part.mesh.vertices.size(); ++i)
     if (part.owns(i))
       internal::encodeVertex(out, f, part.mesh.vertices[i],
-                             f.normals ? &part.mesh.normals[i] : nullptr);
+                             f.normals ? &part.mesh.normals[i] : nullptr,
+                             f.colour != ColourKind::none ? &part.mesh.colours[i] : nullptr);
   return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include "PlyFile.h"
 #include "PlyMeshFormat.h"
+#include "VertexColours.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
 
@@ -49,6 +50,8 @@ TriangleMesh meshFrom(const internal::PlyFile& f) {
       throw InputError(path + ": vertex #" + std::to_string(i) + " has a NaN or Inf coordinate");
     m.vertices[i] = p;
   }
+  ColourKind kind;
+  m.colours = internal::elementColours(path, *v, kind);
   readFaces(f, m);
   return m;
 }
@@ -64,7 +67,7 @@ TriangleMesh readMeshPly(const std::string& path, const InputLimits& limits) {
   return meshFrom(internal::readPly(path, limits.maxElements));
 }
 
-void writeMeshPly(const std::string& path, const TriangleMesh& mesh) {
+void writeMeshPly(const std::string& path, const TriangleMesh& mesh, ColourKind colour) {
   double maxAbs = 0;
   for (const auto& v : mesh.vertices) maxAbs = std::max(maxAbs, v.cwiseAbs().maxCoeff());
   int64_t edges = 0;
@@ -76,6 +79,7 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh) {
   f.faces = mesh.faces.size();
   f.wide = internal::needsDoubleVertices(maxAbs, edges, f.faces);
   f.normals = !mesh.normals.empty();
+  f.colour = mesh.colours.empty() ? ColourKind::none : colour;
   writeAtomically(path, [&](std::ostream& out) {
     std::string buf = f.header();
     const auto flushFull = [&] {
@@ -84,7 +88,8 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh) {
       buf.clear();
     };
     for (size_t i = 0; i < mesh.vertices.size(); ++i, flushFull())
-      internal::encodeVertex(buf, f, mesh.vertices[i], f.normals ? &mesh.normals[i] : nullptr);
+      internal::encodeVertex(buf, f, mesh.vertices[i], f.normals ? &mesh.normals[i] : nullptr,
+                             f.colour != ColourKind::none ? &mesh.colours[i] : nullptr);
     for (const auto& t : mesh.faces) {
       internal::encodeFace(buf, t[0], t[1], t[2]);
       flushFull();

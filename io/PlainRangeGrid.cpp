@@ -19,6 +19,8 @@ bool vertexLayout(const PlyElement& e, VertexLayout& v) {
   int found = 0;
   for (const PlyProperty& p : e.properties) {
     if (p.isList) return false;
+    // Colour or intensity: the general reader keeps it.
+    if (p.name == "red" || p.name == "diffuse_red" || p.name == "intensity") return false;
     size_t* at = p.name == "x" ? &v.x : p.name == "y" ? &v.y : p.name == "z" ? &v.z : nullptr;
     if (at) {
       const bool floating = p.type == PlyType::Float32 || p.type == PlyType::Float64;

@@ -1,5 +1,6 @@
 #include "PlyMeshFormat.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -21,6 +22,9 @@ std::string PlyMeshFormat::header() const {
   h += "element vertex " + std::to_string(vertices) + "\n";
   for (const char* axis : {"x", "y", "z"}) h += std::string("property ") + type + " " + axis + "\n";
   if (normals) h += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (colour == ColourKind::rgb)
+    h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (colour == ColourKind::intensity) h += "property float intensity\n";
   h += "element face " + std::to_string(faces) + "\n";
   h += "property list uchar int vertex_indices\nend_header\n";
   return h;
@@ -42,7 +46,7 @@ bool needsDoubleVertices(double maxAbs, int64_t edgeUnitsSum, uint64_t faces) {
 }
 
 void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d* normal) {
+                  const Eigen::Vector3d* normal, const Colour* colour) {
   for (int k = 0; k < 3; ++k) {
     if (f.wide)
       put(out, p[k]);
@@ -51,6 +55,10 @@ void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3
   }
   if (f.normals)
     for (int k = 0; k < 3; ++k) put(out, static_cast<float>((*normal)[k]));
+  if (f.colour == ColourKind::rgb)
+    for (int k = 0; k < 3; ++k)
+      put(out, static_cast<uint8_t>(std::lround(std::clamp((*colour)[k], 0.0f, 1.0f) * 255)));
+  if (f.colour == ColourKind::intensity) put(out, (*colour)[0]);
 }
 
 void encodeFace(std::string& out, int32_t a, int32_t b, int32_t c) {

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "rangefuse/core/Colour.h"
+
 namespace rangefuse::io::internal {
 
 /// What decides the header and the size of every record.
@@ -14,9 +16,15 @@ struct PlyMeshFormat {
   uint64_t faces = 0;
   bool wide = false;  ///< double vertex coordinates instead of float
   bool normals = false;
+  ColourKind colour = ColourKind::none;  ///< rgb: uchar red green blue; intensity: a float
 
   std::string header() const;
-  size_t vertexBytes() const { return (wide ? 24 : 12) + (normals ? 12 : 0); }
+  size_t vertexBytes() const {
+    return (wide ? 24 : 12) + (normals ? 12 : 0) +
+           (colour == ColourKind::rgb         ? 3
+            : colour == ColourKind::intensity ? 4
+                                              : 0);
+  }
   static constexpr size_t kFaceBytes = 13;  // uchar count + 3 int indices
 };
 
@@ -32,9 +40,9 @@ int64_t edgeUnits(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double ste
 /// the step exceeds 1/1000 of the mean edge.
 bool needsDoubleVertices(double maxAbs, int64_t edgeUnitsSum, uint64_t faces);
 
-/// Appends one vertex record (normal may be null when the format has none).
+/// Appends one vertex record (normal and colour may be null when the format has none).
 void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d* normal);
+                  const Eigen::Vector3d* normal, const Colour* colour = nullptr);
 
 /// Appends one triangle record.
 void encodeFace(std::string& out, int32_t a, int32_t b, int32_t c);

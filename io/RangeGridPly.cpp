@@ -5,6 +5,7 @@
 
 #include "PlainRangeGrid.h"
 #include "PlyFile.h"
+#include "VertexColours.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
 
@@ -41,6 +42,7 @@ void readPoints(const PlyFile& f, RangeGrid& g) {
       throw InputError(f.path + ": vertex #" + std::to_string(i) + " has a NaN or Inf coordinate");
     g.points[i] = p;
   }
+  g.colours = elementColours(f.path, *v, g.colourKind);
 }
 
 void readCells(const PlyFile& f, RangeGrid& g) {

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <iomanip>
 
@@ -16,6 +17,10 @@ void putBinary(std::ostream& out, T v, bool bigEndian) {
   out.write(b, sizeof(T));
 }
 
+uint8_t byteOf(float channel) {
+  return static_cast<uint8_t>(std::lround(std::clamp(channel, 0.0f, 1.0f) * 255));
+}
+
 void writeHeader(std::ostream& out, const RangeGrid& g, PlyEncoding e) {
   static const char* kFormat[] = {"ascii", "binary_little_endian", "binary_big_endian"};
   out << "ply\nformat " << kFormat[static_cast<int>(e)] << " 1.0\n"
@@ -26,8 +31,11 @@ void writeHeader(std::ostream& out, const RangeGrid& g, PlyEncoding e) {
         << "\nobj_info pinhole_cy " << g.pinhole->cy << "\n";
   }
   out << "element vertex " << g.points.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\n"
-      << "element range_grid " << g.cell.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (g.colourKind == ColourKind::rgb)
+    out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (g.colourKind == ColourKind::intensity) out << "property float intensity\n";
+  out << "element range_grid " << g.cell.size()
       << "\nproperty list uchar int vertex_indices\nend_header\n";
 }
 
@@ -39,13 +47,23 @@ void writeRangeGridPly(const std::string& path, const RangeGrid& g, PlyEncoding 
     const bool big = e == PlyEncoding::BinaryBigEndian;
     if (e == PlyEncoding::Ascii) {
       out << std::setprecision(9);
-      for (const auto& p : g.points)
-        out << float(p.x()) << ' ' << float(p.y()) << ' ' << float(p.z()) << '\n';
+      for (size_t i = 0; i < g.points.size(); ++i) {
+        const Eigen::Vector3d& p = g.points[i];
+        out << float(p.x()) << ' ' << float(p.y()) << ' ' << float(p.z());
+        if (g.colourKind == ColourKind::rgb)
+          for (int k = 0; k < 3; ++k) out << ' ' << int(byteOf(g.colours[i][k]));
+        if (g.colourKind == ColourKind::intensity) out << ' ' << g.colours[i][0];
+        out << '\n';
+      }
       for (int32_t c : g.cell) out << (c < 0 ? "0" : "1 " + std::to_string(c)) << '\n';
       return;
     }
-    for (const auto& p : g.points)
-      for (int k = 0; k < 3; ++k) putBinary(out, static_cast<float>(p[k]), big);
+    for (size_t i = 0; i < g.points.size(); ++i) {
+      for (int k = 0; k < 3; ++k) putBinary(out, static_cast<float>(g.points[i][k]), big);
+      if (g.colourKind == ColourKind::rgb)
+        for (int k = 0; k < 3; ++k) putBinary(out, byteOf(g.colours[i][k]), big);
+      if (g.colourKind == ColourKind::intensity) putBinary(out, g.colours[i][0], big);
+    }
     for (int32_t c : g.cell) {
       putBinary<uint8_t>(out, c < 0 ? 0 : 1, big);
       if (c >= 0) putBinary<int32_t>(out, c, big);

@@ -51,7 +51,8 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
               {"patches", s.patches},
               {"rot_deg", s.rotDeg},
               {"trans_voxels", s.transVox},
-              {"seed", s.seed}}},
+              {"seed", s.seed},
+              {"texture", s.texture}}},
             {"object_centre", vec(set.centre)},
             {"object_radius", set.radius}};
   for (const auto& sc : set.scans) {
@@ -142,6 +143,11 @@ ScanOptions checked(ScanOptions o) {
   o.settings.path = paths.at(o.path);
   if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx")
     throw InputError("scan: --format must be ply, tum, redwood or ptx");
+  if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
+  if (o.settings.texture > 0 && o.format != "ply")
+    throw InputError(
+        "scan: --texture is written with --format ply only (colour images and PTX "
+        "colour are not written yet)");
   if (o.path == "stations" && o.format != "ptx")
     throw InputError("scan: stations are written as --format ptx (spherical grids)");
   if (!(o.scale > 0 && std::isfinite(o.scale)))
@@ -172,6 +178,9 @@ int run(const ScanOptions& given) {
     writeStations(set, o.out);
   else
     writeSequence(o, set, o.out);
+  if (o.settings.texture > 0)
+    for (const Eigen::Vector3d& v : mesh.vertices)
+      mesh.colours.push_back(checkColour(v, o.settings.texture));
   io::writeMeshPly(file("truth.ply"), mesh);
   io::writeMeshPly(file("patches.ply"), patchMesh(set.patches));
   for (size_t k = 0; k < set.patches.size(); ++k)
@@ -220,7 +229,10 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
                                                        "random seed")(
       "ascii", po::bool_switch(&o.ascii), "write ASCII range grids (default binary)")(
       "big-endian", po::bool_switch(&o.bigEndian), "write big-endian binary range grids")(
-      "out", po::value(&o.out), "output folder");
+      "texture", po::value(&s.texture)->default_value(0.0),
+      "colour the surface with checks of this side (world units; 0: no colour): range grids get "
+      "red green blue, truth.ply the checks' colour at its vertices")("out", po::value(&o.out),
+                                                                      "output folder");
   addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(

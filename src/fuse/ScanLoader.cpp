@@ -33,6 +33,7 @@ void packScan(std::vector<char>& buf, uint64_t index, const PrismScan& s) {
   packVector(buf, s.surface.normals);
   packVector(buf, s.surface.confidence);
   packVector(buf, s.surface.triangles);
+  packVector(buf, s.surface.colours);
   packVector(buf, s.limits);
   mpi::pack(buf, &s.surface.sensor, 1);
 }
@@ -44,6 +45,7 @@ uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   unpackVector(buf, pos, s.surface.normals);
   unpackVector(buf, pos, s.surface.confidence);
   unpackVector(buf, pos, s.surface.triangles);
+  unpackVector(buf, pos, s.surface.colours);
   unpackVector(buf, pos, s.limits);
   mpi::unpack(buf, pos, &s.surface.sensor, 1);
   return index;
@@ -66,6 +68,7 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
         part.surface.points.push_back(s.points[tri[k]]);
         part.surface.normals.push_back(s.normals[tri[k]]);
         part.surface.confidence.push_back(s.confidence[tri[k]]);
+        if (!s.colours.empty()) part.surface.colours.push_back(s.colours[tri[k]]);
       }
       tri[k] = to;
     }
@@ -147,7 +150,8 @@ IndexedScans loadScanShare(const io::ConfFile& conf, const SurfaceOptions& optio
 uint64_t scanBytes(const PrismScan& s) {
   const uint64_t perPoint = 2 * sizeof(Eigen::Vector3d) + sizeof(double);
   const uint64_t perTriangle = sizeof(Triangle) + sizeof(std::array<double, 2>);
-  return perPoint * s.surface.points.size() + perTriangle * s.surface.triangles.size();
+  return perPoint * s.surface.points.size() + sizeof(Colour) * s.surface.colours.size() +
+         perTriangle * s.surface.triangles.size();
 }
 
 namespace {
@@ -250,6 +254,7 @@ PrismScan joinScans(std::vector<PrismScan>&& parts) {
     s.points.insert(s.points.end(), p.points.begin(), p.points.end());
     s.normals.insert(s.normals.end(), p.normals.begin(), p.normals.end());
     s.confidence.insert(s.confidence.end(), p.confidence.begin(), p.confidence.end());
+    s.colours.insert(s.colours.end(), p.colours.begin(), p.colours.end());
     for (Triangle t : p.triangles) s.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
     out.limits.insert(out.limits.end(), parts[k].limits.begin(), parts[k].limits.end());
   }

@@ -3,11 +3,13 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <iterator>
 #include <map>
 #include <optional>
 
+#include "rangefuse/fuse/ColourChoice.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
@@ -139,10 +141,11 @@ struct SightMaps {
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
 bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
                Progress& progress, Eigen::AlignedBox3d& box, uint64_t& triangles,
-               std::vector<uint64_t>& bytes, SightMaps* sights) {
+               std::vector<uint64_t>& bytes, std::vector<ColourKind>& kinds, SightMaps* sights) {
   std::map<size_t, std::string> warnings;
   triangles = 0;
   bytes.assign(conf.scans.size(), 0);
+  std::vector<uint8_t> kindOf(conf.scans.size(), 0);  // the reader's kind, 0 elsewhere
   if (!collectively(comm, [&] {
         std::vector<size_t> mine;
         for (size_t i = 0; i < conf.scans.size(); ++i)
@@ -159,6 +162,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
             box.extend(pointBounds(s));
             triangles += s.surface.triangles.size();
             bytes[i] = scanBytes(s);
+            kindOf[i] = static_cast<uint8_t>(s.surface.colourKind);
             if (sights && s.sight) sights->mine.emplace(i, *s.sight);
             share.offer(i, std::move(s));
           }
@@ -174,6 +178,10 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
   MPI_Allreduce(MPI_IN_PLACE, &triangles, 1, MPI_UINT64_T, MPI_SUM, comm);
   MPI_Allreduce(MPI_IN_PLACE, bytes.data(), static_cast<int>(bytes.size()), MPI_UINT64_T, MPI_SUM,
                 comm);
+  MPI_Allreduce(MPI_IN_PLACE, kindOf.data(), static_cast<int>(kindOf.size()), MPI_UINT8_T, MPI_MAX,
+                comm);
+  kinds.clear();
+  for (const uint8_t k : kindOf) kinds.push_back(static_cast<ColourKind>(k));
   return true;
 }
 
@@ -242,11 +250,15 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
     std::vector<std::vector<char>> out(ranks);
     IndexedScans parts;
     if (!collectively(comm, [&] {
-          for (size_t i = first; i < end; ++i)
+          for (size_t i = first; i < end; ++i) {
+            if (!alone && !share.reads(i)) continue;
+            PrismScan s = share.take(i);
+            if (!store.hasColour()) s.surface.colours = {};  // nothing to route or keep
             if (alone)
-              parts.emplace_back(i, share.take(i));
-            else if (share.reads(i))
-              routeScan(i, share.take(i), store.layout(), reach, me, out, parts, routing);
+              parts.emplace_back(i, std::move(s));
+            else
+              routeScan(i, std::move(s), store.layout(), reach, me, out, parts, routing);
+          }
         }))
       return false;
     IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
@@ -335,11 +347,18 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   std::vector<uint64_t> bytes;
+  std::vector<ColourKind> kinds;
   std::optional<SightMaps> sights;
   if (o.robust) sights.emplace();
-  if (!readShare(conf, share, std::max(1, o.threads), comm, progress, box, triangles, bytes,
+  if (!readShare(conf, share, std::max(1, o.threads), comm, progress, box, triangles, bytes, kinds,
                  sights ? &*sights : nullptr))
     return false;
+  ColourKind colour = ColourKind::none;
+  std::string note;
+  // Every rank holds the same kinds: the same choice, or the same error, everywhere.
+  if (!collectively(comm, [&] { colour = chooseColour(o.colour, kinds, conf, note); }))
+    return false;
+  if (!note.empty() && me == 0) std::fprintf(stderr, "note: %s\n", note.c_str());
   if (sights) sights->share(scanOf, comm);
   malloc_trim(0);  // what reading freed goes back to the system before the field is allocated
   std::string read = std::to_string(scans.scans.size()) + " scans";
@@ -356,6 +375,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
     return false;
   if (o.planned) o.planned(field.layout);
   field.store = std::make_unique<BrickStore>(field.layout, me);
+  if (colour != ColourKind::none) field.store->enableColour(colour);
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
   RoutingStats routing;

@@ -16,10 +16,19 @@ int32_t vertexFor(const FieldBlock& block, const VoxelGrid& grid, const VoxelInd
   VoxelIndex lo = local, hi = local;
   hi[e.axis] += 1;
   const double d0 = block.at(lo.x(), lo.y(), lo.z()), d1 = block.at(hi.x(), hi.y(), hi.z());
+  const double t = d0 / (d0 - d1);
   Eigen::Vector3d p = grid.centre(v);
-  p[e.axis] += grid.voxel * (d0 / (d0 - d1));
+  p[e.axis] += grid.voxel * t;
   piece.keys.push_back(key);
   piece.positions.push_back(p);
+  if (!block.colours.empty()) {  // the colour along the edge, as the position
+    const size_t side = block.side();
+    const auto index = [&](const VoxelIndex& l) {
+      return (static_cast<size_t>(l.z()) * side + l.y()) * side + l.x();
+    };
+    const Eigen::Vector3f &c0 = block.colours[index(lo)], &c1 = block.colours[index(hi)];
+    piece.colours.push_back(c0 + static_cast<float>(t) * (c1 - c0));
+  }
   return at;
 }
 
@@ -67,6 +76,7 @@ MeshPiece joinPieces(std::vector<MeshPiece> pieces) {
       if (isNew) {
         all.keys.push_back(p.keys[i]);
         all.positions.push_back(p.positions[i]);
+        if (!p.colours.empty()) all.colours.push_back(p.colours[i]);
       }
       to[i] = at;
     }
@@ -84,7 +94,10 @@ TriangleMesh mergePieces(const std::vector<MeshPiece>& pieces) {
       for (int k = 0; k < 3; ++k) {
         auto [it, isNew] =
             global.emplace(piece.keys[t[k]], static_cast<int32_t>(mesh.vertices.size()));
-        if (isNew) mesh.vertices.push_back(piece.positions[t[k]]);
+        if (isNew) {
+          mesh.vertices.push_back(piece.positions[t[k]]);
+          if (!piece.colours.empty()) mesh.colours.push_back(piece.colours[t[k]]);
+        }
         g[k] = it->second;
       }
       mesh.faces.push_back(g);

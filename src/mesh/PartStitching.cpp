@@ -97,6 +97,7 @@ MeshPart stitchPiece(const MeshPiece& piece, const BrickLayout& layout, MPI_Comm
   MeshPart part;
   part.rank = mpi::rank(comm);
   part.mesh.vertices = piece.positions;
+  part.mesh.colours = piece.colours;
   part.mesh.faces = piece.faces;
   const std::vector<std::vector<int>> users = sharingRanks(piece, layout, comm);
   part.owner.resize(users.size());
@@ -162,12 +163,14 @@ void addPartNormals(MeshPart& part, MPI_Comm comm) {
 TriangleMesh gatherMesh(const MeshPart& part, int root, MPI_Comm comm) {
   std::vector<char> mine;
   const bool normals = !part.mesh.normals.empty();
+  const bool colours = part.colour != ColourKind::none;
   const uint64_t nf = part.mesh.faces.size();
   mpi::pack(mine, &part.ownedVertices, 1);
   for (size_t i = 0; i < part.global.size(); ++i)
     if (part.owns(i)) {
       mpi::pack(mine, &part.mesh.vertices[i], 1);
       if (normals) mpi::pack(mine, &part.mesh.normals[i], 1);
+      if (colours) mpi::pack(mine, &part.mesh.colours[i], 1);
     }
   mpi::pack(mine, &nf, 1);
   for (const Triangle& t : part.mesh.faces) {
@@ -184,6 +187,7 @@ TriangleMesh gatherMesh(const MeshPart& part, int root, MPI_Comm comm) {
     for (uint64_t k = 0; k < count; ++k) {
       mpi::unpack(all, pos, &mesh.vertices.emplace_back(), 1);
       if (normals) mpi::unpack(all, pos, &mesh.normals.emplace_back(), 1);
+      if (colours) mpi::unpack(all, pos, &mesh.colours.emplace_back(), 1);
     }
     mpi::unpack(all, pos, &count, 1);
     for (uint64_t k = 0; k < count; ++k) mpi::unpack(all, pos, &mesh.faces.emplace_back(), 1);

@@ -171,6 +171,9 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     __builtin_prefetch(&latest_[at]);
     return static_cast<int64_t>(at);
   };
+  // The store takes colour only from coloured scans (a job is coloured throughout or not at all).
+  const bool coloured = store_.hasColour() && !scan.surface.colours.empty();
+  const Triangle* triangle = nullptr;
   auto visit = [&](const VoxelIndex&, int64_t at, const PrismFoot& foot) {
     Sample* s = sampleOf(slab, static_cast<size_t>(at));
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
@@ -178,6 +181,15 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     if (!s) {
       latest_[at] = static_cast<uint32_t>(slab.samples.size());
       s = &slab.samples.emplace_back();
+      if (coloured) slab.colours.emplace_back();
+    }
+    if (coloured) {  // the colour at the foot, interpolated as the gradient is
+      const auto& c = scan.surface.colours;
+      const Triangle& tri = *triangle;
+      slab.colours[static_cast<size_t>(s - slab.samples.data())] =
+          static_cast<float>(foot.bary[0]) * c[tri[0]] +
+          static_cast<float>(foot.bary[1]) * c[tri[1]] +
+          static_cast<float>(foot.bary[2]) * c[tri[2]];
     }
     const Eigen::Vector3d g = footGradient(prism, foot.bary);
     *s = Sample{static_cast<uint32_t>(at),
@@ -194,6 +206,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     prismLayers(scan, t, grid, zLo, zHi);
     if (zLo > slab.zHi || zHi < slab.zLo || zLo > zHi) continue;
     prism = scanPrism(scan, t);
+    triangle = &scan.surface.triangles[t];
     internal::PrismRows rows(prism, grid);
     if (rows.empty()) continue;
     const BrickCoord bLo = brickOf(rows.lo, grid.brick), bHi = brickOf(rows.hi, grid.brick);
@@ -219,6 +232,8 @@ void PrismIntegrator::accumulate(Slab& slab) {
       continue;
     }
     if (i + ahead < n) __builtin_prefetch(&sums[samples[i + ahead].at]);
+    // The colour's mean takes the weight the sums held before this sample.
+    if (!slab.colours.empty()) store_.colours()[s.at].add(slab.colours[i], s.w, sums[s.at].w);
     sums[s.at].add(s.d, s.w, s.f);
   }
 }
@@ -265,6 +280,7 @@ IntegrationStats PrismIntegrator::integrateSlab(const std::vector<Image>& images
     accumulate(slab);
     stats.voxelUpdates += slab.samples.size();
     slab.samples.clear();
+    slab.colours.clear();
   }
   return stats;
 }

@@ -124,17 +124,19 @@ SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centr
   return p;
 }
 
-/// Casts one ray per pixel; returns the hit distance along the unit ray, or NaN.
+/// Casts one ray per pixel; returns the hit distance along the unit ray, or NaN; `onPatch`
+/// tells whether an extraneous patch was hit.
 double castPixel(const Bvh& bvh, const TriangleMesh& patches, const Eigen::Vector3d& eye,
-                 const Eigen::Vector3d& dir) {
+                 const Eigen::Vector3d& dir, bool& onPatch) {
   RayHit hit;
   double t = bvh.firstHit(eye, dir, 0, INFINITY, hit) ? hit.t : NAN;
+  onPatch = false;
   for (const Triangle& f : patches.faces) {
     double tp;
     const double limit = std::isnan(t) ? INFINITY : t;
     if (intersectTriangle(eye, dir, patches.vertices[f[0]], patches.vertices[f[1]],
                           patches.vertices[f[2]], 0, limit, tp))
-      t = tp;
+      t = tp, onPatch = true;
   }
   return t;
 }
@@ -142,6 +144,7 @@ double castPixel(const Bvh& bvh, const TriangleMesh& patches, const Eigen::Vecto
 void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, double depthLo,
             double depthHi, double eyeDistance, const ScanSettings& set, std::mt19937_64& rng) {
   RangeGrid& g = s.grid;
+  g.colourKind = set.texture > 0 ? ColourKind::rgb : ColourKind::none;
   g.cols = set.width;
   g.rows = set.height;
   g.cell.assign(static_cast<size_t>(g.cols) * g.rows, -1);
@@ -153,8 +156,13 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c) {
       const Eigen::Vector3d ray = g.spherical ? stationRay(g, r, c) : pinholeRay(g, r, c);
-      double t = castPixel(bvh, patches, s.truth.t, s.truth.R * ray);
+      bool onPatch;
+      double t = castPixel(bvh, patches, s.truth.t, s.truth.R * ray, onPatch);
       if (std::isnan(t)) continue;
+      // The colour of what the ray truly hits: a colour camera is not fooled by a depth outlier.
+      if (set.texture > 0)
+        g.colours.push_back(onPatch ? patchColour()
+                                    : checkColour(s.truth.apply(t * ray), set.texture));
       if (set.outliers > 0 && unit(rng) < set.outliers)
         t = depth(rng);
       else if (set.noise > 0)
@@ -165,6 +173,17 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
 }
 
 }  // namespace
+
+Colour checkColour(const Eigen::Vector3d& p, double size) {
+  const long parity = static_cast<long>(std::floor(p.x() / size)) +
+                      static_cast<long>(std::floor(p.y() / size)) +
+                      static_cast<long>(std::floor(p.z() / size));
+  return parity % 2 == 0 ? Colour(0.85f, 0.35f, 0.15f) : Colour(0.15f, 0.45f, 0.80f);
+}
+
+Colour patchColour() {
+  return Colour(0.9f, 0.1f, 0.9f);
+}
 
 SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
   validate(mesh, set);

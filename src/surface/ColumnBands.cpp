@@ -27,12 +27,14 @@ RangeGrid besideEachOther(const std::vector<RangeGrid>& parts) {
   RangeGrid out = parts.front();
   out.cols = 0;
   out.points.clear();
+  out.colours.clear();
   for (const RangeGrid& p : parts) out.cols += p.cols;
   out.cell.assign(static_cast<size_t>(out.cols) * out.rows, -1);
   int left = 0;
   for (const RangeGrid& p : parts) {
     const auto base = static_cast<int32_t>(out.points.size());
     out.points.insert(out.points.end(), p.points.begin(), p.points.end());
+    out.colours.insert(out.colours.end(), p.colours.begin(), p.colours.end());
     for (int r = 0; r < p.rows; ++r)
       for (int c = 0; c < p.cols; ++c)
         if (const int32_t k = p.at(r, c); k >= 0)
@@ -47,6 +49,7 @@ RangeGrid emptyColumn(const RangeGrid& like) {
   RangeGrid g = like;
   g.cols = 1;
   g.points.clear();
+  g.colours.clear();
   g.cell.assign(static_cast<size_t>(g.rows), -1);
   return g;
 }
@@ -104,6 +107,7 @@ TriangleMesh ownCells(const TriangleMesh& mesh, const std::vector<int>& cellColu
       if (remap[v] < 0) {
         remap[v] = static_cast<int32_t>(own.vertices.size());
         own.vertices.push_back(mesh.vertices[v]);
+        if (!mesh.colours.empty()) own.colours.push_back(mesh.colours[v]);
         ownNormals.push_back(normals[v]);
       }
       v = remap[v];
@@ -164,7 +168,9 @@ ScanSurface buildBandSurface(const ColumnReader& read, const BandRules& rules, i
   const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, options.normalPasses);
   std::vector<Eigen::Vector3d> ownNormals;
   TriangleMesh own = ownCells(mesh, cellColumns, normals, before, before + end - first, ownNormals);
-  return orientedSurface(std::move(own), ownNormals, grid.sensor(), Pose{});
+  ScanSurface surface = orientedSurface(std::move(own), ownNormals, grid.sensor(), Pose{});
+  surface.colourKind = grid.colourKind;
+  return surface;
 }
 
 }  // namespace rangefuse

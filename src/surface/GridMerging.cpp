@@ -28,13 +28,17 @@ int32_t centralCell(const RangeGrid& g, int r0, int c0, int k, int& rc, int& cc)
   return found;
 }
 
-/// The mean of block (r0, c0)'s points on the surface of its central cell; false if none.
-bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Vector3d& mean) {
+/// The mean of block (r0, c0)'s points on the surface of its central cell, and of their colours
+/// if the grid has any; false if none.
+bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Vector3d& mean,
+               Colour& colour) {
   int rc = 0, cc = 0;
   const int32_t centre = centralCell(g, r0, c0, k, rc, cc);
   if (centre < 0) return false;
   const Eigen::Vector3d& ref = g.points[centre];
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Colour colourSum = Colour::Zero();
+  const bool coloured = !g.colours.empty();
   int n = 0;
   for (int r = r0; r < std::min(r0 + k, g.rows); ++r)
     for (int c = c0; c < std::min(c0 + k, g.cols); ++c) {
@@ -43,9 +47,11 @@ bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Ve
       const int apart = std::max({std::abs(r - rc), std::abs(c - cc), 1});
       if ((g.points[i] - ref).norm() > step * apart) continue;
       sum += g.points[i];
+      if (coloured) colourSum += g.colours[i];
       ++n;
     }
   mean = sum / n;
+  colour = colourSum / static_cast<float>(n);
   return true;
 }
 
@@ -90,6 +96,7 @@ RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFa
   out.rows = (g.rows + k - 1) / k;
   out.cell.assign(static_cast<size_t>(out.cols) * out.rows, -1);
   out.spherical = g.spherical;
+  out.colourKind = g.colourKind;
   if (g.pinhole) {
     // Merged pixel (C, R) is centred on old pixel k C + (k - 1) / 2.
     Pinhole p = *g.pinhole;
@@ -100,11 +107,13 @@ RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFa
   }
   const double step = maxEdgeFactor * spacing;
   Eigen::Vector3d mean;
+  Colour colour;
   for (int R = 0; R < out.rows; ++R)
     for (int C = 0; C < out.cols; ++C) {
-      if (!blockMean(g, R * k, C * k, k, step, mean)) continue;
+      if (!blockMean(g, R * k, C * k, k, step, mean, colour)) continue;
       out.cell[static_cast<size_t>(R) * out.cols + C] = static_cast<int32_t>(out.points.size());
       out.points.push_back(mean);
+      if (!g.colours.empty()) out.colours.push_back(colour);
     }
   return out;
 }

@@ -12,7 +12,9 @@ ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, con
                       int normalPasses) {
   TriangleMesh mesh = triangulateGrid(grid, rules);
   const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, normalPasses);
-  return orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
+  ScanSurface s = orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
+  s.colourKind = grid.colourKind;
+  return s;
 }
 
 }  // namespace
@@ -36,6 +38,7 @@ ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector
                             const Sensor& sensor, const Pose& pose) {
   ScanSurface s;
   s.triangles = std::move(mesh.faces);
+  s.colours = std::move(mesh.colours);
   s.sensor = sensor.placed(pose);
   s.points.reserve(mesh.vertices.size());
   s.normals.reserve(mesh.vertices.size());

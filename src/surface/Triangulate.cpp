@@ -100,6 +100,7 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rul
     if (remap[i] < 0) {
       remap[i] = static_cast<int32_t>(mesh.vertices.size());
       mesh.vertices.push_back(grid.points[i]);
+      if (!grid.colours.empty()) mesh.colours.push_back(grid.colours[i]);
     }
     return remap[i];
   };

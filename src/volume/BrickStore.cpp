@@ -3,6 +3,30 @@
 #include <algorithm>
 
 namespace rangefuse {
+namespace {
+
+/// Moves brick slot[k] of `data` (bricks of `per` values) to position k, following each cycle
+/// of the permutation through one scratch brick.
+template <class T>
+void permuteBricks(std::vector<T>& data, const std::vector<size_t>& slot, size_t per) {
+  std::vector<T> scratch(per);
+  std::vector<char> done(slot.size(), 0);
+  auto brick = [&](size_t b) { return data.begin() + static_cast<std::ptrdiff_t>(b * per); };
+  for (size_t start = 0; start < slot.size(); ++start) {
+    if (done[start] || slot[start] == start) continue;
+    std::copy(brick(start), brick(start + 1), scratch.begin());
+    size_t k = start;
+    while (slot[k] != start) {
+      std::copy(brick(slot[k]), brick(slot[k] + 1), brick(k));
+      done[k] = 1;
+      k = slot[k];
+    }
+    std::copy(scratch.begin(), scratch.end(), brick(k));
+    done[k] = 1;
+  }
+}
+
+}  // namespace
 
 BrickStore::BrickStore(const BrickLayout& layout, int rank)
     : layout_(layout), rank_(rank), first_(layout.rankStart[rank]) {
@@ -24,6 +48,12 @@ void BrickStore::grow(const BrickLayout& layout, const std::vector<uint64_t>& fr
     codes_.push_back(code);
   }
   sums_.resize(codes_.size() * perBrick_);
+  if (hasColour()) colours_.resize(sums_.size());
+}
+
+void BrickStore::enableColour(ColourKind kind) {
+  colourKind_ = kind;
+  colours_.resize(sums_.size());
 }
 
 void BrickStore::sortBricks() {
@@ -33,21 +63,8 @@ void BrickStore::sortBricks() {
   std::vector<size_t> slot(codes_.size());
   for (size_t k = 0; k < slot.size(); ++k) slot[k] = k;
   std::sort(slot.begin(), slot.end(), [&](size_t a, size_t b) { return codes_[a] < codes_[b]; });
-  std::vector<VoxelSums> scratch(perBrick_);
-  std::vector<char> done(slot.size(), 0);
-  auto brick = [&](size_t b) { return sums_.begin() + static_cast<std::ptrdiff_t>(b * perBrick_); };
-  for (size_t start = 0; start < slot.size(); ++start) {
-    if (done[start] || slot[start] == start) continue;
-    std::copy(brick(start), brick(start + 1), scratch.begin());
-    size_t k = start;
-    while (slot[k] != start) {
-      std::copy(brick(slot[k]), brick(slot[k] + 1), brick(k));
-      done[k] = 1;
-      k = slot[k];
-    }
-    std::copy(scratch.begin(), scratch.end(), brick(k));
-    done[k] = 1;
-  }
+  permuteBricks(sums_, slot, perBrick_);
+  if (hasColour()) permuteBricks(colours_, slot, perBrick_);
   std::sort(codes_.begin(), codes_.end());
   for (size_t k = 0; k < codes_.size(); ++k) index_[codes_[k]] = static_cast<int64_t>(k);
   ordered_ = true;

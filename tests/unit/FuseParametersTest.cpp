@@ -27,6 +27,7 @@ FuseOptions changed() {
   o.source.maxDepth = 3, o.bandCells = 1e6, o.source.depthScale = 4000, o.track = "on";
   o.firstPose = "1,2,3,0,0,0,1", o.minInliers = 0.4, o.maxStep = 12, o.skipLost = true;
   o.trajectoryOut = "t.txt", o.previewEvery = 5, o.follow = true, o.followTimeout = 30;
+  o.colour = "none";
   return o;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "rangefuse/core/Colour.h"
 #include "rangefuse/core/TriangleMesh.h"
 
 namespace rangefuse {
@@ -13,11 +14,12 @@ namespace rangefuse {
 /// firstVertex in the order of first use, so concatenating every rank's owned vertices and
 /// faces in rank order gives the mesh one rank would have built.
 struct MeshPart {
-  TriangleMesh mesh;            ///< local vertices (numbered by first use) and faces
-  std::vector<int64_t> global;  ///< global number of each local vertex
-  std::vector<int32_t> owner;   ///< owning rank of each local vertex
-  int rank = 0;                 ///< the rank holding this part
-  uint64_t firstVertex = 0;     ///< global number of this rank's first owned vertex
+  TriangleMesh mesh;                     ///< local vertices (numbered by first use) and faces
+  std::vector<int64_t> global;           ///< global number of each local vertex
+  std::vector<int32_t> owner;            ///< owning rank of each local vertex
+  int rank = 0;                          ///< the rank holding this part
+  ColourKind colour = ColourKind::none;  ///< what mesh.colours holds (the same on every rank)
+  uint64_t firstVertex = 0;              ///< global number of this rank's first owned vertex
   uint64_t ownedVertices = 0;
   uint64_t firstFace = 0;  ///< global number of this rank's first face
   uint64_t totalVertices = 0;

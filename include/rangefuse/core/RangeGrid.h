@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "rangefuse/core/Colour.h"
 #include "rangefuse/core/Sensor.h"
 
 namespace rangefuse {
@@ -21,8 +22,10 @@ struct Pinhole {
 struct RangeGrid {
   int cols = 0;
   int rows = 0;
-  std::vector<Eigen::Vector3d> points;  ///< in the scan frame
-  std::vector<int32_t> cell;            ///< rows*cols entries: point index or -1
+  std::vector<Eigen::Vector3d> points;       ///< in the scan frame
+  std::vector<int32_t> cell;                 ///< rows*cols entries: point index or -1
+  std::vector<Colour> colours;               ///< empty, or one per point
+  ColourKind colourKind = ColourKind::none;  ///< what `colours` holds
   std::optional<Pinhole> pinhole;
   bool spherical = false;  ///< a scanner station at the origin (PTX): rows and columns are angles
 

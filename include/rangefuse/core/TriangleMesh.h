@@ -15,6 +15,7 @@ struct TriangleMesh {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Triangle> faces;
   std::vector<Eigen::Vector3d> normals;  ///< empty, or one per vertex
+  std::vector<Eigen::Vector3f> colours;  ///< empty, or one per vertex (channels in [0, 1])
 };
 
 }  // namespace rangefuse

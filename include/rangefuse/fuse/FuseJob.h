@@ -25,20 +25,21 @@ struct FuseOptions {
   std::string report;            ///< run report .json (optional)
   std::string preview;           ///< rendered picture .png (optional)
   FieldMethod method = FieldMethod::Prism;
-  double voxel = 0;           ///< in the scans' units
-  double envelope = 3.0;      ///< prism half-thickness, in voxels
-  int brick = 8;              ///< voxels per brick edge
-  float minWeight = 0.0f;     ///< voxels with summed weight not above this are unobserved
-  bool normals = true;        ///< write vertex normals
-  SurfaceOptions surface;     ///< mergeTarget is set from mergeCells: see surfaceOptions
-  double mergeCells = 1;      ///< merge grid cells up to this many voxels (0: never)
-  double bandCells = 4e6;     ///< PTX scans of more cells are read in bands by several ranks
-  double quorum = -1;         ///< consensus: summed confidence needed; -1: autoQuorum
-  int minViews = 2;           ///< consensus: views a consensus needs (1: the quorum alone)
-  double edgeAngle = 78;      ///< consensus: beyond this angle from the normal, beside an edge
-  double sameDistance = 2.0;  ///< consensus: delta_d, voxels
-  double sameAngle = 45.0;    ///< consensus: theta_n, degrees
-  double freeMargin = -1;     ///< robust: looked-through depth, voxels (-1: the envelope)
+  std::string colour = "auto";  ///< auto, rgb, intensity or none
+  double voxel = 0;             ///< in the scans' units
+  double envelope = 3.0;        ///< prism half-thickness, in voxels
+  int brick = 8;                ///< voxels per brick edge
+  float minWeight = 0.0f;       ///< voxels with summed weight not above this are unobserved
+  bool normals = true;          ///< write vertex normals
+  SurfaceOptions surface;       ///< mergeTarget is set from mergeCells: see surfaceOptions
+  double mergeCells = 1;        ///< merge grid cells up to this many voxels (0: never)
+  double bandCells = 4e6;       ///< PTX scans of more cells are read in bands by several ranks
+  double quorum = -1;           ///< consensus: summed confidence needed; -1: autoQuorum
+  int minViews = 2;             ///< consensus: views a consensus needs (1: the quorum alone)
+  double edgeAngle = 78;        ///< consensus: beyond this angle from the normal, beside an edge
+  double sameDistance = 2.0;    ///< consensus: delta_d, voxels
+  double sameAngle = 45.0;      ///< consensus: theta_n, degrees
+  double freeMargin = -1;       ///< robust: looked-through depth, voxels (-1: the envelope)
   RegistrationMode registration = RegistrationMode::None;
   std::string anchor;           ///< scan name that fixes the frame (default: the first)
   int controlStride = 1;        ///< registration: every k-th vertex is a control point

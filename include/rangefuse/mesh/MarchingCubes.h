@@ -29,6 +29,7 @@ struct FieldBlock {
   VoxelIndex base;
   int cells = 0;
   std::vector<float> values;
+  std::vector<Eigen::Vector3f> colours;  ///< empty, or one per value
 
   int side() const { return cells + 1; }
   float at(int x, int y, int z) const {
@@ -43,7 +44,8 @@ uint64_t edgeKey(const VoxelIndex& v, int axis);
 struct MeshPiece {
   std::vector<uint64_t> keys;
   std::vector<Eigen::Vector3d> positions;
-  std::vector<Triangle> faces;  ///< indices into keys/positions
+  std::vector<Eigen::Vector3f> colours;  ///< empty, or one per position
+  std::vector<Triangle> faces;           ///< indices into keys/positions
   EdgeIndex index;
 };
 

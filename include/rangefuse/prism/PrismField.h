@@ -94,6 +94,7 @@ class PrismIntegrator {
   struct Slab {
     int zLo = 0, zHi = -1;
     std::vector<Sample> samples;
+    std::vector<Colour> colours;  ///< the samples' colours, when the store has colour
   };
   /// Checks the store fits 32-bit offsets and finds the voxel layers its bricks span.
   void measureStore();

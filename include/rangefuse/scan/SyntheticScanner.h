@@ -37,6 +37,7 @@ struct ScanSettings {
   double rotDeg = 0;        ///< perturbation: rotation about each axis uniform in [-A, A]
   double transVox = 0;      ///< perturbation: translation along each axis uniform in [-T, T]
   uint64_t seed = 1;
+  double texture = 0;  ///< checks of this side (world units) colour the surface; 0: no colour
 };
 
 /// An extraneous patch: a square floating in front of the object in one scan only.
@@ -69,6 +70,13 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& settings);
 
 /// The scanner's pose perturbation: rotation about x, y, z by angles uniform in [-rotDeg,
 /// rotDeg] about `centre`, then a shift uniform in [-shift, shift] per axis (world units).
+/// The synthetic scenes' analytic colour at world point p: cubes of side `size` alternating
+/// orange and blue, so that a surface shows checks whose edges are sharp at any scale.
+Colour checkColour(const Eigen::Vector3d& p, double size);
+
+/// The colour of an extraneous patch (magenta: told apart from both checks).
+Colour patchColour();
+
 /// Returns the perturbed pose; `angles` (degrees) and `translation` receive what was drawn.
 Pose perturbPose(const Pose& truth, const Eigen::Vector3d& centre, double rotDeg, double shift,
                  std::mt19937_64& rng, Eigen::Vector3d& angles, Eigen::Vector3d& translation);

@@ -27,6 +27,8 @@ struct ScanSurface {
   std::vector<Eigen::Vector3d> normals;
   std::vector<double> confidence;
   std::vector<Triangle> triangles;
+  std::vector<Colour> colours;               ///< empty, or one per point
+  ColourKind colourKind = ColourKind::none;  ///< what the scan's grid carried
   Sensor sensor;  ///< where the lines of sight come from, in the same frame
 };
 

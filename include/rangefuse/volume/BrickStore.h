@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "rangefuse/core/Colour.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse {
@@ -70,6 +71,15 @@ class BrickStore {
   Sums& sums() { return sums_; }
   const Sums& sums() const { return sums_; }
 
+  /// Gives every voxel a colour of `kind` beside its sums (6 bytes more a voxel; none until
+  /// asked).
+  void enableColour(ColourKind kind);
+  bool hasColour() const { return colourKind_ != ColourKind::none; }
+  ColourKind colourKind() const { return colourKind_; }
+  /// One per voxel, in the sums' order, when hasColour().
+  std::vector<VoxelColour>& colours() { return colours_; }
+  const std::vector<VoxelColour>& colours() const { return colours_; }
+
   /// Takes `layout`, a superset of this one on the same lattice in which this rank's run holds
   /// its old bricks and `fresh` (new codes): their sums start at zero after the old ones, which
   /// stay where they are, so a field grows without moving (amortised over the vector's
@@ -86,7 +96,9 @@ class BrickStore {
   size_t first_;  ///< layout position of local brick 0
   size_t perBrick_;
   bool ordered_ = true;
+  ColourKind colourKind_ = ColourKind::none;
   Sums sums_;
+  std::vector<VoxelColour> colours_;
 };
 
 }  // namespace rangefuse

@@ -1,0 +1,43 @@
+// What a scan's samples carry besides their position: a colour or an intensity.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rangefuse {
+
+/// What the input's samples carry. An intensity is kept as a colour with three equal channels,
+/// so that it is fused and interpolated the same way.
+enum class ColourKind : uint8_t { none, rgb, intensity };
+
+/// One sample's colour, each channel in [0, 1].
+using Colour = Eigen::Vector3f;
+
+/// "none", "rgb" or "intensity".
+std::string colourKindName(ColourKind kind);
+
+/// The kind a `--colour` value asks for: "auto" gives `given` (what the input has), the others
+/// their kind. Throws InputError for anything else.
+ColourKind parseColourKind(const std::string& text, ColourKind given);
+
+/// A voxel's fused colour: the weighted mean of its samples' colours in 16-bit fixed point
+/// (6 bytes, a quarter of the distance sums' 24). It is updated with the same weights and in
+/// the same order as the distance sums, so it is the same bits on any rank count.
+struct VoxelColour {
+  uint16_t c[3] = {0, 0, 0};
+
+  /// Adds a sample of weight `w` to a voxel whose samples so far weigh `before`.
+  void add(const Colour& colour, float w, float before) {
+    const float share = w / (before + w);
+    for (int k = 0; k < 3; ++k) {
+      const float mean = c[k] * (1.0f / 65535) + share * (colour[k] - c[k] * (1.0f / 65535));
+      c[k] = static_cast<uint16_t>(std::min(1.0f, std::max(0.0f, mean)) * 65535 + 0.5f);
+    }
+  }
+  Colour value() const { return Colour(c[0], c[1], c[2]) / 65535; }
+};
+
+}  // namespace rangefuse
