@@ -32,7 +32,7 @@ std::string gridBytes(const Layout& l,
   std::string out =
       std::string("ply\nformat ") + (l.bigEndian ? "binary_big_endian" : "binary_little_endian") +
       " 1.0\nobj_info num_cols 12\nobj_info num_rows 9\nelement vertex " + std::to_string(points) +
-      "\nproperty uchar intensity\nproperty " + coord + " x\nproperty " + coord +
+      "\nproperty uchar flags\nproperty " + coord + " x\nproperty " + coord +
       " y\nproperty float confidence\nproperty " + (l.int16Z ? "int16" : coord) +
       " z\nelement range_grid 108\nproperty list uchar " + (l.signedIndex ? "int" : "uint") +
       " vertex_indices\nend_header\n";

@@ -1,0 +1,124 @@
+// Colour fused beside the distance: the running mean against the weighted mean computed at
+// once, a uniform patch that keeps its colour exactly, a two-colour edge that stays sharp, and
+// the same bits on any thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "rangefuse/prism/PrismField.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+using namespace rangefuse;
+
+namespace {
+
+constexpr float kStep = 1.0f / 65535;  // one unit of the 16-bit mean
+
+/// A flat patch at height z, 0.5 apart, coloured by `colourAt(x)`.
+template <class ColourAt>
+PrismScan patch(double z, ColourAt colourAt) {
+  RangeGrid g;
+  g.cols = 40, g.rows = 30;
+  g.colourKind = ColourKind::rgb;
+  for (int y = 0; y < g.rows; ++y)
+    for (int x = 0; x < g.cols; ++x) {
+      g.cell.push_back(static_cast<int32_t>(g.points.size()));
+      g.points.emplace_back(x * 0.5, y * 0.5, z);
+      g.colours.push_back(colourAt(x * 0.5));
+    }
+  PrismScan s;
+  s.surface = buildScanSurface(g, Pose{}, SurfaceOptions{});
+  s.limits = computePrismLimits(s.surface, 1.5);
+  return s;
+}
+
+/// The store of one rank holding every brick the scans reach, with colour, the scans added.
+BrickStore fused(const std::vector<PrismScan>& scans, int threads) {
+  BrickStore store(planBricks(scans, fitGrid(scans, 0.5, 4, 1.5), 1), 0);
+  store.enableColour(ColourKind::rgb);
+  PrismIntegrator integrator(store, threads);
+  for (const PrismScan& s : scans) integrator.addScan(s);
+  return store;
+}
+
+}  // namespace
+
+TEST(VoxelColour, RunningMeanIsTheWeightedMean) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> unit(0, 1), weight(0.1f, 2);
+  VoxelColour c;
+  float w = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int n = 0; n < 200; ++n) {
+    const Colour sample(unit(rng), unit(rng), unit(rng));
+    const float wi = weight(rng);
+    c.add(sample, wi, w);
+    w += wi;
+    sum += wi * sample.cast<double>();
+    // Each update rounds to the nearest unit: the error stays within a few units.
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.value()[k], sum[k] / w, 8 * kStep) << n;
+  }
+}
+
+TEST(ColourField, UniformPatchKeepsItsColour) {
+  const Colour green(0.2f, 0.6f, 0.4f);
+  const std::vector<PrismScan> scans{patch(10, [&](double) { return green; }),
+                                     patch(10.2, [&](double) { return green; })};
+  const BrickStore store = fused(scans, 1);
+  size_t seen = 0;
+  for (size_t i = 0; i < store.sums().size(); ++i) {
+    if (!(store.sums()[i].w > 0)) continue;
+    ++seen;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(store.colours()[i].value()[k], green[k], kStep);
+  }
+  EXPECT_GT(seen, 1000u);
+}
+
+TEST(ColourField, TwoColourEdgeStaysWithinAVoxel) {
+  // Red for x < 10, blue beyond; voxels 0.5 wide, samples 0.5 apart. A voxel takes the colour
+  // at the foot of its nearest prism, interpolated across that triangle: only voxels within a
+  // grid step of x = 10 may mix the two.
+  const Colour red(1, 0, 0), blue(0, 0, 1);
+  auto edge = [&](double x) { return x < 10 ? red : blue; };
+  const std::vector<PrismScan> scans{patch(10, edge)};
+  const BrickStore store = fused(scans, 1);
+  const VoxelGrid& grid = store.grid();
+  size_t pure = 0;
+  for (size_t b = 0; b < store.brickCount(); ++b) {
+    const BrickCoord brick = mortonDecode(store.code(b));
+    const int B = grid.brick;
+    for (int z = 0; z < B; ++z)
+      for (int y = 0; y < B; ++y)
+        for (int x = 0; x < B; ++x) {
+          const VoxelIndex v = brick * B + VoxelIndex(x, y, z);
+          const size_t at = store.offset(b, brick, v);
+          if (!(store.sums()[at].w > 0)) continue;
+          const Colour c = store.colours()[at].value();
+          const double cx = grid.centre(v).x();
+          if (c.isApprox(red, 1e-4) || c.isApprox(blue, 1e-4)) {
+            ++pure;
+            EXPECT_TRUE(c.isApprox(edge(cx), 1e-4) || std::abs(cx - 10) <= 0.5) << cx;
+          } else {
+            EXPECT_LE(std::abs(cx - 10), 0.5 + 1e-9) << "a mixed colour at x = " << cx;
+          }
+        }
+  }
+  EXPECT_GT(pure, 1000u);
+}
+
+TEST(ColourField, ThreadsGiveTheSameColourBits) {
+  auto stripes = [](double x) {
+    return Colour(0.5f + 0.5f * static_cast<float>(std::sin(x)), 0.3f, 0.1f);
+  };
+  std::vector<PrismScan> scans;
+  for (double z : {10.0, 10.3, 9.8}) scans.push_back(patch(z, stripes));
+  for (auto& p : scans[2].surface.points) p.z() += 0.05 * p.x();
+  const BrickStore one = fused(scans, 1);
+  for (int threads : {3, 8}) {
+    const BrickStore many = fused(scans, threads);
+    ASSERT_EQ(one.colours().size(), many.colours().size());
+    for (size_t i = 0; i < one.colours().size(); ++i)
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(one.colours()[i].c[k], many.colours()[i].c[k]) << i;
+  }
+}
