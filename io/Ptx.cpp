@@ -188,6 +188,22 @@ RangeGrid readPtxScan(const std::string& path, const PtxScan& scan) {
   return readPtxColumns(path, scan, 0, scan.cols);
 }
 
+namespace {
+
+/// A point line's colour: r g b (0-255) when the line has them, else its intensity as grey.
+/// Intensities in [0, 1] are taken as they are; others as the 12-bit signed range some
+/// exporters write ([-2048, 2047]), clamped.
+Colour ptxColour(const double* v, int n) {
+  if (n == 7)
+    return Colour(static_cast<float>(std::clamp(v[4] / 255, 0.0, 1.0)),
+                  static_cast<float>(std::clamp(v[5] / 255, 0.0, 1.0)),
+                  static_cast<float>(std::clamp(v[6] / 255, 0.0, 1.0)));
+  const double i = v[3] >= 0 && v[3] <= 1 ? v[3] : std::clamp((v[3] + 2048) / 4095, 0.0, 1.0);
+  return Colour::Constant(static_cast<float>(i));
+}
+
+}  // namespace
+
 RangeGrid readPtxColumns(const std::string& path, const PtxScan& scan, int first, int count) {
   if (first < 0 || count < 0 || first + count > scan.cols ||
       scan.columns.size() != static_cast<size_t>(scan.cols))
@@ -215,7 +231,12 @@ RangeGrid readPtxColumns(const std::string& path, const PtxScan& scan, int first
       if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;  // no return
       grid.cell[static_cast<size_t>(r) * count + c] = static_cast<int32_t>(grid.points.size());
       grid.points.emplace_back(v[0], v[1], v[2]);
+      grid.colours.push_back(ptxColour(v, n));
+      if (n == 7) grid.colourKind = ColourKind::rgb;
     }
+  if (grid.colourKind == ColourKind::none && !grid.points.empty())
+    grid.colourKind = ColourKind::intensity;
+  if (grid.points.empty()) grid.colours.clear();
   return grid;
 }
 
@@ -239,7 +260,13 @@ void writePtx(const std::string& path, const std::vector<RangeGrid>& grids,
             out << "0 0 0 0\n";
           } else {
             const Eigen::Vector3d& q = g.points[static_cast<size_t>(k)];
-            out << q.x() << " " << q.y() << " " << q.z() << " 0.5\n";
+            out << q.x() << " " << q.y() << " " << q.z();
+            const Colour c = g.colours.empty() ? Colour::Constant(0.5f) : g.colours[k];
+            if (g.colourKind == ColourKind::rgb)
+              out << " " << (c[0] + c[1] + c[2]) / 3 << " " << std::lround(255 * c[0]) << " "
+                  << std::lround(255 * c[1]) << " " << std::lround(255 * c[2]) << "\n";
+            else
+              out << " " << c[0] << "\n";
           }
         }
     }

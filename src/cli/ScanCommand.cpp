@@ -144,10 +144,10 @@ ScanOptions checked(ScanOptions o) {
   if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx")
     throw InputError("scan: --format must be ply, tum, redwood or ptx");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
-  if (o.settings.texture > 0 && o.format != "ply")
+  if (o.settings.texture > 0 && o.format != "ply" && o.format != "ptx")
     throw InputError(
-        "scan: --texture is written with --format ply only (colour images and PTX "
-        "colour are not written yet)");
+        "scan: --texture is written with --format ply or ptx only (colour images "
+        "are not written yet)");
   if (o.path == "stations" && o.format != "ptx")
     throw InputError("scan: stations are written as --format ptx (spherical grids)");
   if (!(o.scale > 0 && std::isfinite(o.scale)))
@@ -230,9 +230,9 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "ascii", po::bool_switch(&o.ascii), "write ASCII range grids (default binary)")(
       "big-endian", po::bool_switch(&o.bigEndian), "write big-endian binary range grids")(
       "texture", po::value(&s.texture)->default_value(0.0),
-      "colour the surface with checks of this side (world units; 0: no colour): range grids get "
-      "red green blue, truth.ply the checks' colour at its vertices")("out", po::value(&o.out),
-                                                                      "output folder");
+      "colour the surface with checks of this side (world units; 0: no colour): range grids and "
+      "PTX get red green blue, truth.ply the checks' colour at its vertices")(
+      "out", po::value(&o.out), "output folder");
   addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(

@@ -141,11 +141,14 @@ struct SightMaps {
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
 bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
                Progress& progress, Eigen::AlignedBox3d& box, uint64_t& triangles,
-               std::vector<uint64_t>& bytes, std::vector<ColourKind>& kinds, SightMaps* sights) {
+               std::vector<uint64_t>& bytes, std::vector<std::optional<ColourKind>>& kinds,
+               SightMaps* sights) {
   std::map<size_t, std::string> warnings;
   triangles = 0;
   bytes.assign(conf.scans.size(), 0);
-  std::vector<uint8_t> kindOf(conf.scans.size(), 0);  // the reader's kind, 0 elsewhere
+  // 1 + the kind a scan carries, on its reader; 0 elsewhere, and for a scan (or a band of one)
+  // with no points, which says nothing about the colour of its file.
+  std::vector<uint8_t> kindOf(conf.scans.size(), 0);
   if (!collectively(comm, [&] {
         std::vector<size_t> mine;
         for (size_t i = 0; i < conf.scans.size(); ++i)
@@ -162,7 +165,8 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
             box.extend(pointBounds(s));
             triangles += s.surface.triangles.size();
             bytes[i] = scanBytes(s);
-            kindOf[i] = static_cast<uint8_t>(s.surface.colourKind);
+            if (!s.surface.points.empty())
+              kindOf[i] = 1 + static_cast<uint8_t>(s.surface.colourKind);
             if (sights && s.sight) sights->mine.emplace(i, *s.sight);
             share.offer(i, std::move(s));
           }
@@ -181,7 +185,8 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
   MPI_Allreduce(MPI_IN_PLACE, kindOf.data(), static_cast<int>(kindOf.size()), MPI_UINT8_T, MPI_MAX,
                 comm);
   kinds.clear();
-  for (const uint8_t k : kindOf) kinds.push_back(static_cast<ColourKind>(k));
+  for (const uint8_t k : kindOf)
+    kinds.push_back(k == 0 ? std::nullopt : std::optional(static_cast<ColourKind>(k - 1)));
   return true;
 }
 
@@ -347,7 +352,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   std::vector<uint64_t> bytes;
-  std::vector<ColourKind> kinds;
+  std::vector<std::optional<ColourKind>> kinds;
   std::optional<SightMaps> sights;
   if (o.robust) sights.emplace();
   if (!readShare(conf, share, std::max(1, o.threads), comm, progress, box, triangles, bytes, kinds,

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Colour fused beside the distance: range grids painted with checks of a known colour, fused on
 # 1, 2 and 3 ranks to the same bytes; the mesh's colours against the checks' colour at each
-# vertex (exact away from the check edges); --colour none gives the bytes of the same scans
+# vertex (exact away from the check edges); PTX r g b and intensity; --colour none gives the bytes of the same scans
 # without colour; colour asked of scans that have none, or of a method that cannot fuse it,
 # refused by name.
 set -euo pipefail
@@ -52,6 +52,23 @@ mpirun -np 2 "$bin" fuse --scans "$tmp/plain/truth.conf" --voxel 1 --out "$tmp/p
   >/dev/null
 cmp "$tmp/none.ply" "$tmp/plain.ply"
 echo "--colour none: the bytes of the same scans without colour"
+
+# Stations in a PTX file: r g b on the point lines when painted, else the intensity.
+"$bin" scan --shape room --path stations --views 2 --width 360 --height 120 --voxel 0.05 \
+  --texture 0.5 --format ptx --out "$tmp/ptx" >/dev/null
+"$bin" scan --shape room --path stations --views 2 --width 360 --height 120 --voxel 0.05 \
+  --format ptx --out "$tmp/grey" >/dev/null
+for n in 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/ptx/stations.ptx" --voxel 0.05 \
+    --out "$tmp/ptx$n.ply" >/dev/null
+done
+cmp "$tmp/ptx2.ply" "$tmp/ptx3.ply"
+head -c 400 "$tmp/ptx2.ply" | grep -aq "property uchar red" || fail "PTX r g b did not reach the mesh"
+mpirun -np 2 "$bin" fuse --scans "$tmp/grey/stations.ptx" --voxel 0.05 --out "$tmp/grey.ply" \
+  >/dev/null
+head -c 400 "$tmp/grey.ply" | grep -aq "property float intensity" ||
+  fail "PTX intensity did not reach the mesh"
+echo "PTX stations: r g b (2 and 3 ranks identical), or intensity, on the mesh"
 
 expect_error() {  # expected message, then the command
   local want=$1

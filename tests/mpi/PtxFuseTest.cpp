@@ -70,16 +70,20 @@ TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
   std::vector<Pose> poses;
   for (const SyntheticScan& sc : set.scans) {
     conf.push_back({sc.name, dir + "/" + sc.name, sc.truth});
-    // What the PLY files hold: float coordinates.
+    // What the PLY files hold: float coordinates; and an intensity, which PTX always has.
     RangeGrid g = sc.grid;
     for (Eigen::Vector3d& p : g.points) p = p.cast<float>().cast<double>();
+    g.colourKind = ColourKind::intensity;
+    for (size_t k = 0; k < g.points.size(); ++k)
+      g.colours.push_back(Colour::Constant(static_cast<float>(k % 97) / 96));
     grids.push_back(g);
     poses.push_back(sc.truth);
   }
   if (mpi::rank() == 0) {
     std::filesystem::create_directories(dir);
-    for (const SyntheticScan& sc : set.scans)
-      io::writeRangeGridPly(dir + "/" + sc.name, sc.grid, io::PlyEncoding::BinaryLittleEndian);
+    for (size_t i = 0; i < grids.size(); ++i)
+      io::writeRangeGridPly(dir + "/" + set.scans[i].name, grids[i],
+                            io::PlyEncoding::BinaryLittleEndian);
     io::writeConf(dir + "/scans.conf", conf);
     io::writePtx(dir + "/stations.ptx", grids, poses);
   }

@@ -30,7 +30,9 @@ struct PtxScan {
 std::vector<PtxScan> indexPtx(const std::string& path, const InputLimits& limits = {});
 
 /// Reads one scan of a PTX file as a spherical grid (points in the scanner frame; row r, column
-/// c is file line c·rows + r of the scan). Throws InputError naming the file and line for a
+/// c is file line c·rows + r of the scan), each point coloured by its line's r g b (0-255;
+/// colourKind rgb when any line has them), else by its intensity (colourKind intensity;
+/// [0, 1] as it is, else read as [-2048, 2047]). Throws InputError naming the file and line for a
 /// line without 4 or 7 numbers, a non-finite number, or an early end.
 RangeGrid readPtxScan(const std::string& path, const PtxScan& scan);
 
@@ -39,7 +41,8 @@ RangeGrid readPtxScan(const std::string& path, const PtxScan& scan);
 RangeGrid readPtxColumns(const std::string& path, const PtxScan& scan, int first, int count);
 
 /// Writes scans (each grid's missing cells as "0 0 0") with their poses; the scanner position
-/// and axes are the pose's. Atomic.
+/// and axes are the pose's; a grid's colours as r g b (rgb) or intensity, else intensity 0.5.
+/// Atomic.
 void writePtx(const std::string& path, const std::vector<RangeGrid>& grids,
               const std::vector<Pose>& poses);
 
