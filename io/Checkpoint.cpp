@@ -186,6 +186,39 @@ std::vector<T> readRows(hid_t file, const char* name, hid_t type, hsize_t first,
   return out;
 }
 
+/// Per brick, the checksum of its voxel colours (3 16-bit channels a voxel).
+std::vector<uint64_t> colourDigests(const uint16_t* colours, size_t bricks, size_t perBrick) {
+  std::vector<uint64_t> d(bricks);
+  for (size_t b = 0; b < bricks; ++b)
+    d[b] = fnv1a64(colours + b * perBrick * 3, perBrick * 3 * sizeof(uint16_t));
+  return d;
+}
+
+/// The voxel colours beside the sums (field_colours, with field_colour_digests per brick), their
+/// kind an attribute of the colours' dataset.
+void writeColours(hid_t file, const BrickStore& store, const std::string& tmp, MPI_Comm comm) {
+  const BrickLayout& l = store.layout();
+  const hsize_t nb = l.codes.size(), per = store.voxelsPerBrick();
+  Handle colours = createDataset(file, "field_colours", H5T_NATIVE_UINT16, nb, per * 3, tmp, comm);
+  Handle digests = createDataset(file, "field_colour_digests", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
+  const uint16_t* mine = reinterpret_cast<const uint16_t*>(store.colours().data());
+  const std::vector<uint64_t> own = colourDigests(mine, store.brickCount(), per);
+  std::vector<char> bytes;
+  mpi::pack(bytes, own.data(), own.size());
+  std::vector<uint64_t> all;
+  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
+    const uint64_t* p = reinterpret_cast<const uint64_t*>(part.data());
+    all.insert(all.end(), p, p + part.size() / sizeof(uint64_t));
+  }
+  writeAttributeString(colours, "kind", colourKindName(store.colourKind()));
+  writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));
+  const int r = mpi::rank(comm);
+  const hsize_t first = l.rankStart[r], count = l.rankStart[r + 1] - first;
+  writeRows(colours, H5T_NATIVE_UINT16, first, count, per * 3, mine, tmp, "field_colours", comm);
+  writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_colour_digests",
+            comm);
+}
+
 /// The field's datasets, each with a checksum: codes and work whole, the voxel sums per brick
 /// (field_digests, rank-count independent so that any partition can check its own bricks).
 void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI_Comm comm) {
@@ -215,6 +248,7 @@ void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI
   const hsize_t first = l.rankStart[r], count = l.rankStart[r + 1] - first;
   writeRows(sums, H5T_NATIVE_FLOAT, first, count, per * 6, mine, tmp, "field_sums", comm);
   writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_digests", comm);
+  if (store.hasColour()) writeColours(file, store, tmp, comm);
 }
 
 void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickStore* store,
@@ -241,7 +275,9 @@ void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickSt
 /// Bytes the checkpoint's datasets hold, for the message when a write fails.
 uint64_t checkpointBytes(const CheckpointMeta& meta, const BrickStore* store) {
   uint64_t bytes = metaJson(meta).dump().size() + 4096;
-  if (store) bytes += store->layout().codes.size() * (3 * 8 + store->voxelsPerBrick() * 24);
+  if (store)
+    bytes += store->layout().codes.size() *
+             (3 * 8 + store->voxelsPerBrick() * (store->hasColour() ? 30 : 24));
   return bytes;
 }
 
@@ -313,6 +349,39 @@ CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm,
   return m;
 }
 
+namespace {
+
+/// The voxel colours, when the checkpoint has them (older ones and uncoloured fields do not:
+/// the store is then left without colour).
+void readColours(hid_t file, const std::string& path, const BrickLayout& layout, int r,
+                 BrickStore& store) {
+  if (H5Lexists(file, "field_colours", H5P_DEFAULT) <= 0) return;
+  const hsize_t nb = layout.codes.size(), per = store.voxelsPerBrick();
+  const auto dims = datasetDims(file, "field_colours", 2, path);
+  check(dims[0] == nb && dims[1] == per * 3, path, "field_colours does not match field_codes");
+  Handle set(H5Dopen2(file, "field_colours", H5P_DEFAULT), H5Dclose);
+  const std::string kind = readAttributeString(set, "kind");
+  check(kind == "rgb" || kind == "intensity", path,
+        "field_colours has kind '" + kind + "', not rgb or intensity");
+  const std::vector<uint64_t> digests =
+      readRows<uint64_t>(file, "field_colour_digests", H5T_NATIVE_UINT64, 0, nb, 0, path);
+  verify(datasetDigest(file, "field_colour_digests", path), digests.data(), nb * sizeof(uint64_t),
+         path, "field_colour_digests (the checksums of the colours)");
+  const hsize_t first = layout.rankStart[r], count = layout.rankStart[r + 1] - first;
+  const std::vector<uint16_t> colours =
+      readRows<uint16_t>(file, "field_colours", H5T_NATIVE_UINT16, first, count, per * 3, path);
+  const std::vector<uint64_t> got = colourDigests(colours.data(), count, per);
+  for (size_t b = 0; b < got.size(); ++b)
+    check(got[b] == digests[first + b], path,
+          "damaged: the colours of brick " + std::to_string(first + b) +
+              " (field_colours) do not match their checksum");
+  store.enableColour(parseColourKind(kind, ColourKind::none));
+  std::memcpy(static_cast<void*>(store.colours().data()), colours.data(),
+              colours.size() * sizeof(uint16_t));
+}
+
+}  // namespace
+
 std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const CheckpointMeta& meta,
                                                 BrickLayout& layout, MPI_Comm comm) {
   check(meta.hasField, path, "holds no field");
@@ -353,6 +422,7 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
               " (field_sums) do not match their checksum; resume from an earlier checkpoint or "
               "run again from the scans");
   std::memcpy(static_cast<void*>(store->sums().data()), sums.data(), sums.size() * sizeof(float));
+  readColours(file, path, layout, r, *store);
   return store;
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Colour fused beside the distance: range grids painted with checks of a known colour, fused on
 # 1, 2 and 3 ranks to the same bytes; the mesh's colours against the checks' colour at each
-# vertex (exact away from the check edges); PTX r g b and intensity; --colour none gives the bytes of the same scans
+# vertex (exact away from the check edges); PTX r g b and intensity; a checkpoint resumed to
+# the same coloured mesh; --colour none gives the bytes of the same scans
 # without colour; colour asked of scans that have none, or of a method that cannot fuse it,
 # refused by name.
 set -euo pipefail
@@ -45,6 +46,13 @@ print(f"{len(far)} vertices 5+ voxels from a check edge: worst error {max(far):.
       f"{len(near)} at 2-5 voxels: mean error {mean:.2f}/255")
 sys.exit(0 if len(far) > 5000 and max(far) <= 4 and mean <= 1.5 else 1)
 PY
+
+# The colours go into the checkpoint: resumed on 3 ranks, the same mesh.
+mpirun -np 2 "$bin" fuse --scans "$tmp/painted/truth.conf" --voxel 1 --checkpoint "$tmp/run.h5" \
+  --out "$tmp/checkpointed.ply" >/dev/null
+mpirun --oversubscribe -np 3 "$bin" fuse --resume "$tmp/run.h5" --out "$tmp/resumed.ply" >/dev/null
+cmp "$tmp/mesh1.ply" "$tmp/checkpointed.ply" && cmp "$tmp/mesh1.ply" "$tmp/resumed.ply"
+echo "checkpoint written on 2 ranks, resumed on 3: the same coloured mesh"
 
 mpirun -np 2 "$bin" fuse --scans "$tmp/painted/truth.conf" --voxel 1 --colour none \
   --out "$tmp/none.ply" >/dev/null

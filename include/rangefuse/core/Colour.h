@@ -39,5 +39,6 @@ struct VoxelColour {
   }
   Colour value() const { return Colour(c[0], c[1], c[2]) / 65535; }
 };
+static_assert(sizeof(VoxelColour) == 6, "checkpoints store a voxel's colour as 3 uint16");
 
 }  // namespace rangefuse
