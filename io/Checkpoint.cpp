@@ -115,12 +115,29 @@ void verify(uint64_t stored, const void* data, size_t bytes, const std::string& 
             "written; resume from an earlier checkpoint or run again from the scans)");
 }
 
-/// Per brick, the checksum of its voxel sums.
-std::vector<uint64_t> brickDigests(const float* sums, size_t bricks, size_t perBrick) {
+/// Per brick, the checksum of its row of `values` (`perRow` values a brick).
+template <class T>
+std::vector<uint64_t> rowDigests(const T* values, size_t bricks, size_t perRow) {
   std::vector<uint64_t> d(bricks);
-  for (size_t b = 0; b < bricks; ++b)
-    d[b] = fnv1a64(sums + b * perBrick * 6, perBrick * 6 * sizeof(float));
+  for (size_t b = 0; b < bricks; ++b) d[b] = fnv1a64(values + b * perRow, perRow * sizeof(T));
   return d;
+}
+
+/// Per brick, the checksum of its voxel sums (6 floats a voxel).
+std::vector<uint64_t> brickDigests(const float* sums, size_t bricks, size_t perBrick) {
+  return rowDigests(sums, bricks, perBrick * 6);
+}
+
+/// Every rank's brick checksums, in rank order (the bricks' order).
+std::vector<uint64_t> gatherDigests(const std::vector<uint64_t>& own, MPI_Comm comm) {
+  std::vector<char> bytes;
+  mpi::pack(bytes, own.data(), own.size());
+  std::vector<uint64_t> all;
+  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
+    const uint64_t* p = reinterpret_cast<const uint64_t*>(part.data());
+    all.insert(all.end(), p, p + part.size() / sizeof(uint64_t));
+  }
+  return all;
 }
 
 void writeAttributeString(hid_t obj, const char* name, const std::string& value) {
@@ -188,10 +205,7 @@ std::vector<T> readRows(hid_t file, const char* name, hid_t type, hsize_t first,
 
 /// Per brick, the checksum of its voxel colours (3 16-bit channels a voxel).
 std::vector<uint64_t> colourDigests(const uint16_t* colours, size_t bricks, size_t perBrick) {
-  std::vector<uint64_t> d(bricks);
-  for (size_t b = 0; b < bricks; ++b)
-    d[b] = fnv1a64(colours + b * perBrick * 3, perBrick * 3 * sizeof(uint16_t));
-  return d;
+  return rowDigests(colours, bricks, perBrick * 3);
 }
 
 /// The voxel colours beside the sums (field_colours, with field_colour_digests per brick), their
@@ -203,13 +217,7 @@ void writeColours(hid_t file, const BrickStore& store, const std::string& tmp, M
   Handle digests = createDataset(file, "field_colour_digests", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   const uint16_t* mine = reinterpret_cast<const uint16_t*>(store.colours().data());
   const std::vector<uint64_t> own = colourDigests(mine, store.brickCount(), per);
-  std::vector<char> bytes;
-  mpi::pack(bytes, own.data(), own.size());
-  std::vector<uint64_t> all;
-  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
-    const uint64_t* p = reinterpret_cast<const uint64_t*>(part.data());
-    all.insert(all.end(), p, p + part.size() / sizeof(uint64_t));
-  }
+  const std::vector<uint64_t> all = gatherDigests(own, comm);
   writeAttributeString(colours, "kind", colourKindName(store.colourKind()));
   writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));
   const int r = mpi::rank(comm);
@@ -231,13 +239,7 @@ void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI
   Handle digests = createDataset(file, "field_digests", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   const float* mine = reinterpret_cast<const float*>(store.sums().data());
   const std::vector<uint64_t> own = brickDigests(mine, store.brickCount(), per);
-  std::vector<char> bytes;
-  mpi::pack(bytes, own.data(), own.size());
-  std::vector<uint64_t> all;
-  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
-    const uint64_t* p = reinterpret_cast<const uint64_t*>(part.data());
-    all.insert(all.end(), p, p + part.size() / sizeof(uint64_t));
-  }
+  const std::vector<uint64_t> all = gatherDigests(own, comm);
   writeAttributeU64(codes, kDigest, fnv1a64(l.codes.data(), nb * sizeof(uint64_t)));
   writeAttributeU64(work, kDigest, fnv1a64(l.work.data(), nb * sizeof(uint64_t)));
   writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));

@@ -1,5 +1,6 @@
 #include "VertexColours.h"
 
+#include <map>
 #include <string>
 
 #include "rangefuse/core/Error.h"
@@ -9,22 +10,11 @@ namespace {
 
 /// The largest value of an integer PLY type; 1 for floats (taken as they are).
 double fullScale(PlyType t) {
-  switch (t) {
-    case PlyType::Int8:
-      return 127;
-    case PlyType::UInt8:
-      return 255;
-    case PlyType::Int16:
-      return 32767;
-    case PlyType::UInt16:
-      return 65535;
-    case PlyType::Int32:
-      return 2147483647.0;
-    case PlyType::UInt32:
-      return 4294967295.0;
-    default:
-      return 1;
-  }
+  static const std::map<PlyType, double> kLargest = {
+      {PlyType::Int8, 127},     {PlyType::UInt8, 255},          {PlyType::Int16, 32767},
+      {PlyType::UInt16, 65535}, {PlyType::Int32, 2147483647.0}, {PlyType::UInt32, 4294967295.0}};
+  const auto it = kLargest.find(t);
+  return it == kLargest.end() ? 1 : it->second;
 }
 
 PlyType typeOf(const PlyElementData& e, const std::string& name) {
