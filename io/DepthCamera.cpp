@@ -1,5 +1,6 @@
 #include "rangefuse/io/DepthCamera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -65,6 +66,37 @@ RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const st
                      " m at " + formatDepthScale(camera.unit) +
                      " counts a metre: is --depth-scale right?");
   return g;
+}
+
+void colourFromImage(RangeGrid& grid, const Image& colour, const std::string& path) {
+  if (colour.width != grid.cols || colour.height != grid.rows)
+    throw InputError(path + ": colour image is " + std::to_string(colour.width) + " x " +
+                     std::to_string(colour.height) + " pixels but its depth image is " +
+                     std::to_string(grid.cols) + " x " + std::to_string(grid.rows));
+  grid.colourKind = ColourKind::rgb;
+  grid.colours.assign(grid.points.size(), Colour::Zero());
+  for (int r = 0; r < grid.rows; ++r)
+    for (int u = 0; u < grid.cols; ++u) {
+      const int32_t k = grid.at(r, u);
+      if (k < 0) continue;
+      const uint8_t* p = &colour.rgb[(static_cast<size_t>(grid.rows - 1 - r) * grid.cols + u) * 3];
+      grid.colours[k] = Colour(p[0], p[1], p[2]) / 255;
+    }
+}
+
+Image colourImage(const RangeGrid& grid) {
+  Image image(grid.cols, grid.rows, 0);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int u = 0; u < grid.cols; ++u) {
+      const int32_t k = grid.at(r, u);
+      if (k < 0) continue;
+      const Colour& c = grid.colours[k];
+      const auto byte = [](float v) {
+        return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255));
+      };
+      image.set(u, grid.rows - 1 - r, byte(c[0]), byte(c[1]), byte(c[2]));
+    }
+  return image;
 }
 
 DepthImage depthImage(const RangeGrid& g, double unit) {

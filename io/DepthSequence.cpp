@@ -10,6 +10,7 @@
 #include "TextLines.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
+#include "rangefuse/io/Png.h"
 #include "rangefuse/io/Trajectory.h"
 
 namespace fs = std::filesystem;
@@ -127,6 +128,79 @@ ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& 
   return scan;
 }
 
+/// rgb.txt's colour images ("t rgb/t.png"), or none when the folder has no rgb.txt.
+std::vector<Timed> tumColours(const std::string& dir) {
+  std::vector<Timed> images;
+  const fs::path list = fs::path(dir) / "rgb.txt";
+  if (!present(list)) return images;
+  for (const auto& [n, text] : dataLines(list)) {
+    std::istringstream in(text);
+    Timed f;
+    f.line = n;
+    if (!(in >> f.time >> f.file) || !std::isfinite(f.time))
+      throw InputError(at(list, n) + ": expected 'timestamp rgb/FILE.png'");
+    if (!present(fs::path(dir) / f.file))
+      throw InputError(at(list, n) + ": " + f.file + " does not exist (missing image)");
+    images.push_back(f);
+  }
+  checkAscending(images, list);
+  return images;
+}
+
+/// Gives each frame the colour image nearest in time within `maxDifference` seconds (TUM's
+/// association); frames without one stay grey, and a warning says how many.
+void associateColours(const std::string& dir, ConfFile& list, double maxDifference) {
+  const std::vector<Timed> images = tumColours(dir);
+  if (images.empty()) return;
+  std::vector<double> frameTimes, imageTimes;
+  for (const ConfScan& s : list.scans) frameTimes.push_back(s.time);
+  for (const Timed& t : images) imageTimes.push_back(t.time);
+  const std::vector<long> match = nearestTimes(frameTimes, imageTimes, maxDifference);
+  size_t without = 0;
+  for (size_t k = 0; k < list.scans.size(); ++k) {
+    if (match[k] < 0) {
+      ++without;
+      continue;
+    }
+    list.scans[k].colour = (fs::path(dir) / images[match[k]].file).lexically_normal().string();
+  }
+  if (without > 0)
+    list.warnings.push_back(
+        dir + "/rgb.txt: " + std::to_string(without) + " of " + std::to_string(list.scans.size()) +
+        " depth frames have no colour image within " + std::to_string(maxDifference) + " s");
+}
+
+/// The Redwood / recorder colour folder (color/ or image/), its PNG images in name order,
+/// one per depth image; nothing when there is no such folder. JPEG images are not read (a
+/// warning says so and the frames stay grey).
+void redwoodColours(const std::string& dir, ConfFile& list) {
+  for (const char* folder : {"color", "image"}) {
+    const fs::path d = fs::path(dir) / folder;
+    if (!present(d)) continue;
+    std::vector<fs::path> png, other;
+    for (const auto& e : fs::directory_iterator(d)) {
+      const std::string name = e.path().filename().string();
+      if (name.empty() || name[0] == '.' || !e.is_regular_file()) continue;
+      (e.path().extension() == ".png" ? png : other).push_back(e.path());
+    }
+    if (png.empty()) {
+      if (!other.empty())
+        list.warnings.push_back(d.string() + ": colour images that are not PNG (" +
+                                other.front().filename().string() +
+                                ") are not read yet; the frames are fused without colour");
+      return;
+    }
+    std::sort(png.begin(), png.end());
+    if (png.size() != list.scans.size())
+      throw InputError(d.string() + " holds " + std::to_string(png.size()) +
+                       " PNG images but depth/ " + std::to_string(list.scans.size()) +
+                       ": each depth image needs its colour image, in name order");
+    for (size_t k = 0; k < png.size(); ++k)
+      list.scans[k].colour = png[k].lexically_normal().string();
+    return;
+  }
+}
+
 /// Every frame at the first camera's pose (the identity): the list of a sequence to track.
 ConfFile unposed(const std::string& dir, const std::vector<std::string>& files,
                  const std::vector<double>& times, const DepthCamera& camera) {
@@ -181,7 +255,11 @@ ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
   std::vector<std::string> files;
   for (const Timed& f : frames) frameTimes.push_back(f.time), files.push_back(f.file);
   const fs::path truth = fs::path(dir) / "groundtruth.txt";
-  if (!present(truth)) return unposed(dir, files, frameTimes, cam);
+  if (!present(truth)) {
+    ConfFile list = unposed(dir, files, frameTimes, cam);
+    associateColours(dir, list, maxDifference);
+    return list;
+  }
   const std::vector<TimedPose> poses = readTrajectory(truth.string());
   for (const TimedPose& p : poses) poseTimes.push_back(p.time);
   const std::vector<long> match = nearestTimes(frameTimes, poseTimes, maxDifference);
@@ -202,6 +280,7 @@ ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
   if (list.scans.empty())
     throw InputError(dir + "/groundtruth.txt: no depth frame has a pose within " +
                      std::to_string(maxDifference) + " s");
+  associateColours(dir, list, maxDifference);
   return list;
 }
 
@@ -216,7 +295,11 @@ ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading
     files.push_back("depth/" + image.filename().string());
   }
   const fs::path log = trajectoryLog(dir);
-  if (log.empty()) return unposed(dir, files, times, cam);
+  if (log.empty()) {
+    ConfFile list = unposed(dir, files, times, cam);
+    redwoodColours(dir, list);
+    return list;
+  }
   const std::vector<TimedPose> poses = readTrajectory(log.string());
   if (poses.size() != images.size())
     throw InputError(log.string() + ": " + std::to_string(poses.size()) + " poses but " + dir +
@@ -225,6 +308,7 @@ ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading
   ConfFile list;
   for (size_t k = 0; k < images.size(); ++k)
     list.scans.push_back(frameScan(dir, files[k], poses[k].cameraToWorld, cam, times[k]));
+  redwoodColours(dir, list);
   return list;
 }
 
@@ -252,6 +336,15 @@ void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& fra
     out << "# depth maps\n# timestamp filename\n";
     for (const std::string& t : names) out << t << " depth/" << t << ".png\n";
   });
+  if (!frames.empty() && frames[0].colour.width > 0) {
+    fs::create_directories(fs::path(dir) / "rgb");
+    for (size_t k = 0; k < frames.size(); ++k)
+      writePng(dir + "/rgb/" + names[k] + ".png", frames[k].colour);
+    writeAtomically(dir + "/rgb.txt", [&](std::ostream& out) {
+      out << "# color images\n# timestamp filename\n";
+      for (const std::string& t : names) out << t << " rgb/" << t << ".png\n";
+    });
+  }
   std::vector<TimedPose> trajectory;
   for (size_t k = 0; k < frames.size(); ++k)
     trajectory.push_back({std::strtod(names[k].c_str(), nullptr), frames[k].cameraToWorld});
@@ -264,8 +357,12 @@ void writeRedwoodSequence(const std::string& dir, const std::vector<DepthFrame>&
   makeFolders(dir);
   for (size_t k = 0; k < frames.size(); ++k) {
     std::ostringstream name;
-    name << dir << "/depth/" << std::setw(6) << std::setfill('0') << k << ".png";
-    writeDepthPng(name.str(), frames[k].image);
+    name << std::setw(6) << std::setfill('0') << k << ".png";
+    writeDepthPng(dir + "/depth/" + name.str(), frames[k].image);
+    if (frames[k].colour.width > 0) {
+      fs::create_directories(fs::path(dir) / "color");
+      writePng(dir + "/color/" + name.str(), frames[k].colour);
+    }
   }
   std::vector<TimedPose> trajectory;
   for (size_t k = 0; k < frames.size(); ++k)

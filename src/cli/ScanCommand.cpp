@@ -86,7 +86,8 @@ void writeSequence(const ScanOptions& o, const SyntheticSet& set, const std::str
   const double unit = tum ? 1.0 / 5000 : 1e-3;
   std::vector<io::DepthFrame> frames;
   for (const auto& s : set.scans)
-    frames.push_back({io::depthImage(s.grid, unit), io::cameraPose(s.truth)});
+    frames.push_back({io::depthImage(s.grid, unit), io::cameraPose(s.truth),
+                      s.grid.colours.empty() ? Image{} : io::colourImage(s.grid)});
   const io::DepthCamera camera = io::depthCamera(set.scans.front().grid, unit);
   if (tum)
     io::writeTumSequence(dir, frames, camera);
@@ -144,10 +145,6 @@ ScanOptions checked(ScanOptions o) {
   if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx")
     throw InputError("scan: --format must be ply, tum, redwood or ptx");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
-  if (o.settings.texture > 0 && o.format != "ply" && o.format != "ptx")
-    throw InputError(
-        "scan: --texture is written with --format ply or ptx only (colour images "
-        "are not written yet)");
   if (o.path == "stations" && o.format != "ptx")
     throw InputError("scan: stations are written as --format ptx (spherical grids)");
   if (!(o.scale > 0 && std::isfinite(o.scale)))
@@ -231,8 +228,8 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "big-endian", po::bool_switch(&o.bigEndian), "write big-endian binary range grids")(
       "texture", po::value(&s.texture)->default_value(0.0),
       "colour the surface with checks of this side (world units; 0: no colour): range grids and "
-      "PTX get red green blue, truth.ply the checks' colour at its vertices")(
-      "out", po::value(&o.out), "output folder");
+      "PTX get red green blue, sequences colour images (TUM rgb/, Redwood color/), truth.ply "
+      "the checks' colour at its vertices")("out", po::value(&o.out), "output folder");
   addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(

@@ -26,8 +26,10 @@ echo "painted sphere: 1, 2 and 3 ranks give identical coloured meshes"
 # mean's last units); two to five voxels away, within 1.5/255 on average (merged cells blend
 # colours over a cell, prisms over a triangle, and grazing views reach a little farther);
 # nearer, the two colours may blend.
-python3 - "$tmp/mesh1.ply" <<'PY'
+check_colours() {  # mesh.ply, check side, voxel
+  python3 - "$@" <<'PY'
 import math, struct, sys
+side, voxel = float(sys.argv[2]), float(sys.argv[3])
 data = open(sys.argv[1], "rb").read()
 head, body = data.split(b"end_header\n", 1)
 lines = head.decode().splitlines()
@@ -37,8 +39,8 @@ a, b = (0.85, 0.35, 0.15), (0.15, 0.45, 0.80)
 far, near = [], []
 for i in range(n):
     x, y, z, _, _, _, r, g, bl = struct.unpack_from("<6f3B", body, 27 * i)
-    edge = min(abs(c / 20 - round(c / 20)) * 20 for c in (x, y, z))
-    want = a if (math.floor(x / 20) + math.floor(y / 20) + math.floor(z / 20)) % 2 == 0 else b
+    edge = min(abs(c / side - round(c / side)) * side for c in (x, y, z)) / voxel
+    want = a if sum(math.floor(c / side) for c in (x, y, z)) % 2 == 0 else b
     err = max(abs(got - 255 * w) for got, w in zip((r, g, bl), want))
     (far if edge >= 5 else near if edge >= 2 else []).append(err)
 mean = sum(near) / len(near)
@@ -46,6 +48,21 @@ print(f"{len(far)} vertices 5+ voxels from a check edge: worst error {max(far):.
       f"{len(near)} at 2-5 voxels: mean error {mean:.2f}/255")
 sys.exit(0 if len(far) > 5000 and max(far) <= 4 and mean <= 1.5 else 1)
 PY
+}
+check_colours "$tmp/mesh1.ply" 20 1
+
+# Depth sequences with colour images (TUM rgb.txt and rgb/, Redwood color/), at their poses.
+for format in tum redwood; do
+  "$bin" scan --shape sphere --views 12 --voxel 0.01 --noise 0.3 --texture 0.2 --scale 0.01 \
+    --format "$format" --out "$tmp/$format" >/dev/null
+  for n in 2 3; do
+    mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/$format" --voxel 0.01 --track off \
+      --out "$tmp/$format$n.ply" >/dev/null
+  done
+  cmp "$tmp/${format}2.ply" "$tmp/${format}3.ply"
+  check_colours "$tmp/${format}2.ply" 0.2 0.01
+done
+echo "TUM and Redwood colour images: on the mesh, 2 and 3 ranks identical"
 
 # The colours go into the checkpoint: resumed on 3 ranks, the same mesh.
 mpirun -np 2 "$bin" fuse --scans "$tmp/painted/truth.conf" --voxel 1 --checkpoint "$tmp/run.h5" \

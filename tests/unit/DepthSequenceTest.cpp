@@ -307,3 +307,72 @@ TEST(DepthSequence, DepthScaleAndFoldersOfColourAloneAreCheckedByName) {
   std::filesystem::create_directories(dir.file("colour/color"));
   expectMessage(failure(dir.file("colour")), "colour: holds colour images (color/) but no depth");
 }
+
+namespace {
+
+/// Frames with colour images whose pixel (u, v) holds (u, v, frame) in its channels.
+std::vector<io::DepthFrame> colouredFrames(int n) {
+  std::vector<io::DepthFrame> out = frames(n);
+  for (int k = 0; k < n; ++k) {
+    Image c(9, 7, 0);
+    for (int v = 0; v < 7; ++v)
+      for (int u = 0; u < 9; ++u)
+        c.set(u, v, static_cast<uint8_t>(10 * u), static_cast<uint8_t>(20 * v),
+              static_cast<uint8_t>(k));
+    out[k].colour = c;
+  }
+  return out;
+}
+
+/// Each point's colour against its pixel's in the image written.
+void expectPixelColours(const RangeGrid& g, const Image& written) {
+  ASSERT_EQ(g.colourKind, ColourKind::rgb);
+  ASSERT_EQ(g.colours.size(), g.points.size());
+  for (int r = 0; r < g.rows; ++r)
+    for (int u = 0; u < g.cols; ++u) {
+      const int32_t k = g.at(r, u);
+      if (k < 0) continue;
+      const uint8_t* p = &written.rgb[(size_t(g.rows - 1 - r) * g.cols + u) * 3];
+      for (int ch = 0; ch < 3; ++ch) EXPECT_FLOAT_EQ(g.colours[k][ch], p[ch] / 255.0f);
+    }
+}
+
+}  // namespace
+
+TEST(DepthSequence, ColourImagesReachTheirFramesPoints) {
+  TempDir dir;
+  const auto written = colouredFrames(3);
+  io::writeTumSequence(dir.file("tum"), written, camera(9, 7));
+  io::writeRedwoodSequence(dir.file("rw"), written, camera(9, 7));
+  for (const char* folder : {"tum", "rw"}) {
+    const io::ConfFile list = io::readScanList(dir.file(folder));
+    ASSERT_EQ(list.scans.size(), 3u) << folder;
+    for (size_t k = 0; k < 3; ++k)
+      expectPixelColours(io::readScanGrid(list.scans[k]), written[k].colour);
+  }
+}
+
+TEST(DepthSequence, ColourImagesOfTheWrongSizeOrCountAreRefusedByName) {
+  TempDir dir;
+  auto written = colouredFrames(3);
+  written[1].colour = Image(8, 7, 0);
+  io::writeTumSequence(dir.file("tum"), written, camera(9, 7));
+  EXPECT_NE(failure(dir.file("tum"))
+                .find("rgb/1000.033333.png: colour image is 8 x 7 pixels but "
+                      "its depth image is 9 x 7"),
+            std::string::npos)
+      << failure(dir.file("tum"));
+  io::writeRedwoodSequence(dir.file("rw"), colouredFrames(3), camera(9, 7));
+  std::filesystem::remove(dir.file("rw/color/000002.png"));
+  EXPECT_NE(failure(dir.file("rw")).find("color holds 2 PNG images but depth/ 3"),
+            std::string::npos)
+      << failure(dir.file("rw"));
+  // JPEG colour is not read yet: a warning, and the frames are read without colour.
+  std::filesystem::remove_all(dir.file("rw/color"));
+  std::filesystem::create_directories(dir.file("rw/color"));
+  std::ofstream(dir.file("rw/color/000000.jpg")) << "not read";
+  const io::ConfFile list = io::readScanList(dir.file("rw"));
+  ASSERT_EQ(list.warnings.size(), 1u);
+  EXPECT_NE(list.warnings[0].find("not PNG"), std::string::npos) << list.warnings[0];
+  EXPECT_TRUE(io::readScanGrid(list.scans[0]).colours.empty());
+}

@@ -24,6 +24,8 @@ struct ConfScan {
   int band = 0, bands = 1;
   /// A depth frame's time in seconds (TUM: its timestamp; Redwood: its index / 30).
   double time = 0;
+  /// A depth frame's colour image (8-bit PNG, registered to the depth), resolved; empty: none.
+  std::string colour = {};
 };
 
 struct ConfFile {

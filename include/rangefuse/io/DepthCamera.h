@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "rangefuse/core/Image.h"
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/io/DepthPng.h"
@@ -23,6 +24,15 @@ struct DepthCamera {
 /// turned half a turn about x (see scanPose). Throws InputError naming `path` when the image
 /// size disagrees with the camera's.
 RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const std::string& path);
+
+/// Colours grid's points (made by depthGrid from a depth image of the same size) from a colour
+/// image registered to the depth, as recorders write it: the point of pixel (u, v) takes the
+/// colour of pixel (u, v). Throws InputError naming `path` when the sizes differ.
+void colourFromImage(RangeGrid& grid, const Image& colour, const std::string& path);
+
+/// The other way: a pinhole grid's colours as an image registered to its depth image (black
+/// where there is no point).
+Image colourImage(const RangeGrid& grid);
 
 /// The other way, for a pinhole grid (synthetic scans): depth along the camera axis in counts
 /// of `unit`, 0 where there is no point or the depth does not fit 16 bits. A point on its

@@ -38,27 +38,33 @@ std::vector<long> nearestTimes(const std::vector<double>& frames, const std::vec
                                double maxDifference);
 
 /// The frames of a TUM folder with a pose within `maxDifference` seconds, posed by it (frames
-/// without one are listed in warnings); without groundtruth.txt, every frame, unposed. Throws
-/// InputError naming the file and line.
+/// without one are listed in warnings); without groundtruth.txt, every frame, unposed. With
+/// rgb.txt, each frame takes the colour image nearest in time within `maxDifference` (frames
+/// without one: a warning). Throws InputError naming the file and line.
 ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
                          double maxDifference = 0.02);
 
 /// The frames of a Redwood folder, the k-th image (by name) posed by the k-th trajectory entry;
-/// without a .log, every frame, unposed. Frame k's time is k / 30 s.
+/// without a .log, every frame, unposed. Frame k's time is k / 30 s. With color/ (or image/),
+/// the k-th PNG by name is frame k's colour image (as many as depth images, else InputError);
+/// JPEG colour images are not read (a warning).
 ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading);
 
 /// One frame to write: the image and its camera-to-world pose.
 struct DepthFrame {
   DepthImage image;
   Pose cameraToWorld;
+  Image colour = {};  ///< registered to the depth; empty (width 0): none
 };
 
-/// Writes a TUM folder (depth/T.png, depth.txt, groundtruth.txt, camera_intrinsic.json) with
-/// frame k at time start + k / rate seconds.
+/// Writes a TUM folder (depth/T.png, depth.txt, groundtruth.txt, camera_intrinsic.json, and
+/// rgb/T.png with rgb.txt when the frames have colour) with frame k at time start + k / rate
+/// seconds.
 void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
                       const DepthCamera& camera, double start = 1000.0, double rate = 30.0);
 
-/// Writes a Redwood folder (depth/NNNNNN.png, trajectory.log, camera_intrinsic.json).
+/// Writes a Redwood folder (depth/NNNNNN.png, trajectory.log, camera_intrinsic.json, and
+/// color/NNNNNN.png when the frames have colour).
 void writeRedwoodSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
                           const DepthCamera& camera);
 
