@@ -88,22 +88,31 @@ void checkAscending(const std::vector<Timed>& list, const fs::path& file) {
                        ")");
 }
 
+/// A TUM list of images ("t folder/t.png" a line, times ascending) in `dir`; `folder` names
+/// the images' folder in the messages.
+std::vector<Timed> timedList(const std::string& dir, const fs::path& list,
+                             const std::string& folder) {
+  std::vector<Timed> images;
+  for (const auto& [n, text] : dataLines(list)) {
+    std::istringstream in(text);
+    Timed f;
+    f.line = n;
+    if (!(in >> f.time >> f.file) || !std::isfinite(f.time))
+      throw InputError(at(list, n) + ": expected 'timestamp " + folder + "/FILE.png'");
+    if (!present(fs::path(dir) / f.file))
+      throw InputError(at(list, n) + ": " + f.file + " does not exist (missing image)");
+    images.push_back(f);
+  }
+  checkAscending(images, list);
+  return images;
+}
+
 /// depth.txt ("t depth/t.png"), or the images of depth/ named by their timestamps.
 std::vector<Timed> tumFrames(const std::string& dir) {
   std::vector<Timed> frames;
   const fs::path list = fs::path(dir) / "depth.txt";
   if (present(list)) {
-    for (const auto& [n, text] : dataLines(list)) {
-      std::istringstream in(text);
-      Timed f;
-      f.line = n;
-      if (!(in >> f.time >> f.file) || !std::isfinite(f.time))
-        throw InputError(at(list, n) + ": expected 'timestamp depth/FILE.png'");
-      if (!present(fs::path(dir) / f.file))
-        throw InputError(at(list, n) + ": " + f.file + " does not exist (missing frame)");
-      frames.push_back(f);
-    }
-    checkAscending(frames, list);
+    frames = timedList(dir, list, "depth");
   } else {
     for (const fs::path& p : depthImages(dir)) {
       char* end = nullptr;
@@ -130,21 +139,8 @@ ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& 
 
 /// rgb.txt's colour images ("t rgb/t.png"), or none when the folder has no rgb.txt.
 std::vector<Timed> tumColours(const std::string& dir) {
-  std::vector<Timed> images;
   const fs::path list = fs::path(dir) / "rgb.txt";
-  if (!present(list)) return images;
-  for (const auto& [n, text] : dataLines(list)) {
-    std::istringstream in(text);
-    Timed f;
-    f.line = n;
-    if (!(in >> f.time >> f.file) || !std::isfinite(f.time))
-      throw InputError(at(list, n) + ": expected 'timestamp rgb/FILE.png'");
-    if (!present(fs::path(dir) / f.file))
-      throw InputError(at(list, n) + ": " + f.file + " does not exist (missing image)");
-    images.push_back(f);
-  }
-  checkAscending(images, list);
-  return images;
+  return present(list) ? timedList(dir, list, "rgb") : std::vector<Timed>{};
 }
 
 /// Gives each frame the colour image nearest in time within `maxDifference` seconds (TUM's
