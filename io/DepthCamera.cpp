@@ -91,10 +91,7 @@ Image colourImage(const RangeGrid& grid) {
       const int32_t k = grid.at(r, u);
       if (k < 0) continue;
       const Colour& c = grid.colours[k];
-      const auto byte = [](float v) {
-        return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255));
-      };
-      image.set(u, grid.rows - 1 - r, byte(c[0]), byte(c[1]), byte(c[2]));
+      image.set(u, grid.rows - 1 - r, colourByte(c[0]), colourByte(c[1]), colourByte(c[2]));
     }
   return image;
 }

@@ -19,8 +19,24 @@ using internal::writeRows;
 struct OwnedRows {
   std::vector<double> points;
   std::vector<float> normals;
+  std::vector<uint8_t> rgb;      ///< 3 bytes a vertex, when the part is coloured
+  std::vector<float> intensity;  ///< 1 float a vertex, when it carries intensity
   std::vector<int64_t> faces;
 };
+
+/// The columns and HDF5 type of the /colours dataset for `kind`.
+hsize_t colourColumns(ColourKind kind) {
+  return kind == ColourKind::rgb ? 3 : 1;
+}
+hid_t colourType(ColourKind kind) {
+  return kind == ColourKind::rgb ? H5T_NATIVE_UINT8 : H5T_NATIVE_FLOAT;
+}
+
+void addColour(OwnedRows& rows, ColourKind kind, const Colour& c) {
+  if (kind == ColourKind::rgb)
+    for (int k = 0; k < 3; ++k) rows.rgb.push_back(colourByte(c[k]));
+  if (kind == ColourKind::intensity) rows.intensity.push_back(c[0]);
+}
 
 /// This rank's rows, in file order: owned vertices by first use, then its faces.
 OwnedRows ownedRows(const MeshPart& part) {
@@ -31,6 +47,7 @@ OwnedRows ownedRows(const MeshPart& part) {
     for (int k = 0; k < 3; ++k) rows.points.push_back(m.vertices[i][k]);
     if (!m.normals.empty())
       for (int k = 0; k < 3; ++k) rows.normals.push_back(static_cast<float>(m.normals[i][k]));
+    if (part.colour != ColourKind::none) addColour(rows, part.colour, m.colours[i]);
   }
   for (const auto& t : m.faces)
     for (int k = 0; k < 3; ++k) rows.faces.push_back(part.global[t[k]]);
@@ -59,13 +76,21 @@ void writeData(const std::string& tmp, const MeshPart& part, bool normals, MPI_C
     writeRows(set, H5T_NATIVE_FLOAT, part.firstVertex, part.ownedVertices, 3, rows.normals.data(),
               tmp, "normals", comm);
   }
+  if (part.colour != ColourKind::none) {
+    const hsize_t cols = colourColumns(part.colour);
+    const hid_t type = colourType(part.colour);
+    const void* data = part.colour == ColourKind::rgb ? static_cast<const void*>(rows.rgb.data())
+                                                      : rows.intensity.data();
+    Handle set = createDataset(file, "colours", type, part.totalVertices, cols, tmp, comm);
+    writeRows(set, type, part.firstVertex, part.ownedVertices, cols, data, tmp, "colours", comm);
+  }
   errno = 0;
   together(file.close() >= 0, tmp, "cannot finish writing (flush and close)", comm);
 }
 
 void dataItem(std::ostream& out, uint64_t rows, const char* type, int bytes,
-              const std::string& file, const char* set) {
-  out << "        <DataItem Dimensions=\"" << rows << " 3\" NumberType=\"" << type
+              const std::string& file, const char* set, int cols = 3) {
+  out << "        <DataItem Dimensions=\"" << rows << " " << cols << "\" NumberType=\"" << type
       << "\" Precision=\"" << bytes << "\" Format=\"HDF\">" << file << ":/" << set
       << "</DataItem>\n";
 }
@@ -83,6 +108,17 @@ void writeDescription(std::ostream& out, const MeshPart& part, bool normals,
   if (normals) {
     out << "      <Attribute Name=\"Normals\" AttributeType=\"Vector\" Center=\"Node\">\n";
     dataItem(out, part.totalVertices, "Float", 4, dataFile, "normals");
+    out << "      </Attribute>\n";
+  }
+  if (part.colour == ColourKind::rgb) {
+    // Unsigned bytes, so ParaView can show them as colours with "Map Scalars" off.
+    out << "      <Attribute Name=\"Colour\" AttributeType=\"Vector\" Center=\"Node\">\n";
+    dataItem(out, part.totalVertices, "UChar", 1, dataFile, "colours");
+    out << "      </Attribute>\n";
+  }
+  if (part.colour == ColourKind::intensity) {
+    out << "      <Attribute Name=\"Intensity\" AttributeType=\"Scalar\" Center=\"Node\">\n";
+    dataItem(out, part.totalVertices, "Float", 4, dataFile, "colours", 1);
     out << "      </Attribute>\n";
   }
   out << "    </Grid>\n  </Domain>\n</Xdmf>\n";

@@ -56,8 +56,7 @@ void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3
   if (f.normals)
     for (int k = 0; k < 3; ++k) put(out, static_cast<float>((*normal)[k]));
   if (f.colour == ColourKind::rgb)
-    for (int k = 0; k < 3; ++k)
-      put(out, static_cast<uint8_t>(std::lround(std::clamp((*colour)[k], 0.0f, 1.0f) * 255)));
+    for (int k = 0; k < 3; ++k) put(out, colourByte((*colour)[k]));
   if (f.colour == ColourKind::intensity) put(out, (*colour)[0]);
 }
 

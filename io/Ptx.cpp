@@ -263,8 +263,8 @@ void writePtx(const std::string& path, const std::vector<RangeGrid>& grids,
             out << q.x() << " " << q.y() << " " << q.z();
             const Colour c = g.colours.empty() ? Colour::Constant(0.5f) : g.colours[k];
             if (g.colourKind == ColourKind::rgb)
-              out << " " << (c[0] + c[1] + c[2]) / 3 << " " << std::lround(255 * c[0]) << " "
-                  << std::lround(255 * c[1]) << " " << std::lround(255 * c[2]) << "\n";
+              out << " " << (c[0] + c[1] + c[2]) / 3 << " " << int(colourByte(c[0])) << " "
+                  << int(colourByte(c[1])) << " " << int(colourByte(c[2])) << "\n";
             else
               out << " " << c[0] << "\n";
           }

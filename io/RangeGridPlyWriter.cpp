@@ -17,10 +17,6 @@ void putBinary(std::ostream& out, T v, bool bigEndian) {
   out.write(b, sizeof(T));
 }
 
-uint8_t byteOf(float channel) {
-  return static_cast<uint8_t>(std::lround(std::clamp(channel, 0.0f, 1.0f) * 255));
-}
-
 void writeHeader(std::ostream& out, const RangeGrid& g, PlyEncoding e) {
   static const char* kFormat[] = {"ascii", "binary_little_endian", "binary_big_endian"};
   out << "ply\nformat " << kFormat[static_cast<int>(e)] << " 1.0\n"
@@ -51,7 +47,7 @@ void writeRangeGridPly(const std::string& path, const RangeGrid& g, PlyEncoding 
         const Eigen::Vector3d& p = g.points[i];
         out << float(p.x()) << ' ' << float(p.y()) << ' ' << float(p.z());
         if (g.colourKind == ColourKind::rgb)
-          for (int k = 0; k < 3; ++k) out << ' ' << int(byteOf(g.colours[i][k]));
+          for (int k = 0; k < 3; ++k) out << ' ' << int(colourByte(g.colours[i][k]));
         if (g.colourKind == ColourKind::intensity) out << ' ' << g.colours[i][0];
         out << '\n';
       }
@@ -61,7 +57,7 @@ void writeRangeGridPly(const std::string& path, const RangeGrid& g, PlyEncoding 
     for (size_t i = 0; i < g.points.size(); ++i) {
       for (int k = 0; k < 3; ++k) putBinary(out, static_cast<float>(g.points[i][k]), big);
       if (g.colourKind == ColourKind::rgb)
-        for (int k = 0; k < 3; ++k) putBinary(out, byteOf(g.colours[i][k]), big);
+        for (int k = 0; k < 3; ++k) putBinary(out, colourByte(g.colours[i][k]), big);
       if (g.colourKind == ColourKind::intensity) putBinary(out, g.colours[i][0], big);
     }
     for (int32_t c : g.cell) {

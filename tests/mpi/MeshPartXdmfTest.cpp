@@ -99,6 +99,54 @@ TEST(MeshPartXdmf, HoldsTheSingleRankMeshWhateverTheSplit) {
   if (mpi::rank() == 0) std::filesystem::remove_all(dir);
 }
 
+/// A colour that varies with position, so a vertex written in the wrong row shows.
+Colour colourAt(const Eigen::Vector3d& p) {
+  return Colour(0.5f + 0.4f * float(p.x()), 0.5f - 0.3f * float(p.y()),
+                0.2f + float(p.z() * p.z()));
+}
+
+TEST(MeshPartXdmf, ColoursAndIntensitiesFollowTheirVertices) {
+  const std::string dir = test::sharedTempPath("part-xdmf-colour");
+  if (mpi::rank() == 0) std::filesystem::create_directories(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const TriangleMesh want = mpi::rank() == 0 ? serialSphereMesh() : TriangleMesh{};
+  for (const ColourKind kind : {ColourKind::rgb, ColourKind::intensity}) {
+    BrickStore store(sphereLayout(mpi::size()), mpi::rank());
+    fillSphere(store);
+    MeshPart part = extractDistributedMesh(store, 0, MPI_COMM_WORLD);
+    part.colour = kind;
+    for (const auto& v : part.mesh.vertices) part.mesh.colours.push_back(colourAt(v));
+    const std::string path = dir + "/" + colourKindName(kind) + ".xdmf";
+    ASSERT_TRUE(io::writeMeshPartXdmf(path, part, MPI_COMM_WORLD));
+    if (mpi::rank() != 0) continue;
+    SCOPED_TRACE(colourKindName(kind));
+    hsize_t dims[2] = {0, 0};
+    const std::string h5 = io::xdmfDataPath(path);
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    if (kind == ColourKind::rgb) {
+      const auto bytes = readDataset<uint8_t>(h5, "colours", H5T_NATIVE_UINT8, dims);
+      ASSERT_EQ(dims[0], want.vertices.size());
+      ASSERT_EQ(dims[1], 3u);
+      for (size_t i = 0; i < want.vertices.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+          ASSERT_EQ(bytes[3 * i + k], colourByte(colourAt(want.vertices[i])[k])) << i;
+      EXPECT_NE(text.find("Name=\"Colour\" AttributeType=\"Vector\""), std::string::npos) << text;
+      EXPECT_NE(text.find("NumberType=\"UChar\" Precision=\"1\""), std::string::npos) << text;
+    } else {
+      const auto values = readDataset<float>(h5, "colours", H5T_NATIVE_FLOAT, dims);
+      ASSERT_EQ(dims[0], want.vertices.size());
+      ASSERT_EQ(dims[1], 1u);
+      for (size_t i = 0; i < want.vertices.size(); ++i)
+        ASSERT_EQ(values[i], colourAt(want.vertices[i])[0]) << i;
+      EXPECT_NE(text.find("Name=\"Intensity\" AttributeType=\"Scalar\""), std::string::npos)
+          << text;
+    }
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi::rank() == 0) std::filesystem::remove_all(dir);
+}
+
 TEST(MeshPartXdmf, AnUnwritableFolderFailsOnEveryRankWithoutAFile) {
   const std::string dir = test::sharedTempPath("xdmf-missing-folder");
   MeshPart part;

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,6 +16,11 @@ enum class ColourKind : uint8_t { none, rgb, intensity };
 
 /// One sample's colour, each channel in [0, 1].
 using Colour = Eigen::Vector3f;
+
+/// A channel in [0, 1] as the byte files store (clamped, rounded to the nearest of 0..255).
+inline uint8_t colourByte(float channel) {
+  return static_cast<uint8_t>(std::lround(std::clamp(channel, 0.0f, 1.0f) * 255));
+}
 
 /// "none", "rgb" or "intensity".
 std::string colourKindName(ColourKind kind);
