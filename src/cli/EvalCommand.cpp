@@ -8,6 +8,7 @@
 #include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/eval/ColourError.h"
 #include "rangefuse/eval/Comparison.h"
 #include "rangefuse/eval/PoseConsistency.h"
 #include "rangefuse/eval/TrajectoryError.h"
@@ -55,6 +56,31 @@ SeenCells seenCells(const EvalOptions& o) {
   return cells;
 }
 
+/// The colour comparison when both meshes are coloured (null, with a note, otherwise).
+json colourReport(const TriangleMesh& mesh, const TriangleMesh& ref, const EvalOptions& o) {
+  if (mesh.colours.empty() || ref.colours.empty()) {
+    if (!o.json && mesh.colours.empty() != ref.colours.empty())
+      std::printf("colour: not compared, %s has no vertex colours\n",
+                  (mesh.colours.empty() ? o.mesh : o.reference).c_str());
+    return nullptr;
+  }
+  const ColourComparison c = compareColours(mesh, ref, o.spurious * o.voxel);
+  if (!o.json) {
+    std::printf(
+        "colour error  mean %.3f  median %.3f  p90 %.3f  p99 %.3f  (of 255, %zu vertices within "
+        "%.3g voxels)\n",
+        c.error.mean, c.error.median, c.error.p90, c.error.p99, c.vertices, o.spurious);
+    std::printf(
+        "edge contrast %.4f over %zu mesh edges across texture edges (1: as sharp as the "
+        "reference)\n",
+        c.edgeContrast, c.edges);
+  }
+  return {{"vertices", c.vertices},
+          {"error", statsJson(c.error)},
+          {"edge_contrast", c.edgeContrast},
+          {"edges", c.edges}};
+}
+
 json meshReport(const EvalOptions& o) {
   checkLimit("eval", "--samples", static_cast<double>(o.samples), o.limits.maxElements,
              "max-elements");
@@ -83,7 +109,9 @@ json meshReport(const EvalOptions& o) {
     std::printf("spurious area (> %.3g voxels from the reference): %.4f%%\n", o.spurious,
                 100 * c.spuriousAreaFraction);
   }
-  return {{"mesh", o.mesh},
+  const json colour = colourReport(mesh, ref, o);
+  return {{"colour", colour},
+          {"mesh", o.mesh},
           {"reference", o.reference},
           {"voxel", o.voxel},
           {"samples", o.samples},

@@ -23,28 +23,32 @@ struct MeshDistance::Index {
     tree = buildKdTree(centroids);
   }
 
-  double triangleDistance(size_t i, const Eigen::Vector3d& p) const {
+  ClosestPoint onTriangle(size_t i, const Eigen::Vector3d& p) const {
     const Triangle& t = mesh.faces[i];
-    return (p - closestPointOnTriangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]],
-                                       mesh.vertices[t[2]]))
-        .norm();
+    const auto &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const Eigen::Vector3d w = closestBarycentric(p, a, b, c);
+    return {i, w, (p - (w[0] * a + w[1] * b + w[2] * c)).norm()};
   }
 };
 
 MeshDistance::MeshDistance(const TriangleMesh& mesh) : index_(std::make_unique<Index>(mesh)) {}
 MeshDistance::~MeshDistance() = default;
 
-double MeshDistance::distance(const Eigen::Vector3d& p) const {
-  if (index_->centroids.pts.empty()) return INFINITY;
+ClosestPoint MeshDistance::closest(const Eigen::Vector3d& p) const {
+  if (index_->centroids.pts.empty()) return {};
   uint32_t nearest;
   double nearestSq;
   index_->tree->knnSearch(p.data(), 1, &nearest, &nearestSq);
-  double best = index_->triangleDistance(nearest, p);
+  ClosestPoint best = index_->onTriangle(nearest, p);
   // Any triangle closer than `best` has its centroid within best + radius of p.
-  const double r = best + index_->radius;
+  const double r = best.distance + index_->radius;
   std::vector<std::pair<uint32_t, double>> hits;
   index_->tree->radiusSearch(p.data(), r * r, hits, nanoflann::SearchParams());
-  for (const auto& h : hits) best = std::min(best, index_->triangleDistance(h.first, p));
+  // Ties go to the lowest face number, so the answer does not depend on the search's order.
+  for (const auto& h : hits) {
+    const ClosestPoint c = index_->onTriangle(h.first, p);
+    if (c.distance < best.distance || (c.distance == best.distance && c.face < best.face)) best = c;
+  }
   return best;
 }
 

@@ -91,6 +91,34 @@ TEST(MeshDistance, MatchesBruteForceOverAllTriangles) {
   }
 }
 
+TEST(MeshDistance, ClosestFaceAndWeightsMatchBruteForce) {
+  std::mt19937 rng(13);
+  TriangleMesh m = randomMesh(rng, 300);
+  MeshDistance dist(m);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 500; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    size_t face = 0;
+    double brute = INFINITY;
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+      const auto& t = m.faces[f];
+      const double d =
+          (p - closestPointOnTriangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]))
+              .norm();
+      if (d < brute) brute = d, face = f;
+    }
+    const ClosestPoint c = dist.closest(p);
+    ASSERT_EQ(c.face, face);
+    EXPECT_EQ(c.distance, brute);
+    const auto& t = m.faces[face];
+    const Eigen::Vector3d q = c.weights[0] * m.vertices[t[0]] + c.weights[1] * m.vertices[t[1]] +
+                              c.weights[2] * m.vertices[t[2]];
+    EXPECT_NEAR((p - q).norm(), brute, 1e-12);
+    EXPECT_NEAR(c.weights.sum(), 1, 1e-12);
+  }
+  EXPECT_EQ(MeshDistance(TriangleMesh{}).closest(Eigen::Vector3d::Zero()).distance, INFINITY);
+}
+
 TEST(MeshDistance, MeshAgainstItselfIsZeroAndShiftedPlaneIsShift) {
   TriangleMesh plane;
   plane.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};

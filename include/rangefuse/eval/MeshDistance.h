@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -18,6 +19,14 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
 Eigen::Vector3d closestBarycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
+/// Where a point comes closest to a mesh: the triangle, the barycentric weights of its corners
+/// there, and the distance.
+struct ClosestPoint {
+  size_t face = 0;
+  Eigen::Vector3d weights = Eigen::Vector3d(1, 0, 0);
+  double distance = INFINITY;
+};
+
 /// Exact distance from points to a triangle mesh. A k-d tree over triangle centroids finds
 /// the candidates: every triangle whose centroid lies within (nearest centroid distance +
 /// largest centroid-to-vertex radius) is tested, so no closer triangle can be missed.
@@ -25,7 +34,9 @@ class MeshDistance {
  public:
   explicit MeshDistance(const TriangleMesh& mesh);
   ~MeshDistance();
-  double distance(const Eigen::Vector3d& p) const;
+  double distance(const Eigen::Vector3d& p) const { return closest(p).distance; }
+  /// The closest point itself (distance INFINITY on a mesh without triangles).
+  ClosestPoint closest(const Eigen::Vector3d& p) const;
 
  private:
   struct Index;

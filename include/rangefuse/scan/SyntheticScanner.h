@@ -68,8 +68,6 @@ struct SyntheticSet {
 /// seed. Throws InputError on bad settings.
 SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& settings);
 
-/// The scanner's pose perturbation: rotation about x, y, z by angles uniform in [-rotDeg,
-/// rotDeg] about `centre`, then a shift uniform in [-shift, shift] per axis (world units).
 /// The synthetic scenes' analytic colour at world point p: cubes of side `size` alternating
 /// orange and blue, so that a surface shows checks whose edges are sharp at any scale.
 Colour checkColour(const Eigen::Vector3d& p, double size);
@@ -77,6 +75,8 @@ Colour checkColour(const Eigen::Vector3d& p, double size);
 /// The colour of an extraneous patch (magenta: told apart from both checks).
 Colour patchColour();
 
+/// The scanner's pose perturbation: rotation about x, y, z by angles uniform in [-rotDeg,
+/// rotDeg] about `centre`, then a shift uniform in [-shift, shift] per axis (world units).
 /// Returns the perturbed pose; `angles` (degrees) and `translation` receive what was drawn.
 Pose perturbPose(const Pose& truth, const Eigen::Vector3d& centre, double rotDeg, double shift,
                  std::mt19937_64& rng, Eigen::Vector3d& angles, Eigen::Vector3d& translation);

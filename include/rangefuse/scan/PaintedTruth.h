@@ -1,0 +1,15 @@
+// The coloured ground-truth mesh of a textured synthetic scene.
+#pragma once
+
+#include "rangefuse/core/TriangleMesh.h"
+
+namespace rangefuse {
+
+/// `mesh` coloured with checkColour(vertex, size) at its vertices. A vertex colour is
+/// interpolated across each triangle, which would blur a check edge over a whole triangle, so
+/// triangles whose corners differ in colour are split 1 to 4 at their edge midpoints until
+/// their edges are shorter than `finest`: the truth's edges are then about `finest` wide. The
+/// surface does not move (midpoints lie on it), so distances to the mesh are unchanged.
+TriangleMesh paintedTruth(const TriangleMesh& mesh, double size, double finest);
+
+}  // namespace rangefuse
