@@ -302,10 +302,10 @@ StreamOptions streamOptions(const FuseOptions& o, MPI_Comm comm) {
   s.threads = o.threads;
   s.bandCells = static_cast<uint64_t>(o.bandCells);
   if (closestSurface(o)) s.routeReach = routeReach(o);
-  // Only prism fields carry colour so far: the other methods fuse depth alone.
-  if (o.colour != "auto" || o.method != FieldMethod::Prism)
-    s.colour =
-        parseColourKind(o.method == FieldMethod::Prism ? o.colour : "none", ColourKind::none);
+  // Prism and robust fields carry colour; the closest-surface methods fuse depth alone.
+  const bool colours = !methodInfo(o.method).closestSurface;
+  if (o.colour != "auto" || !colours)
+    s.colour = parseColourKind(colours ? o.colour : "none", ColourKind::none);
   if (methodInfo(o.method).hypotheses)
     s.robust =
         HypothesisParams{o.sameDistance * o.voxel, std::cos(o.sameAngle * M_PI / 180), o.minViews,

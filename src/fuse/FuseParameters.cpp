@@ -124,14 +124,14 @@ std::vector<FuseParameter> makeTable() {
       {"method", "method", R::Result, false, methodHelp(), at(&FuseOptions::method), nullptr},
       {"colour", "", R::No, false,
        "colour of the mesh: auto (what every scan carries: red green blue, or intensity), rgb, "
-       "intensity or none; fused by --method prism",
+       "intensity or none; fused by --method prism and robust",
        at(&FuseOptions::colour),
        [](const FuseOptions& o) -> std::string {
          if (o.colour != "auto" && o.colour != "rgb" && o.colour != "intensity" &&
              o.colour != "none")
            return "must be auto, rgb, intensity or none";
-         if ((o.colour == "rgb" || o.colour == "intensity") && o.method != FieldMethod::Prism)
-           return "needs --method prism (the other methods fuse depth only)";
+         if ((o.colour == "rgb" || o.colour == "intensity") && methodInfo(o.method).closestSurface)
+           return "needs --method prism or robust (the others fuse depth only)";
          return "";
        }},
       {"envelope", "envelope_voxels", R::Result, false, "prism half-thickness, voxels",

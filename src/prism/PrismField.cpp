@@ -228,7 +228,7 @@ void PrismIntegrator::accumulate(Slab& slab) {
   for (size_t i = 0; i < n; ++i) {
     const Sample& s = samples[i];
     if (hypotheses_) {
-      hypotheses_->add(s.at, s.d, s.w, s.f);
+      hypotheses_->add(s.at, s.d, s.w, s.f, slab.colours.empty() ? nullptr : &slab.colours[i]);
       continue;
     }
     if (i + ahead < n) __builtin_prefetch(&sums[samples[i + ahead].at]);

@@ -20,55 +20,82 @@ float norm(const float v[3]) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-}  // namespace
-
-SurfaceHypotheses::SurfaceHypotheses(BrickStore& store, const HypothesisParams& params)
-    : store_(store), params_(params), blocks_(store.brickCount()) {}
-
-SurfaceHypotheses::~SurfaceHypotheses() {
-  for (auto& b : blocks_) delete[] b.load();
-}
-
-uint64_t SurfaceHypotheses::extraBytes() const {
-  uint64_t n = 0;
-  for (const auto& b : blocks_) n += b.load() ? store_.voxelsPerBrick() * sizeof(Extra) : 0;
-  return n;
-}
-
-SurfaceHypotheses::Extra* SurfaceHypotheses::extras(size_t at, bool create) {
-  const size_t per = store_.voxelsPerBrick();
-  std::atomic<Extra*>& block = blocks_[at / per];
-  Extra* b = block.load();
+/// The block of `per` T at `block`, made by whichever thread comes first: two threads may reach
+/// one brick (its voxels straddle their slabs), and one block wins.
+template <class T>
+T* blockOf(std::atomic<T*>& block, size_t per, bool create) {
+  T* b = block.load();
   if (!b && create) {
-    // Two threads may reach one brick (its voxels straddle their slabs): one block wins.
-    Extra* mine = new Extra[per]();
+    T* mine = new T[per]();
     if (block.compare_exchange_strong(b, mine))
       b = mine;
     else
       delete[] mine;
   }
+  return b;
+}
+
+}  // namespace
+
+SurfaceHypotheses::SurfaceHypotheses(BrickStore& store, const HypothesisParams& params)
+    : store_(store),
+      params_(params),
+      blocks_(store.brickCount()),
+      colourBlocks_(store.hasColour() ? store.brickCount() : 0) {}
+
+SurfaceHypotheses::~SurfaceHypotheses() {
+  for (auto& b : blocks_) delete[] b.load();
+  for (auto& b : colourBlocks_) delete[] b.load();
+}
+
+uint64_t SurfaceHypotheses::extraBytes() const {
+  uint64_t n = 0;
+  for (const auto& b : blocks_) n += b.load() ? store_.voxelsPerBrick() * sizeof(Extra) : 0;
+  for (const auto& b : colourBlocks_)
+    n += b.load() ? store_.voxelsPerBrick() * sizeof(ExtraColour) : 0;
+  return n;
+}
+
+SurfaceHypotheses::Extra* SurfaceHypotheses::extras(size_t at, bool create) {
+  const size_t per = store_.voxelsPerBrick();
+  Extra* b = blockOf(blocks_[at / per], per, create);
   return b ? b + at % per : nullptr;
 }
 
-void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3]) {
+SurfaceHypotheses::ExtraColour* SurfaceHypotheses::extraColours(size_t at, bool create) {
+  const size_t per = store_.voxelsPerBrick();
+  if (colourBlocks_.empty()) return nullptr;
+  ExtraColour* b = blockOf(colourBlocks_[at / per], per, create);
+  return b ? b + at % per : nullptr;
+}
+
+void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3], const Colour* colour) {
   if (!(w > 0)) return;
+  if (colourBlocks_.empty()) colour = nullptr;
   VoxelSums& first = store_.sums()[at];
+  // Each colour mean takes the weight its hypothesis held before this sample.
   if (first.images == 0 || agrees(first, d, f, params_)) {
+    if (colour) store_.colours()[at].add(*colour, w, first.w);
     first.add(d, w, f);
     return;
   }
   Extra& extra = *extras(at, true);
+  ExtraColour* colours = colour ? extraColours(at, true) : nullptr;
   VoxelSums* lightest = &first;
-  for (VoxelSums& h : extra) {
+  VoxelColour* lightestColour = colour ? &store_.colours()[at] : nullptr;
+  for (size_t k = 0; k < extra.size(); ++k) {
+    VoxelSums& h = extra[k];
     if (h.images == 0 || agrees(h, d, f, params_)) {
+      if (colour) (*colours)[k].add(*colour, w, h.w);
       h.add(d, w, f);
       return;
     }
-    if (h.w < lightest->w) lightest = &h;
+    if (h.w < lightest->w) lightest = &h, lightestColour = colour ? &(*colours)[k] : nullptr;
   }
   if (w > lightest->w) {
     *lightest = VoxelSums{};
     lightest->add(d, w, f);
+    if (colour) *lightestColour = VoxelColour{}, lightestColour->add(*colour, w, 0);
   }
 }
 
@@ -83,7 +110,7 @@ bool SurfaceHypotheses::unopposed(const VoxelSums& h, const Eigen::Vector3d& cen
 }
 
 bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
-                              const std::vector<SightMap>& sights, VoxelSums& kept,
+                              const std::vector<SightMap>& sights, VoxelSums& kept, bool* summed,
                               bool& agreed) const {
   bool stands[kSlots] = {};
   int nearest = -1;
@@ -108,6 +135,7 @@ bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
     const float facing = h[k].wf[0] * n[0] + h[k].wf[1] * n[1] + h[k].wf[2] * n[2];
     const bool apart = std::abs(dn + h[k].wd / h[k].w) > params_.sameDistance;
     if (k != nearest && facing < -0.5f * norm(h[k].wf) * norm(n) && apart) continue;
+    summed[k] = true;
     if (first) {
       kept = h[k], first = false;
       continue;
@@ -115,6 +143,21 @@ bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
     kept += h[k];
   }
   return true;
+}
+
+VoxelColour SurfaceHypotheses::mergedColour(const VoxelColour& own, const ExtraColour* extra,
+                                            const bool* summed, const VoxelSums* h) {
+  if (!extra) return own;  // one hypothesis only: its colour as it is
+  Colour sum = Colour::Zero();
+  float weight = 0;
+  for (int k = 0; k < kSlots; ++k) {
+    if (!summed[k]) continue;
+    sum += h[k].w * (k == 0 ? own : (*extra)[k - 1]).value();
+    weight += h[k].w;
+  }
+  VoxelColour out;
+  out.add(sum / weight, 1, 0);
+  return out;
 }
 
 HypothesisStats SurfaceHypotheses::resolveBrick(size_t b, const std::vector<SightMap>& sights) {
@@ -133,13 +176,16 @@ HypothesisStats SurfaceHypotheses::resolveBrick(size_t b, const std::vector<Sigh
         brick * B + VoxelIndex(static_cast<int>(l % B), static_cast<int>(l / B % B),
                                static_cast<int>(l / B / B));
     VoxelSums kept;
-    bool agreed = false;
-    if (!merge(h, grid.centre(v), sights, kept, agreed)) {
+    bool agreed = false, summed[kSlots] = {};
+    if (!merge(h, grid.centre(v), sights, kept, summed, agreed)) {
       ++stats.removed;
       first = VoxelSums{};
+      if (store_.hasColour()) store_.colours()[at] = VoxelColour{};
       continue;
     }
     ++(agreed ? stats.agreed : stats.unopposed);
+    if (store_.hasColour())
+      store_.colours()[at] = mergedColour(store_.colours()[at], extraColours(at, false), summed, h);
     first = kept;
   }
   return stats;

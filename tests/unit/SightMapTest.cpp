@@ -205,3 +205,50 @@ TEST(SurfaceHypotheses, AgreementStandsAndALoneSurfaceGoesOnlyWhereSomeoneLooked
 
 }  // namespace
 }  // namespace rangefuse
+
+namespace rangefuse {
+namespace {
+
+/// The scene of addSamples with colours: the agreeing images see orange, the lone opposite
+/// surface of voxel 0 is magenta.
+void addColouredSamples(SurfaceHypotheses& h, const Colour& orange, const Colour& magenta) {
+  const float up[3] = {0, 0, 1}, down[3] = {0, 0, -1};
+  for (float d : {0.25f, 0.5f, 0.75f}) h.add(0, d, 0.5f, up, &orange);
+  h.add(0, -1.5f, 0.9f, down, &magenta);
+  h.add(1, 0.3f, 0.8f, up, &magenta);
+}
+
+TEST(SurfaceHypotheses, AVoxelKeepsTheColourOfTheHypothesesThatStand) {
+  const HypothesisParams params{2, 0.7, 2, 3};
+  const Colour orange(0.85f, 0.35f, 0.15f), magenta(0.9f, 0.1f, 0.9f);
+  // Every surface stands: voxel 0's colour is the weighted mean of both.
+  BrickStore alone = tinyStore();
+  alone.enableColour(ColourKind::rgb);
+  SurfaceHypotheses h(alone, params);
+  addColouredSamples(h, orange, magenta);
+  h.resolve({});
+  const Colour mean = (1.5f * orange + 0.9f * magenta) / 2.4f;
+  EXPECT_LT((alone.colours()[0].value() - mean).cwiseAbs().maxCoeff(), 2e-5f);
+  EXPECT_LT((alone.colours()[1].value() - magenta).cwiseAbs().maxCoeff(), 1e-5f);
+
+  // A sensor looked through the lone surfaces: voxel 0 is orange to the last bit, as if the
+  // magenta sample had never come, and voxel 1's colour goes with its sums.
+  SightMap sight = SightMap::fromPinholeGrid(planeGrid(40), 1);
+  Pose above;
+  above.t = Eigen::Vector3d(0, 0, 5);
+  sight.place(above);
+  BrickStore seen = tinyStore();
+  seen.enableColour(ColourKind::rgb);
+  SurfaceHypotheses g(seen, params);
+  addColouredSamples(g, orange, magenta);
+  g.resolve({sight});
+  VoxelColour want;
+  for (float before : {0.0f, 0.5f, 1.0f}) want.add(orange, 0.5f, before);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(seen.colours()[0].c[k], want.c[k]);
+    EXPECT_EQ(seen.colours()[1].c[k], 0);
+  }
+}
+
+}  // namespace
+}  // namespace rangefuse
