@@ -10,6 +10,7 @@
 #include "TextLines.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
+#include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/Trajectory.h"
 
@@ -166,33 +167,33 @@ void associateColours(const std::string& dir, ConfFile& list, double maxDifferen
         " depth frames have no colour image within " + std::to_string(maxDifference) + " s");
 }
 
-/// The Redwood / recorder colour folder (color/ or image/), its PNG images in name order,
-/// one per depth image; nothing when there is no such folder. JPEG images are not read (a
-/// warning says so and the frames stay grey).
+/// The Redwood / recorder colour folder (color/ or image/), its PNG or JPEG images in name
+/// order, one per depth image; nothing when there is no such folder. Other files there are
+/// ignored; a folder with none of those images gets a warning and the frames stay grey.
 void redwoodColours(const std::string& dir, ConfFile& list) {
   for (const char* folder : {"color", "image"}) {
     const fs::path d = fs::path(dir) / folder;
     if (!present(d)) continue;
-    std::vector<fs::path> png, other;
+    std::vector<fs::path> images, other;
     for (const auto& e : fs::directory_iterator(d)) {
       const std::string name = e.path().filename().string();
       if (name.empty() || name[0] == '.' || !e.is_regular_file()) continue;
-      (e.path().extension() == ".png" ? png : other).push_back(e.path());
+      (isColourImageName(name) ? images : other).push_back(e.path());
     }
-    if (png.empty()) {
+    if (images.empty()) {
       if (!other.empty())
-        list.warnings.push_back(d.string() + ": colour images that are not PNG (" +
+        list.warnings.push_back(d.string() + ": no PNG or JPEG images (" +
                                 other.front().filename().string() +
-                                ") are not read yet; the frames are fused without colour");
+                                " is neither); the frames are fused without colour");
       return;
     }
-    std::sort(png.begin(), png.end());
-    if (png.size() != list.scans.size())
-      throw InputError(d.string() + " holds " + std::to_string(png.size()) +
-                       " PNG images but depth/ " + std::to_string(list.scans.size()) +
+    std::sort(images.begin(), images.end());
+    if (images.size() != list.scans.size())
+      throw InputError(d.string() + " holds " + std::to_string(images.size()) +
+                       " colour images but depth/ " + std::to_string(list.scans.size()) +
                        ": each depth image needs its colour image, in name order");
-    for (size_t k = 0; k < png.size(); ++k)
-      list.scans[k].colour = png[k].lexically_normal().string();
+    for (size_t k = 0; k < images.size(); ++k)
+      list.scans[k].colour = images[k].lexically_normal().string();
     return;
   }
 }

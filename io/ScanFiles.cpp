@@ -5,6 +5,7 @@
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/DepthSequence.h"
+#include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/surface/ColumnBands.h"
@@ -125,7 +126,8 @@ RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
   if (scan.ptx) return readPtxScan(scan.path, *scan.ptx);
   if (scan.depth) {
     RangeGrid g = depthGrid(readDepthPng(scan.path, limits.maxGridCells), *scan.depth, scan.path);
-    if (!scan.colour.empty()) colourFromImage(g, readPng(scan.colour), scan.colour);
+    if (!scan.colour.empty())
+      colourFromImage(g, readColourImage(scan.colour, limits.maxGridCells), scan.colour);
     return g;
   }
   return readRangeGridPly(scan.path, limits);

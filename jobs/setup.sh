@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev
           libeigen3-dev libnanoflann-dev libboost-program-options-dev libgtest-dev
-          libpng-dev nlohmann-json3-dev ${RANGEFUSE_EXTRA_PACKAGES:-})
+          libpng-dev libjpeg-dev nlohmann-json3-dev ${RANGEFUSE_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -10,6 +10,7 @@
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/DepthSequence.h"
+#include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/ScanFiles.h"
 
@@ -364,15 +365,76 @@ TEST(DepthSequence, ColourImagesOfTheWrongSizeOrCountAreRefusedByName) {
       << failure(dir.file("tum"));
   io::writeRedwoodSequence(dir.file("rw"), colouredFrames(3), camera(9, 7));
   std::filesystem::remove(dir.file("rw/color/000002.png"));
-  EXPECT_NE(failure(dir.file("rw")).find("color holds 2 PNG images but depth/ 3"),
+  EXPECT_NE(failure(dir.file("rw")).find("color holds 2 colour images but depth/ 3"),
             std::string::npos)
       << failure(dir.file("rw"));
-  // JPEG colour is not read yet: a warning, and the frames are read without colour.
+  // A folder without PNG or JPEG images: a warning, and the frames are read without colour.
   std::filesystem::remove_all(dir.file("rw/color"));
   std::filesystem::create_directories(dir.file("rw/color"));
-  std::ofstream(dir.file("rw/color/000000.jpg")) << "not read";
+  std::ofstream(dir.file("rw/color/000000.bmp")) << "not an image we read";
   const io::ConfFile list = io::readScanList(dir.file("rw"));
   ASSERT_EQ(list.warnings.size(), 1u);
-  EXPECT_NE(list.warnings[0].find("not PNG"), std::string::npos) << list.warnings[0];
+  EXPECT_NE(list.warnings[0].find("no PNG or JPEG images"), std::string::npos) << list.warnings[0];
   EXPECT_TRUE(io::readScanGrid(list.scans[0]).colours.empty());
+}
+
+TEST(DepthSequence, JpegColourImagesAsTheRecorderWritesThem) {
+  // Open3D's recorder writes color/*.jpg beside depth/*.png. JPEG is lossy: at quality 100 and
+  // full-resolution chroma, ramps stay within a few levels.
+  TempDir dir;
+  const auto written = colouredFrames(3);
+  io::writeRedwoodSequence(dir.file("rec"), written, camera(9, 7));
+  for (int k = 0; k < 3; ++k) {
+    const std::string png = dir.file("rec/color/00000" + std::to_string(k) + ".png");
+    io::writeJpeg(dir.file("rec/color/00000" + std::to_string(k) + ".jpg"), io::readPng(png), 100);
+    std::filesystem::remove(png);
+  }
+  const io::ConfFile list = io::readScanList(dir.file("rec"));
+  ASSERT_TRUE(list.warnings.empty());
+  for (size_t k = 0; k < 3; ++k) {
+    const RangeGrid g = io::readScanGrid(list.scans[k]);
+    ASSERT_EQ(g.colours.size(), g.points.size());
+    const Image& want = written[k].colour;
+    for (int r = 0; r < g.rows; ++r)
+      for (int u = 0; u < g.cols; ++u) {
+        const int32_t at = g.at(r, u);
+        if (at < 0) continue;
+        const uint8_t* p = &want.rgb[(size_t(g.rows - 1 - r) * g.cols + u) * 3];
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(g.colours[at][ch] * 255, p[ch], 3) << k;
+      }
+  }
+  // A damaged JPEG is refused by name with libjpeg's reason.
+  std::ofstream(dir.file("rec/color/000001.jpg"), std::ios::trunc) << "GIF89a";
+  std::string message;
+  try {
+    io::readScanGrid(list.scans[1]);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  expectMessage(message, "000001.jpg: cannot read JPEG: Not a JPEG file");
+}
+
+TEST(Jpeg, GreyscaleBecomesRgbAndLimitsHold) {
+  TempDir dir;
+  Image grey(16, 8, 0);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x) grey.set(x, y, 100, 100, 100);
+  io::writeJpeg(dir.file("g.jpg"), grey, 100);
+  const Image back = io::readColourImage(dir.file("g.jpg"), 1000);
+  ASSERT_EQ(back.width, 16);
+  ASSERT_EQ(back.height, 8);
+  for (uint8_t v : back.rgb) EXPECT_NEAR(v, 100, 1);
+  std::string message;
+  try {
+    io::readJpeg(dir.file("g.jpg"), 100);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  expectMessage(message, "g.jpg: cannot read JPEG: holds 16 x 8 pixels, more than");
+  try {
+    io::readColourImage(dir.file("g.tif"), 1000);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  expectMessage(message, "g.tif: colour images must be PNG or JPEG");
 }
