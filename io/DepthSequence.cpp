@@ -317,10 +317,18 @@ void makeFolders(const std::string& dir) {
   if (ec) throw InputError(dir + "/depth: cannot create the folder: " + ec.message());
 }
 
+/// A colour image as PNG or, by its name, JPEG (quality 95).
+void writeColour(const std::string& path, const Image& image) {
+  if (fs::path(path).extension() == ".jpg")
+    writeJpeg(path, image, 95);
+  else
+    writePng(path, image);
+}
+
 }  // namespace
 
 void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
-                      const DepthCamera& camera, double start, double rate) {
+                      const DepthCamera& camera, double start, double rate, bool jpegColour) {
   makeFolders(dir);
   std::vector<std::string> names;
   for (size_t k = 0; k < frames.size(); ++k) {
@@ -335,11 +343,12 @@ void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& fra
   });
   if (!frames.empty() && frames[0].colour.width > 0) {
     fs::create_directories(fs::path(dir) / "rgb");
+    const char* ext = jpegColour ? ".jpg" : ".png";
     for (size_t k = 0; k < frames.size(); ++k)
-      writePng(dir + "/rgb/" + names[k] + ".png", frames[k].colour);
+      writeColour(dir + "/rgb/" + names[k] + ext, frames[k].colour);
     writeAtomically(dir + "/rgb.txt", [&](std::ostream& out) {
       out << "# color images\n# timestamp filename\n";
-      for (const std::string& t : names) out << t << " rgb/" << t << ".png\n";
+      for (const std::string& t : names) out << t << " rgb/" << t << ext << "\n";
     });
   }
   std::vector<TimedPose> trajectory;
@@ -350,15 +359,15 @@ void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& fra
 }
 
 void writeRedwoodSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
-                          const DepthCamera& camera) {
+                          const DepthCamera& camera, bool jpegColour) {
   makeFolders(dir);
   for (size_t k = 0; k < frames.size(); ++k) {
     std::ostringstream name;
-    name << std::setw(6) << std::setfill('0') << k << ".png";
-    writeDepthPng(dir + "/depth/" + name.str(), frames[k].image);
+    name << std::setw(6) << std::setfill('0') << k;
+    writeDepthPng(dir + "/depth/" + name.str() + ".png", frames[k].image);
     if (frames[k].colour.width > 0) {
       fs::create_directories(fs::path(dir) / "color");
-      writePng(dir + "/color/" + name.str(), frames[k].colour);
+      writeColour(dir + "/color/" + name.str() + (jpegColour ? ".jpg" : ".png"), frames[k].colour);
     }
   }
   std::vector<TimedPose> trajectory;

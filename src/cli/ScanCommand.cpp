@@ -25,7 +25,7 @@ namespace {
 struct ScanOptions {
   std::string mesh, shape, out, path = "sphere", format = "ply";
   double scale = 1;
-  bool ascii = false, bigEndian = false;
+  bool ascii = false, bigEndian = false, jpeg = false;
   ScanSettings settings;
   InputLimits limits;
 };
@@ -91,9 +91,9 @@ void writeSequence(const ScanOptions& o, const SyntheticSet& set, const std::str
                       s.grid.colours.empty() ? Image{} : io::colourImage(s.grid)});
   const io::DepthCamera camera = io::depthCamera(set.scans.front().grid, unit);
   if (tum)
-    io::writeTumSequence(dir, frames, camera);
+    io::writeTumSequence(dir, frames, camera, 1000.0, 30.0, o.jpeg);
   else
-    io::writeRedwoodSequence(dir, frames, camera);
+    io::writeRedwoodSequence(dir, frames, camera, o.jpeg);
   const io::ConfFile listed = tum ? io::readTumSequence(dir, {}) : io::readRedwoodSequence(dir, {});
   std::vector<io::ConfScan> perturbed = listed.scans;
   for (size_t k = 0; k < perturbed.size(); ++k) perturbed[k].pose = set.scans[k].perturbed;
@@ -230,7 +230,10 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "texture", po::value(&s.texture)->default_value(0.0),
       "colour the surface with checks of this side (world units; 0: no colour): range grids and "
       "PTX get red green blue, sequences colour images (TUM rgb/, Redwood color/), truth.ply "
-      "the checks' colour at its vertices")("out", po::value(&o.out), "output folder");
+      "the checks' colour at its vertices")(
+      "jpeg", po::bool_switch(&o.jpeg),
+      "write sequences' colour images as JPEG (quality 95), as Open3D's recorder does")(
+      "out", po::value(&o.out), "output folder");
   addLimitOptions(d, o.limits);
   po::variables_map vm;
   const int parsed = parseCollectively(

@@ -80,6 +80,14 @@ for format in tum redwood; do
   check_colours "$tmp/${format}2.ply" 0.2 0.01
 done
 echo "TUM and Redwood colour images: on the mesh, 2 and 3 ranks identical"
+# The recorder's color/*.jpg: JPEG at quality 95 stays within the same limits.
+"$bin" scan --shape sphere --views 12 --voxel 0.01 --noise 0.3 --texture 0.2 --scale 0.01 \
+  --format redwood --jpeg --out "$tmp/jpeg" >/dev/null
+[[ -f $tmp/jpeg/color/000000.jpg ]] || fail "scan --jpeg wrote no JPEG"
+mpirun -np 2 "$bin" fuse --scans "$tmp/jpeg" --voxel 0.01 --track off --out "$tmp/jpeg.ply" \
+  >/dev/null
+check_colours "$tmp/jpeg.ply" 0.2 0.01
+echo "JPEG colour images: on the mesh"
 
 # The colours go into the checkpoint: resumed on 3 ranks, the same mesh.
 mpirun -np 2 "$bin" fuse --scans "$tmp/painted/truth.conf" --voxel 1 --checkpoint "$tmp/run.h5" \

@@ -56,6 +56,7 @@ Entry entryNamed(const std::string& name) {
   if (name == "ptx") return ptx;
   if (name == "depth_png") return depthPng;
   if (name == "depth_sequence") return depthSequence;
+  if (name == "colour_image") return colourImage;
   return nullptr;
 }
 

@@ -21,10 +21,11 @@ void fuseIni(const std::string& bytes);
 /// 16-bit PNG, and a depth-image folder whose first byte picks TUM (even) or Redwood (odd) and
 /// whose other bytes, cut at NULs, are its text files (TUM: depth.txt, groundtruth.txt,
 /// camera_intrinsic.json; Redwood: trajectory.log, camera_intrinsic.json) beside two valid
-/// frames.
+/// frames. A colour image: the first byte picks JPEG (even) or PNG (odd), the rest is the file.
 void ptx(const std::string& bytes);
 void depthPng(const std::string& bytes);
 void depthSequence(const std::string& bytes);
+void colourImage(const std::string& bytes);
 
 /// Builds a structurally valid HDF5 file whose attributes, dataset shapes, types, counts
 /// and metadata are chosen by `bytes`, then loads it as a checkpoint. Needs MPI initialised.

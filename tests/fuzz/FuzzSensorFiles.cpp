@@ -9,6 +9,7 @@
 #include "FuzzEntries.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/DepthPng.h"
+#include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/Ptx.h"
 #include "rangefuse/io/ScanFiles.h"
 
@@ -84,6 +85,13 @@ void depthPng(const std::string& bytes) {
   const fs::path file = scratch() / "fuzz.png";
   writeBytes(file, bytes);
   refusedCleanly([&] { io::readDepthPng(file.string(), fuzzLimits().maxGridCells); });
+}
+
+void colourImage(const std::string& bytes) {
+  const bool jpeg = bytes.empty() || (bytes[0] & 1) == 0;
+  const fs::path file = scratch() / (jpeg ? "fuzz.jpg" : "fuzz.png");
+  writeBytes(file, bytes.empty() ? bytes : bytes.substr(1));
+  refusedCleanly([&] { io::readColourImage(file.string(), fuzzLimits().maxGridCells); });
 }
 
 void depthSequence(const std::string& bytes) {

@@ -6,7 +6,7 @@ tool=$1
 out=$2
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 data=$repo/tests/data/bunny
-mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint,ptx,depth_png,depth_sequence}
+mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint,ptx,depth_png,depth_sequence,colour_image}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -61,6 +61,20 @@ printf 'scans = a.conf\nvoxel = 0.5\nmethod = consensus\nquorum = 1.5\nregister 
 "$tool" scan --shape room --path stations --views 2 --width 8 --height 4 --voxel 0.5 \
   --format ptx --out "$tmp/ptx" >/dev/null
 cp "$tmp/ptx/stations.ptx" "$out/ptx/two_stations.ptx"
+# Colour: PTX x y z i r g b lines, range grids with red green blue, a painted truth mesh, and
+# colour images as the colour_image entry takes them (a byte picking JPEG or PNG, then the file).
+"$tool" scan --shape room --path stations --views 2 --width 8 --height 4 --voxel 0.5 \
+  --texture 1 --format ptx --out "$tmp/ptxc" >/dev/null
+cp "$tmp/ptxc/stations.ptx" "$out/ptx/two_stations_rgb.ptx"
+"$tool" scan --shape sphere --views 1 --width 6 --height 5 --voxel 0.2 --texture 0.5 --ascii \
+  --out "$tmp/painted" >/dev/null
+cp "$tmp/painted/scan_000.ply" "$out/range_grid_ply/sphere_rgb_ascii.ply"
+"$tool" scan --shape sphere --path orbit --views 1 --width 4 --height 3 --voxel 0.2 \
+  --texture 0.5 --format redwood --out "$tmp/colour" >/dev/null
+{ printf '\x01'; cat "$tmp/colour/color/"*.png; } >"$out/colour_image/frame.png"
+"$tool" scan --shape sphere --path orbit --views 1 --width 4 --height 3 --voxel 0.2 \
+  --texture 0.5 --format redwood --jpeg --out "$tmp/jpeg" >/dev/null
+{ printf '\x00'; cat "$tmp/jpeg/color/"*.jpg; } >"$out/colour_image/frame.jpg"
 "$tool" scan --shape sphere --path orbit --views 2 --width 4 --height 3 --voxel 0.2 \
   --format tum --out "$tmp/tum" >/dev/null
 "$tool" scan --shape sphere --path orbit --views 2 --width 4 --height 3 --voxel 0.2 \

@@ -58,14 +58,16 @@ struct DepthFrame {
 };
 
 /// Writes a TUM folder (depth/T.png, depth.txt, groundtruth.txt, camera_intrinsic.json, and
-/// rgb/T.png with rgb.txt when the frames have colour) with frame k at time start + k / rate
-/// seconds.
+/// rgb/T.png, or rgb/T.jpg with `jpegColour`, with rgb.txt when the frames have colour) with
+/// frame k at time start + k / rate seconds.
 void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
-                      const DepthCamera& camera, double start = 1000.0, double rate = 30.0);
+                      const DepthCamera& camera, double start = 1000.0, double rate = 30.0,
+                      bool jpegColour = false);
 
 /// Writes a Redwood folder (depth/NNNNNN.png, trajectory.log, camera_intrinsic.json, and
-/// color/NNNNNN.png when the frames have colour).
+/// color/NNNNNN.png when the frames have colour; color/NNNNNN.jpg with `jpegColour`, as
+/// Open3D's recorder writes them).
 void writeRedwoodSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
-                          const DepthCamera& camera);
+                          const DepthCamera& camera, bool jpegColour = false);
 
 }  // namespace rangefuse::io
