@@ -34,6 +34,9 @@ void packScan(std::vector<char>& buf, uint64_t index, const PrismScan& s) {
   packVector(buf, s.surface.confidence);
   packVector(buf, s.surface.triangles);
   packVector(buf, s.surface.colours);
+  mpi::pack(buf, &s.surface.texelSide, 1);
+  packVector(buf, s.surface.texels);
+  packVector(buf, s.surface.blocks);
   packVector(buf, s.limits);
   mpi::pack(buf, &s.surface.sensor, 1);
 }
@@ -46,6 +49,9 @@ uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   unpackVector(buf, pos, s.surface.confidence);
   unpackVector(buf, pos, s.surface.triangles);
   unpackVector(buf, pos, s.surface.colours);
+  mpi::unpack(buf, pos, &s.surface.texelSide, 1);
+  unpackVector(buf, pos, s.surface.texels);
+  unpackVector(buf, pos, s.surface.blocks);
   unpackVector(buf, pos, s.limits);
   mpi::unpack(buf, pos, &s.surface.sensor, 1);
   return index;
@@ -57,6 +63,8 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
   PrismScan part;
   const ScanSurface& s = scan.surface;
   part.surface.sensor = s.sensor;
+  part.surface.texelSide = s.texelSide;
+  const size_t perPoint = size_t(s.texelSide) * s.texelSide;
   std::vector<uint32_t> used;
   for (uint32_t t : triangles) {
     Triangle tri = s.triangles[t];
@@ -69,6 +77,11 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
         part.surface.normals.push_back(s.normals[tri[k]]);
         part.surface.confidence.push_back(s.confidence[tri[k]]);
         if (!s.colours.empty()) part.surface.colours.push_back(s.colours[tri[k]]);
+        if (!s.texels.empty()) {
+          part.surface.blocks.push_back(s.blocks[tri[k]]);
+          const auto from = s.texels.begin() + tri[k] * perPoint;
+          part.surface.texels.insert(part.surface.texels.end(), from, from + perPoint);
+        }
       }
       tri[k] = to;
     }
@@ -151,6 +164,8 @@ uint64_t scanBytes(const PrismScan& s) {
   const uint64_t perPoint = 2 * sizeof(Eigen::Vector3d) + sizeof(double);
   const uint64_t perTriangle = sizeof(Triangle) + sizeof(std::array<double, 2>);
   return perPoint * s.surface.points.size() + sizeof(Colour) * s.surface.colours.size() +
+         sizeof(Texel) * s.surface.texels.size() +
+         sizeof(std::array<int32_t, 2>) * s.surface.blocks.size() +
          perTriangle * s.surface.triangles.size();
 }
 
@@ -255,9 +270,13 @@ PrismScan joinScans(std::vector<PrismScan>&& parts) {
     s.normals.insert(s.normals.end(), p.normals.begin(), p.normals.end());
     s.confidence.insert(s.confidence.end(), p.confidence.begin(), p.confidence.end());
     s.colours.insert(s.colours.end(), p.colours.begin(), p.colours.end());
+    // Parts of one scan share its texel side; parts without texels (bands) have none at all.
+    s.texels.insert(s.texels.end(), p.texels.begin(), p.texels.end());
+    s.blocks.insert(s.blocks.end(), p.blocks.begin(), p.blocks.end());
     for (Triangle t : p.triangles) s.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
     out.limits.insert(out.limits.end(), parts[k].limits.begin(), parts[k].limits.end());
   }
+  if (s.blocks.size() != s.points.size()) s.texels = {}, s.blocks = {};  // not all parts had them
   return out;
 }
 

@@ -258,7 +258,7 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
           for (size_t i = first; i < end; ++i) {
             if (!alone && !share.reads(i)) continue;
             PrismScan s = share.take(i);
-            if (!store.hasColour()) s.surface.colours = {};  // nothing to route or keep
+            if (!store.hasColour()) dropColour(s.surface);  // nothing to route or keep
             if (alone)
               parts.emplace_back(i, std::move(s));
             else

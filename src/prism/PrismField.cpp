@@ -183,14 +183,9 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
       s = &slab.samples.emplace_back();
       if (coloured) slab.colours.emplace_back();
     }
-    if (coloured) {  // the colour at the foot, interpolated as the gradient is
-      const auto& c = scan.surface.colours;
-      const Triangle& tri = *triangle;
+    if (coloured)  // the colour at the foot, where the gradient is interpolated
       slab.colours[static_cast<size_t>(s - slab.samples.data())] =
-          static_cast<float>(foot.bary[0]) * c[tri[0]] +
-          static_cast<float>(foot.bary[1]) * c[tri[1]] +
-          static_cast<float>(foot.bary[2]) * c[tri[2]];
-    }
+          surfaceColour(scan.surface, *triangle, foot.bary);
     const Eigen::Vector3d g = footGradient(prism, foot.bary);
     *s = Sample{static_cast<uint32_t>(at),
                 static_cast<float>(foot.d),

@@ -28,18 +28,19 @@ int32_t centralCell(const RangeGrid& g, int r0, int c0, int k, int& rc, int& cc)
   return found;
 }
 
-/// The mean of block (r0, c0)'s points on the surface of its central cell, and of their colours
-/// if the grid has any; false if none.
+/// The mean of block (r0, c0)'s points on the surface of its central cell, and that cell's colour
+/// if the grid has any; false if none. The colour is sampled, not averaged: the merged cells
+/// interpolate it between their corners, and a block mean on top of that would blur a texture
+/// edge over two blocks instead of one. `texels` (if set, k x k of them) gets the cells' colours.
 bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Vector3d& mean,
-               Colour& colour) {
+               Colour& colour, Texel* texels) {
   int rc = 0, cc = 0;
   const int32_t centre = centralCell(g, r0, c0, k, rc, cc);
   if (centre < 0) return false;
   const Eigen::Vector3d& ref = g.points[centre];
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Colour colourSum = Colour::Zero();
-  const bool coloured = !g.colours.empty();
   int n = 0;
+  if (texels) std::fill(texels, texels + size_t(k) * k, Texel{0, 0, 0, 0});
   for (int r = r0; r < std::min(r0 + k, g.rows); ++r)
     for (int c = c0; c < std::min(c0 + k, g.cols); ++c) {
       const int32_t i = g.at(r, c);
@@ -47,11 +48,11 @@ bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Ve
       const int apart = std::max({std::abs(r - rc), std::abs(c - cc), 1});
       if ((g.points[i] - ref).norm() > step * apart) continue;
       sum += g.points[i];
-      if (coloured) colourSum += g.colours[i];
       ++n;
+      if (texels) texels[(r - r0) * k + (c - c0)] = texelOf(g.colours[i]);
     }
   mean = sum / n;
-  colour = colourSum / static_cast<float>(n);
+  if (!g.colours.empty()) colour = g.colours[centre];
   return true;
 }
 
@@ -89,7 +90,8 @@ double mergedEdgeLimit(double mergedStep, double fineStep, int k, double maxEdge
   return maxEdgeFactor * std::max(mergedStep, k * fineStep);
 }
 
-RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFactor) {
+RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFactor,
+                     std::vector<Texel>* texels) {
   if (k <= 1) return g;
   RangeGrid out;
   out.cols = (g.cols + k - 1) / k;
@@ -108,9 +110,13 @@ RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFa
   const double step = maxEdgeFactor * spacing;
   Eigen::Vector3d mean;
   Colour colour;
+  if (g.colours.empty()) texels = nullptr;
+  std::vector<Texel> block(texels ? size_t(k) * k : 0);
   for (int R = 0; R < out.rows; ++R)
     for (int C = 0; C < out.cols; ++C) {
-      if (!blockMean(g, R * k, C * k, k, step, mean, colour)) continue;
+      if (!blockMean(g, R * k, C * k, k, step, mean, colour, texels ? block.data() : nullptr))
+        continue;
+      if (texels) texels->insert(texels->end(), block.begin(), block.end());
       out.cell[static_cast<size_t>(R) * out.cols + C] = static_cast<int32_t>(out.points.size());
       out.points.push_back(mean);
       if (!g.colours.empty()) out.colours.push_back(colour);

@@ -7,13 +7,39 @@
 namespace rangefuse {
 namespace {
 
-/// The grid triangulated by `rules`, with filtered normals, placed by `pose`.
+/// Each merged point's block (row, column) in the merged grid.
+std::vector<std::array<int32_t, 2>> blockPlaces(const RangeGrid& merged) {
+  std::vector<std::array<int32_t, 2>> places(merged.points.size());
+  for (int r = 0; r < merged.rows; ++r)
+    for (int c = 0; c < merged.cols; ++c)
+      if (const int32_t i = merged.at(r, c); i >= 0) places[i] = {r, c};
+  return places;
+}
+
+/// Gives the surface's points the texels of the merged points they came from.
+void attachTexels(ScanSurface& s, const RangeGrid& merged, int k, const std::vector<Texel>& texels,
+                  const std::vector<int32_t>& sources) {
+  const std::vector<std::array<int32_t, 2>> places = blockPlaces(merged);
+  const size_t per = size_t(k) * k;
+  s.texelSide = k;
+  s.texels.reserve(sources.size() * per);
+  for (int32_t i : sources) {
+    s.blocks.push_back(places[i]);
+    s.texels.insert(s.texels.end(), texels.begin() + i * per, texels.begin() + (i + 1) * per);
+  }
+}
+
+/// The grid triangulated by `rules`, with filtered normals, placed by `pose`; with `texels`
+/// (grid merged from k x k cells), the points keep their blocks' original colours.
 ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, const Pose& pose,
-                      int normalPasses) {
-  TriangleMesh mesh = triangulateGrid(grid, rules);
+                      int normalPasses, int k = 1, const std::vector<Texel>* texels = nullptr) {
+  std::vector<int32_t> sources;
+  const bool fine = texels && !texels->empty();
+  TriangleMesh mesh = triangulateGrid(grid, rules, nullptr, fine ? &sources : nullptr);
   const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, normalPasses);
   ScanSurface s = orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
   s.colourKind = grid.colourKind;
+  if (fine) attachTexels(s, grid, k, *texels, sources);
   return s;
 }
 
@@ -26,10 +52,11 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
                                         : 1;
   if (k > 1) {
     const double fineStep = gridSpacing(grid);
-    const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor);
+    std::vector<Texel> texels;
+    const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor, &texels);
     GridTriangulation rules = gridTriangulation(coarse, options);
     rules.maxEdge = mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor);
-    return surfaceOf(coarse, rules, pose, options.normalPasses);
+    return surfaceOf(coarse, rules, pose, options.normalPasses, k, &texels);
   }
   return surfaceOf(grid, gridTriangulation(grid, options), pose, options.normalPasses);
 }

@@ -93,7 +93,7 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& option
 }
 
 TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rules,
-                             std::vector<int>* cellColumns) {
+                             std::vector<int>* cellColumns, std::vector<int32_t>* sources) {
   std::vector<int32_t> remap(grid.points.size(), -1);
   TriangleMesh mesh;
   auto use = [&](int32_t i) {
@@ -101,6 +101,7 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rul
       remap[i] = static_cast<int32_t>(mesh.vertices.size());
       mesh.vertices.push_back(grid.points[i]);
       if (!grid.colours.empty()) mesh.colours.push_back(grid.colours[i]);
+      if (sources) sources->push_back(i);
     }
     return remap[i];
   };

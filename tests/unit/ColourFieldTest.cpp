@@ -122,3 +122,53 @@ TEST(ColourField, ThreadsGiveTheSameColourBits) {
       for (int k = 0; k < 3; ++k) ASSERT_EQ(one.colours()[i].c[k], many.colours()[i].c[k]) << i;
   }
 }
+
+TEST(SurfaceColour, MergedCellsShowTheOriginalCellNearestTheFoot) {
+  // A fine grid 0.1 apart merged into blocks of k x k: anywhere in a merged triangle the colour
+  // must be the original cell's nearest that point (brute force: by its coordinates), not the
+  // blend of the block corners.
+  RangeGrid g;
+  g.cols = 200, g.rows = 160;
+  g.colourKind = ColourKind::rgb;
+  auto colourAt = [](int col, int row) {
+    return Colour(col < 101 ? 0.9f : 0.1f, float(col % 7) / 7, float(row % 5) / 5);
+  };
+  for (int y = 0; y < g.rows; ++y)
+    for (int x = 0; x < g.cols; ++x) {
+      g.cell.push_back(static_cast<int32_t>(g.points.size()));
+      g.points.emplace_back(x * 0.1, y * 0.1, 10);
+      g.colours.push_back(colourAt(x, y));
+    }
+  SurfaceOptions options;
+  options.mergeTarget = 0.5;
+  const ScanSurface s = buildScanSurface(g, Pose{}, options);
+  const int k = s.texelSide;
+  ASSERT_GT(k, 1);
+  ASSERT_EQ(g.cols % k, 0);
+  ASSERT_EQ(g.rows % k, 0);
+  ASSERT_EQ(s.texels.size(), s.points.size() * k * k);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  size_t checked = 0;
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    const Triangle& tri = s.triangles[t];
+    for (int n = 0; n < 4; ++n) {
+      double a = unit(rng), b = unit(rng);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      const Eigen::Vector3d bary(1 - a - b, a, b);
+      const Eigen::Vector3d p =
+          bary[0] * s.points[tri[0]] + bary[1] * s.points[tri[1]] + bary[2] * s.points[tri[2]];
+      const double col = p.x() / 0.1, row = p.y() / 0.1;
+      // Halfway between two cells either may answer.
+      if (std::abs(col - std::round(col) - 0.5) < 1e-6 ||
+          std::abs(row - std::round(row) - 0.5) < 1e-6)
+        continue;
+      const Colour want = colourOf(texelOf(colourAt(int(std::lround(col)), int(std::lround(row)))));
+      ASSERT_TRUE(surfaceColour(s, tri, bary).isApprox(want, 1e-6))
+          << "at " << col << ", " << row << ": " << surfaceColour(s, tri, bary).transpose()
+          << " want " << want.transpose();
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000u);
+}

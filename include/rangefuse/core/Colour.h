@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -20,6 +21,17 @@ using Colour = Eigen::Vector3f;
 /// A channel in [0, 1] as the byte files store (clamped, rounded to the nearest of 0..255).
 inline uint8_t colourByte(float channel) {
   return static_cast<uint8_t>(std::lround(std::clamp(channel, 0.0f, 1.0f) * 255));
+}
+
+/// One cell of a scan's original colour grid in 8 bits a channel; alpha 0 where the cell has no
+/// sample of the surface (4 bytes: a quarter of a Colour).
+using Texel = std::array<uint8_t, 4>;
+
+inline Texel texelOf(const Colour& c) {
+  return {colourByte(c[0]), colourByte(c[1]), colourByte(c[2]), 255};
+}
+inline Colour colourOf(const Texel& t) {
+  return Colour(t[0], t[1], t[2]) / 255;
 }
 
 /// "none", "rgb" or "intensity".

@@ -3,6 +3,7 @@
 // triangle. Blocks of k x k cells become one cell, so the grid stays a grid.
 #pragma once
 
+#include "rangefuse/core/Colour.h"
 #include "rangefuse/core/RangeGrid.h"
 
 namespace rangefuse {
@@ -32,6 +33,9 @@ double mergedEdgeLimit(double mergedStep, double fineStep, int k, double maxEdge
 /// lie on the surface of its most central point (within maxEdgeFactor grid steps per cell of
 /// separation, the triangulation's own test), so that a block across a depth edge keeps only the
 /// side of its centre. Pinhole intrinsics are scaled to the new cells. k = 1 returns the grid.
-RangeGrid mergeCells(const RangeGrid& grid, int k, double spacing, double maxEdgeFactor);
+/// With `texels` and a coloured grid, each merged point's k x k cells are appended to it
+/// (row-major; alpha 0 for cells without a point or off the centre's surface).
+RangeGrid mergeCells(const RangeGrid& grid, int k, double spacing, double maxEdgeFactor,
+                     std::vector<Texel>* texels = nullptr);
 
 }  // namespace rangefuse

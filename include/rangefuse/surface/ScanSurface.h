@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "rangefuse/core/Pose.h"
@@ -29,8 +30,22 @@ struct ScanSurface {
   std::vector<Triangle> triangles;
   std::vector<Colour> colours;               ///< empty, or one per point
   ColourKind colourKind = ColourKind::none;  ///< what the scan's grid carried
+  /// Colour finer than the points, kept when merging k x k cells coarsened a coloured grid
+  /// (texelSide = k > 1): per point, the k x k original cells of its block (row-major) and the
+  /// block's place (row, column) in the merged grid. Empty otherwise.
+  int texelSide = 1;
+  std::vector<Texel> texels;                   ///< points x k^2
+  std::vector<std::array<int32_t, 2>> blocks;  ///< one per point
   Sensor sensor;  ///< where the lines of sight come from, in the same frame
 };
+
+/// The scan's colour at barycentric point `bary` of triangle `t`: the nearest original cell's
+/// when the surface has texels (a merged cell then shows the texture at the grid's own
+/// resolution), else the corners' colours interpolated.
+Colour surfaceColour(const ScanSurface& s, const Triangle& t, const Eigen::Vector3d& bary);
+
+/// Forgets the surface's colours and texels (a job that fuses no colour carries none).
+void dropColour(ScanSurface& s);
 
 /// Median distance between grid neighbours (the lateral sampling step), or 0 if none.
 /// `downEvery` as in medianNeighbourStep.
@@ -53,9 +68,11 @@ GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions&
 /// closed across its 0/360 degree seam.
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options);
 
-/// The same under given rules; `cellColumns` (if set) gets each triangle's cell column.
+/// The same under given rules; `cellColumns` (if set) gets each triangle's cell column, and
+/// `sources` (if set) each vertex's index among the grid's points.
 TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rules,
-                             std::vector<int>* cellColumns = nullptr);
+                             std::vector<int>* cellColumns = nullptr,
+                             std::vector<int32_t>* sources = nullptr);
 
 /// The surface of a triangulated grid: normals (scan frame, filtered) turned by the pose,
 /// confidence against `sensor`'s line of sight, points moved to world.
