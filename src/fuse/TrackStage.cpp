@@ -304,6 +304,27 @@ class StreamCheckpointer {
   std::vector<std::string> hashes_;
 };
 
+/// The colour the tracking field fuses: its frames' colour images when every frame has one
+/// (auto), none when asked. A followed folder's frames arrive later, unseen: auto fuses depth
+/// alone there. When another field follows the tracking (other methods, or refined poses), that
+/// field reads the colour itself and the tracking field fuses none.
+ColourKind streamColour(const FuseOptions& o, const io::ConfFile& conf) {
+  if (o.colour == "none" || o.method != FieldMethod::Prism ||
+      o.registration == RegistrationMode::Simultaneous)
+    return ColourKind::none;
+  if (o.colour == "intensity")
+    throw InputError(o.scans + ": --colour intensity: depth streams carry colour images (rgb)");
+  const bool explicitRgb = o.colour == "rgb";
+  if (o.follow && !explicitRgb) return ColourKind::none;
+  for (const io::ConfScan& s : conf.scans)
+    if (s.colour.empty()) {
+      if (explicitRgb)
+        throw InputError(s.path + ": has no colour image, but --colour rgb asks every frame");
+      return ColourKind::none;
+    }
+  return conf.scans.empty() ? ColourKind::none : ColourKind::rgb;
+}
+
 }  // namespace
 
 bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
@@ -312,6 +333,9 @@ bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedS
   if (!collectively(comm, [&] {
         conf = o.follow ? internal::FollowedFolder(o, comm).first()
                         : io::readScanList(o.scans, o.limits, o.source);
+        scans.colour = streamColour(o, conf);
+        if (scans.colour == ColourKind::none)
+          for (io::ConfScan& s : conf.scans) s.colour.clear();  // not read for nothing
       }))
     return false;
   if (progress.isRoot())
@@ -353,8 +377,8 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
     progress.stage("resume", o.resume + ": tracking from frame " +
                                  std::to_string(state.nextFrame + 1) + " (the " +
                                  std::to_string(state.nextFrame) + " before fused again)");
-  const TrackingFieldSettings fieldSettings{o.voxel, o.brick, o.envelope * o.voxel,
-                                            o.limits.maxVoxels, o.threads};
+  const TrackingFieldSettings fieldSettings{
+      o.voxel, o.brick, o.envelope * o.voxel, o.limits.maxVoxels, o.threads, scans.colour};
   TrackingField tracked(fieldSettings, scans, comm);
   StreamCheckpointer checkpointer(o, scans, comm);
   FrameLines lines(scans, o.voxel);

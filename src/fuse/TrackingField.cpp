@@ -68,24 +68,32 @@ std::unique_ptr<BrickStore> moveSums(const BrickStore& from, const BrickLayout& 
                                      MPI_Comm comm) {
   const int me = mpi::rank(comm);
   auto to = std::make_unique<BrickStore>(layout, me);
+  to->enableColour(from.colourKind());
+  const bool coloured = from.hasColour();
   const size_t per = from.voxelsPerBrick();
   std::vector<std::vector<char>> out(mpi::size(comm));
   for (size_t b = 0; b < from.brickCount(); ++b) {
     const uint64_t code = from.code(b);
     const VoxelSums* sums = &from.sums()[b * per];
     const int owner = layout.ownerOf(static_cast<size_t>(layout.find(code)));
+    const VoxelColour* colours = coloured ? &from.colours()[b * per] : nullptr;
     if (owner == me) {
-      std::copy(sums, sums + per, &to->sums()[to->localBrick(code) * per]);
+      const size_t at = to->localBrick(code) * per;
+      std::copy(sums, sums + per, &to->sums()[at]);
+      if (coloured) std::copy(colours, colours + per, &to->colours()[at]);
       continue;
     }
     mpi::pack(out[owner], &code, 1);
     mpi::pack(out[owner], sums, per);
+    if (coloured) mpi::pack(out[owner], colours, per);
   }
   for (const auto& in : mpi::exchangeBytes(std::move(out), comm))
     for (size_t at = 0; at < in.size();) {
       uint64_t code;
       mpi::unpack(in, at, &code, 1);
-      mpi::unpack(in, at, &to->sums()[to->localBrick(code) * per], per);
+      const size_t local = to->localBrick(code) * per;
+      mpi::unpack(in, at, &to->sums()[local], per);
+      if (coloured) mpi::unpack(in, at, &to->colours()[local], per);
     }
   return to;
 }
@@ -124,6 +132,7 @@ const BrickStore& TrackingField::build(const std::vector<size_t>& which,
   empty.grid = grid_;
   empty.rankStart.assign(mpi::size(comm_) + 1, 0);
   store_ = std::make_unique<BrickStore>(empty, mpi::rank(comm_));
+  store_->enableColour(settings_.colour);
   integrator_.reset();
   balancedBricks_ = 0;
   for (size_t i : which) add(i, poses);

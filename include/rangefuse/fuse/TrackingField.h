@@ -19,6 +19,7 @@ struct TrackingFieldSettings {
   double eps = 0;  ///< prism half-thickness, world units
   uint64_t maxVoxels = 0;
   int threads = 1;
+  ColourKind colour = ColourKind::none;  ///< what the field fuses beside the distance
 };
 
 /// A RegistrationField whose add() never rebuilds: the bricks a new frame's prisms reach join
