@@ -72,14 +72,15 @@ double firstCrossing(const SparseField& f, const Eigen::Vector3d& o, const Eigen
   return NAN;
 }
 
-/// Shaded like the orbit view, by the gradient facing back along the ray.
+/// The hit at depth t along o + t d, shaded by the gradient facing back along the ray: the
+/// field's colour there when it has one, else a warm grey.
 PixelHit shadedHit(const SparseField& field, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                    double t) {
-  const Eigen::Vector3d n = field.gradient(o + t * d);
-  const double shade = 0.15 + 0.85 * std::max(0.0, -n.dot(d));
-  return PixelHit{t,
-                  {static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
-                   static_cast<uint8_t>(205 * shade)}};
+  const Eigen::Vector3d p = o + t * d, n = field.gradient(p);
+  const float shade = static_cast<float>(0.15 + 0.85 * std::max(0.0, -n.dot(d)));
+  const Colour base = field.colour(p).value_or(Colour(235, 225, 205) / 255);
+  const Colour c = shade * base;
+  return PixelHit{t, {colourByte(c[0]), colourByte(c[1]), colourByte(c[2])}};
 }
 
 /// One ray per pixel through a pinhole camera (the tracker's current view).
@@ -116,13 +117,8 @@ std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox
       const Eigen::Vector3d o =
           cam.centre + 1.5 * cam.radius * cam.toCamera + u * cam.right + v * cam.up;
       const double t = firstCrossing(field, o, -cam.toCamera, 3 * cam.radius, counts);
-      if (std::isnan(t)) continue;
-      const Eigen::Vector3d n = field.gradient(o - t * cam.toCamera);
-      const double shade = 0.15 + 0.85 * std::max(0.0, n.dot(cam.toCamera));
-      PixelHit& h = hits[static_cast<size_t>(y) * view.width + x];
-      h.t = t;
-      h.rgb = {static_cast<uint8_t>(235 * shade), static_cast<uint8_t>(225 * shade),
-               static_cast<uint8_t>(205 * shade)};
+      if (!std::isnan(t))
+        hits[static_cast<size_t>(y) * view.width + x] = shadedHit(field, o, -cam.toCamera, t);
     }
   return hits;
 }

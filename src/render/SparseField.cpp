@@ -11,18 +11,34 @@ namespace {
 
 void packBrick(std::vector<char>& buf, const BrickStore& store, size_t b) {
   const uint64_t code = store.code(b);
+  const size_t per = store.voxelsPerBrick();
   mpi::pack(buf, &code, 1);
-  mpi::pack(buf, store.sums().data() + b * store.voxelsPerBrick(), store.voxelsPerBrick());
+  mpi::pack(buf, store.sums().data() + b * per, per);
+  if (store.hasColour()) mpi::pack(buf, store.colours().data() + b * per, per);
 }
 
-void unpackBricks(const std::vector<char>& buf, size_t per, SparseField& field) {
+void unpackBricks(const std::vector<char>& buf, size_t per, bool coloured, SparseField& field) {
   for (size_t pos = 0; pos < buf.size();) {
     uint64_t code;
     mpi::unpack(buf, pos, &code, 1);
     std::vector<VoxelSums> sums(per);
     mpi::unpack(buf, pos, sums.data(), per);
-    field.addBrick(code, std::move(sums));
+    std::vector<VoxelColour> colours(coloured ? per : 0);
+    if (coloured) mpi::unpack(buf, pos, colours.data(), per);
+    field.addBrick(code, std::move(sums), std::move(colours));
   }
+}
+
+/// Brick b of the store as addBrick takes it: its sums and colours (if any).
+void addOwnBrick(const BrickStore& store, size_t b, SparseField& field) {
+  const size_t per = store.voxelsPerBrick();
+  std::vector<VoxelColour> colours;
+  if (store.hasColour())
+    colours.assign(store.colours().begin() + b * per, store.colours().begin() + (b + 1) * per);
+  field.addBrick(
+      store.code(b),
+      std::vector<VoxelSums>(store.sums().begin() + b * per, store.sums().begin() + (b + 1) * per),
+      std::move(colours));
 }
 
 }  // namespace
@@ -44,7 +60,7 @@ SparseField SparseField::gather(const BrickStore& store, float minWeight, int ro
   for (size_t b = 0; b < store.brickCount(); ++b)
     if (!keep || keep(mortonDecode(store.code(b)))) packBrick(buf, store, b);
   SparseField field(store.grid(), minWeight);
-  unpackBricks(mpi::gatherBytes(buf, root, comm), store.voxelsPerBrick(), field);
+  unpackBricks(mpi::gatherBytes(buf, root, comm), store.voxelsPerBrick(), store.hasColour(), field);
   field.frame_ = brickBounds(store.grid(), store.layout().codes);
   return field;
 }
@@ -55,9 +71,7 @@ SparseField SparseField::withNeighbours(const BrickStore& store, float minWeight
   std::vector<std::vector<char>> out(mpi::size(comm));
   SparseField field(store.grid(), minWeight);
   for (size_t b = 0; b < store.brickCount(); ++b) {
-    const size_t per = store.voxelsPerBrick();
-    field.addBrick(store.code(b), std::vector<VoxelSums>(store.sums().begin() + b * per,
-                                                         store.sums().begin() + (b + 1) * per));
+    addOwnBrick(store, b, field);
     const BrickCoord c = mortonDecode(store.code(b));
     std::vector<int> sent;
     for (int o = 0; o < 27; ++o) {
@@ -72,13 +86,25 @@ SparseField SparseField::withNeighbours(const BrickStore& store, float minWeight
     }
   }
   for (const auto& buf : mpi::exchangeBytes(std::move(out), comm))
-    unpackBricks(buf, store.voxelsPerBrick(), field);
+    unpackBricks(buf, store.voxelsPerBrick(), store.hasColour(), field);
   field.frame_ = brickBounds(store.grid(), layout.codes);
   return field;
 }
 
-void SparseField::addBrick(uint64_t code, std::vector<VoxelSums> sums) {
+void SparseField::addBrick(uint64_t code, std::vector<VoxelSums> sums,
+                           std::vector<VoxelColour> colours) {
   bricks_[code] = std::move(sums);
+  if (!colours.empty()) colours_[code] = std::move(colours);
+}
+
+std::optional<Colour> SparseField::colour(const Eigen::Vector3d& p) const {
+  const VoxelIndex v = grid_.nearest(p);
+  if (colours_.empty() || !voxel(v)) return std::nullopt;
+  const int B = grid_.brick;
+  const auto it = colours_.find(mortonEncode(brickOf(v, B)));
+  if (it == colours_.end()) return std::nullopt;
+  const VoxelIndex l = v - brickOf(v, B) * B;
+  return it->second[(size_t(l.z()) * B + l.y()) * B + l.x()].value();
 }
 
 Eigen::AlignedBox3d SparseField::bounds() const {

@@ -11,9 +11,11 @@ namespace {
 
 const Eigen::Vector3d kCentre(16.3, 15.8, 16.1);
 const double kRadius = 9.0;
+const Colour kOrange(0.85f, 0.35f, 0.15f), kBlue(0.15f, 0.45f, 0.80f);
 
-/// An analytic sphere field, observed within 3 voxels of the surface.
-SparseField sphereField() {
+/// An analytic sphere field, observed within 3 voxels of the surface; with `painted`, its
+/// voxels are orange for x below the centre and blue above.
+SparseField sphereField(bool painted = false) {
   VoxelGrid grid;
   grid.brick = 8;
   SparseField f(grid, 0);
@@ -21,6 +23,7 @@ SparseField sphereField() {
     for (int y = 0; y < 4; ++y)
       for (int x = 0; x < 4; ++x) {
         std::vector<VoxelSums> sums(512);
+        std::vector<VoxelColour> colours(painted ? 512 : 0);
         bool any = false;
         for (int i = 0; i < 512; ++i) {
           const Eigen::Vector3d p(8 * x + i % 8, 8 * y + (i / 8) % 8, 8 * z + i / 64);
@@ -28,9 +31,10 @@ SparseField sphereField() {
           if (std::abs(d) > 3) continue;
           const Eigen::Vector3d n = (p - kCentre).normalized();
           sums[i] = VoxelSums{float(d), 1, {float(n.x()), float(n.y()), float(n.z())}};
+          if (painted) colours[i].add(p.x() < kCentre.x() ? kOrange : kBlue, 1, 0);
           any = true;
         }
-        if (any) f.addBrick(mortonEncode({x, y, z}), std::move(sums));
+        if (any) f.addBrick(mortonEncode({x, y, z}), std::move(sums), std::move(colours));
       }
   return f;
 }
@@ -74,6 +78,29 @@ TEST(RenderField, SphereSilhouetteAndShading) {
   const double window = box.diagonal().norm();
   const double expected = M_PI * kRadius * kRadius / (window * window) * 200 * 200;
   EXPECT_NEAR(covered / expected, 1.0, 0.05);
+}
+
+TEST(RenderField, AColouredFieldIsShownInItsColours) {
+  // A pixel shows the voxel colour times its shade: orange left of the centre, blue right of
+  // it, on a sphere seen from +z (compared as hues: each scaled by its largest channel).
+  const SparseField f = sphereField(true);
+  ViewSettings view;
+  view.elevationDeg = 0;
+  view.width = view.height = 200;
+  const Image img = renderField(f, view);
+  auto pixel = [&](int x, int y) -> Colour {
+    const uint8_t* p = &img.rgb[(size_t(y) * img.width + x) * 3];
+    const Colour c(p[0], p[1], p[2]);
+    return c / c.maxCoeff();
+  };
+  auto hue = [](const Colour& c) -> Colour { return c / c.maxCoeff(); };
+  EXPECT_LT((pixel(90, 100) - hue(kOrange)).cwiseAbs().maxCoeff(), 0.03f) << pixel(90, 100);
+  EXPECT_LT((pixel(110, 100) - hue(kBlue)).cwiseAbs().maxCoeff(), 0.03f) << pixel(110, 100);
+  // Without colour, the same view keeps its warm grey.
+  const Image grey = renderField(sphereField(), view);
+  const uint8_t* g = &grey.rgb[(100 * 200 + 90) * 3];
+  EXPECT_GT(g[0], g[2]);
+  EXPECT_GT(g[2], 180);
 }
 
 TEST(RenderSlice, SurfaceDarkUnobservedBlue) {

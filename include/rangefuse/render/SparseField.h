@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -27,7 +28,8 @@ class SparseField {
   /// neighbours), whoever owns it: what a ray needs to be followed through this rank's bricks.
   static SparseField withNeighbours(const BrickStore& store, float minWeight, MPI_Comm comm);
 
-  void addBrick(uint64_t code, std::vector<VoxelSums> sums);
+  /// A brick's sums and, when the field has colour, its voxels' colours (else empty).
+  void addBrick(uint64_t code, std::vector<VoxelSums> sums, std::vector<VoxelColour> colours = {});
   const VoxelGrid& grid() const { return grid_; }
   /// Bounds of the existing bricks (of the whole layout when gathered), world units.
   Eigen::AlignedBox3d bounds() const;
@@ -39,11 +41,14 @@ class SparseField {
   bool distance(const Eigen::Vector3d& p, double& d) const;
   /// Unit gradient at the voxel nearest to p (Tubic §4.7); zero when unobserved.
   Eigen::Vector3d gradient(const Eigen::Vector3d& p) const;
+  /// The fused colour at the voxel nearest to p; nullopt when the field has none there.
+  std::optional<Colour> colour(const Eigen::Vector3d& p) const;
 
  private:
   VoxelGrid grid_;
   float minWeight_;
   std::unordered_map<uint64_t, std::vector<VoxelSums>> bricks_;
+  std::unordered_map<uint64_t, std::vector<VoxelColour>> colours_;  ///< coloured fields only
   Eigen::AlignedBox3d frame_;  ///< bounds of the whole layout, when set
 };
 
