@@ -122,7 +122,7 @@ std::vector<FuseParameter> makeTable() {
            &FuseOptions::voxel, [](double v) { return v > 0 && std::isfinite(v); },
            "must be positive and finite (in the scans' units)")},
       {"method", "method", R::Result, false, methodHelp(), at(&FuseOptions::method), nullptr},
-      {"colour", "", R::No, false,
+      {"colour", "colour", R::Result, false,
        "colour of the mesh: auto (what every scan carries: red green blue, or intensity), rgb, "
        "intensity or none; fused by --method prism and robust",
        at(&FuseOptions::colour),
