@@ -39,9 +39,24 @@ struct ScanSurface {
   Sensor sensor;  ///< where the lines of sight come from, in the same frame
 };
 
-/// The scan's colour at barycentric point `bary` of triangle `t`: the nearest original cell's
+/// What surfaceColour needs of one triangle, prepared once for the many feet of its prism: its
+/// corners' blocks in original-cell coordinates (when the surface has texels).
+struct ColourTriangle {
+  const ScanSurface* surface = nullptr;
+  Triangle corners{};
+  bool texels = false;    ///< false: the corners' colours are interpolated
+  double row[3], col[3];  ///< each corner's block centre
+  long top[3], left[3];   ///< each corner's block's first original cell
+};
+
+ColourTriangle colourTriangle(const ScanSurface& s, const Triangle& t);
+
+/// The scan's colour at barycentric point `bary` of a triangle: the nearest original cell's
 /// when the surface has texels (a merged cell then shows the texture at the grid's own
 /// resolution), else the corners' colours interpolated.
+Colour surfaceColour(const ColourTriangle& triangle, const Eigen::Vector3d& bary);
+
+/// The same for triangle `t` of `s`, prepared for one foot.
 Colour surfaceColour(const ScanSurface& s, const Triangle& t, const Eigen::Vector3d& bary);
 
 /// Forgets the surface's colours and texels (a job that fuses no colour carries none).
