@@ -22,6 +22,10 @@ void writeAtomically(const std::string& path, const std::function<void(std::ostr
     std::remove(tmp.c_str());
     throw;
   }
+  moveIntoPlace(tmp, path);
+}
+
+void moveIntoPlace(const std::string& tmp, const std::string& path) {
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {

@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/io/Png.h"
 
 namespace rangefuse::io {
@@ -117,12 +118,7 @@ void writeJpeg(const std::string& path, const Image& image, int quality) {
     std::remove(tmp.c_str());
     throw InputError(path + ": cannot write JPEG (disk full?)");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot rename temporary file into place: " + ec.message());
-  }
+  moveIntoPlace(tmp, path);
 }
 
 bool isColourImageName(const std::string& path) {

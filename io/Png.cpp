@@ -3,10 +3,10 @@
 #include <png.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/parallel/FaultInjection.h"
 
 namespace rangefuse::io {
@@ -23,12 +23,7 @@ void writePng(const std::string& path, const Image& image) {
     std::remove(tmp.c_str());
     throw InputError(path + ": cannot write PNG: " + png.message);
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot rename temporary file into place: " + ec.message());
-  }
+  moveIntoPlace(tmp, path);
 }
 
 Image readPng(const std::string& path) {

@@ -11,4 +11,8 @@ namespace rangefuse::io {
 /// temporary is removed and InputError is thrown naming the file.
 void writeAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
+/// Renames a finished temporary file `tmp` to `path`; on failure removes it and throws
+/// InputError naming `path` (for writers that make `tmp` through a C library).
+void moveIntoPlace(const std::string& tmp, const std::string& path);
+
 }  // namespace rangefuse::io
