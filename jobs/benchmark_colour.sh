@@ -8,7 +8,10 @@
 # pinhole volume cannot take: rangefuse alone, with and without colour. `rangefuse eval`
 # measures colour error at the mesh vertices against the painted truth (mean absolute
 # difference per channel, of 255) and edge contrast (the colour step kept across check edges, 1
-# as sharp as the truth). Each run is made twice and the faster kept.
+# as sharp as the truth). Each run is made twice and the faster kept. The cost of colour is
+# then measured apart, as the median over five pairs of runs with and without colour made one
+# after the other (drift in the machine's speed between two separate series is larger than
+# the effect).
 # Usage: bash jobs/benchmark_colour.sh [FRAMES VOXEL CHECK]  (default 200 0.01 0.0973)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -57,6 +60,24 @@ fuse_row() {  # name, then fuse arguments
   echo "$best | $field | $memory"
 }
 
+# Median over 5 alternating pairs of (field s, peak MiB of the larger rank) with colour / without.
+colour_cost() {  # fuse arguments (without --colour)
+  for pair in 1 2 3 4 5; do
+    for colour in auto none; do
+      mpirun -np 2 --bind-to none $bin fuse "$@" --colour $colour --out "$tmp/cost.ply" \
+        >"$tmp/cost-$colour.log"
+    done
+    for colour in auto none; do
+      field=$(grep "\] field " "$tmp/cost-$colour.log" | sed 's/.*(\([0-9.]*\)s)$/\1/')
+      memory=$(grep "peak memory per rank" "$tmp/cost-$colour.log" |
+        sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/' | tr '/' '\n' | sort -n | tail -1)
+      echo -n "$field $memory "
+    done
+    echo
+  done | awk '{ t[NR] = $1 / $3; m[NR] = $2 / $4 }
+    END { n = asort(t); asort(m); printf "field time %.2fx, peak memory %.2fx (median of %d pairs)\n", t[(n + 1) / 2], m[(n + 1) / 2], n }'
+}
+
 echo
 echo "| sequence | seconds read to mesh | field (s) | peak MiB | Chamfer (voxel) | colour error mean (of 255) | p90 | edge contrast |"
 echo "|---|---|---|---|---|---|---|---|"
@@ -83,6 +104,8 @@ for colour in rgb none; do
   name=$([[ $colour == rgb ]] && echo "RGB8" || echo "no colour")
   echo "| Open3D ScalableTSDFVolume $name, 1 process | $best | $integrate | $memory | $(quality "$tmp/o3d-$colour.ply" "$seq/truth.ply" "$voxel") |"
 done
+echo
+echo "rangefuse prism with colour against without: $(colour_cost --scans "$seq" --voxel "$voxel")"
 
 # Stations: a room 12 m across from 3 painted tripods, 2000 x 1000 points a turn.
 room=$tmp/room
@@ -97,3 +120,5 @@ for colour in auto none; do
   row=$(fuse_row "room-$colour" --scans "$room/stations.ptx" --voxel "$svoxel" --colour $colour)
   echo "| rangefuse prism, colour $colour, 2 ranks | $row | $(quality "$tmp/room-$colour.ply" "$room/truth.ply" "$svoxel") |"
 done
+echo
+echo "rangefuse prism with colour against without: $(colour_cost --scans "$room/stations.ptx" --voxel "$svoxel")"
