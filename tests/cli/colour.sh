@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Colour fused beside the distance: range grids painted with checks of a known colour, fused on
 # 1, 2 and 3 ranks to the same bytes; the mesh's colours against the checks' colour at each
-# vertex (exact away from the check edges), by prism and robust fusion; PTX r g b and intensity; a checkpoint resumed to
-# the same coloured mesh; --colour none gives the bytes of the same scans
-# without colour; colour asked of scans that have none, or of a method that cannot fuse it,
-# refused by name.
+# vertex (exact away from the check edges), by prism and robust fusion; sequences with PNG and
+# JPEG colour images; PTX r g b and intensity; a checkpoint resumed to the same coloured mesh;
+# --colour none gives the bytes of the same scans without colour; colour asked of scans that
+# have none, or of a method that cannot fuse it, refused by name. Tracked streams:
+# colour_tracked.sh.
 set -euo pipefail
 bin=$1
 tmp=$(mktemp -d)
@@ -89,30 +90,6 @@ mpirun -np 2 "$bin" fuse --scans "$tmp/jpeg" --voxel 0.01 --track off --out "$tm
   >/dev/null
 check_colours "$tmp/jpeg.ply" 0.2 0.01 1.5 4
 echo "JPEG colour images: on the mesh"
-
-# A stream without a trajectory, tracked against the field it builds, fuses its colour images as
-# the same frames at their true poses do (eval's colour error within 2/255), on 2 and 3 ranks
-# to the same bytes.
-"$bin" scan --mesh "$(dirname "$0")/../data/bunny/bun_zipper.ply" --scale 10 --views 300 \
-  --path orbit --width 160 --height 120 --voxel 0.01 --noise 0.3 --texture 0.0973 --format tum \
-  --out "$tmp/stream" >/dev/null
-mpirun -np 2 "$bin" fuse --scans "$tmp/stream" --voxel 0.01 --track off --out "$tmp/posed.ply" \
-  >/dev/null
-first=$(grep -v '^#' "$tmp/stream/groundtruth.txt" | head -1 | awk '{ print $2","$3","$4","$5","$6","$7","$8 }')
-rm "$tmp/stream/groundtruth.txt"
-for n in 2 3; do
-  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/stream" --voxel 0.01 \
-    --first-pose "$first" --out "$tmp/tracked$n.ply" >/dev/null
-done
-cmp "$tmp/tracked2.ply" "$tmp/tracked3.ply"
-colour_error() {  # mesh -> eval's mean colour error against the stream's truth
-  "$bin" eval --mesh "$1" --reference "$tmp/stream/truth.ply" --voxel 0.01 --json |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["colour"]["error"]["mean"])'
-}
-tracked=$(colour_error "$tmp/tracked2.ply") posed=$(colour_error "$tmp/posed.ply")
-awk -v t="$tracked" -v p="$posed" 'BEGIN { exit !(t <= p + 2) }' ||
-  fail "tracked stream colour error $tracked against $posed at the true poses"
-echo "tracked stream: colour error $tracked/255 (at true poses $posed), 2 and 3 ranks identical"
 
 # The colours go into the checkpoint: resumed on 3 ranks, the same mesh.
 mpirun -np 2 "$bin" fuse --scans "$tmp/painted/truth.conf" --voxel 1 --checkpoint "$tmp/run.h5" \
