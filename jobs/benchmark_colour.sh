@@ -74,8 +74,10 @@ colour_cost() {  # fuse arguments (without --colour)
       echo -n "$field $memory "
     done
     echo
-  done | awk '{ t[NR] = $1 / $3; m[NR] = $2 / $4 }
-    END { n = asort(t); asort(m); printf "field time %.2fx, peak memory %.2fx (median of %d pairs)\n", t[(n + 1) / 2], m[(n + 1) / 2], n }'
+  done | awk '{ printf "%.2f %.2f\n", $1 / $3, $2 / $4 }' >"$tmp/ratios"
+  # Debian's awk (mawk) has no sort: the third of five sorted ratios is the median.
+  echo "field time $(cut -d' ' -f1 "$tmp/ratios" | sort -n | sed -n 3p)x," \
+    "peak memory $(cut -d' ' -f2 "$tmp/ratios" | sort -n | sed -n 3p)x (median of 5 pairs)"
 }
 
 echo
