@@ -173,7 +173,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   };
   // The store takes colour only from coloured scans (a job is coloured throughout or not at all).
   const bool coloured = store_.hasColour() && !scan.surface.colours.empty();
-  ColourTriangle colourOf;
+  ColourTriangle footColours;  // the current triangle, prepared for its feet
   auto visit = [&](const VoxelIndex&, int64_t at, const PrismFoot& foot) {
     Sample* s = sampleOf(slab, static_cast<size_t>(at));
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
@@ -185,7 +185,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     }
     if (coloured)  // the colour at the foot, where the gradient is interpolated
       slab.colours[static_cast<size_t>(s - slab.samples.data())] =
-          surfaceColour(colourOf, foot.bary);
+          surfaceColour(footColours, foot.bary);
     const Eigen::Vector3d g = footGradient(prism, foot.bary);
     *s = Sample{static_cast<uint32_t>(at),
                 static_cast<float>(foot.d),
@@ -210,7 +210,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     if (zLo >= slab.zLo) ++counted;
     rows.lo.z() = std::max(rows.lo.z(), slab.zLo);
     rows.hi.z() = std::min(rows.hi.z(), slab.zHi);
-    if (coloured) colourOf = colourTriangle(scan.surface, scan.surface.triangles[t]);
+    if (coloured) footColours = colourTriangle(scan.surface, scan.surface.triangles[t]);
     internal::rasterizeRows(prism, grid, rows, slotOf, visit);
   }
   return counted;
