@@ -7,6 +7,7 @@
 
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/fuse/OutputChecks.h"
@@ -507,6 +508,7 @@ bool decideTracking(const FuseOptions& o, MPI_Comm comm, bool& tracking) {
 }  // namespace
 
 int runFuse(const FuseOptions& given, MPI_Comm comm) {
+  memoryLedger().start();
   Progress progress(comm);
   FuseOptions o = given;
   io::CheckpointMeta resumed;

@@ -1,5 +1,6 @@
 #include "rangefuse/fuse/RunReport.h"
 
+#include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -7,6 +8,21 @@ using nlohmann::json;
 
 namespace rangefuse {
 namespace {
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+/// What the rank's peak was made of, MiB: the process before the run, each part the stages
+/// account for when their sum peaked, and the rest (allocator slack, transient copies, what
+/// no stage accounts for).
+json memoryBreakdown() {
+  const MemoryLedger& ledger = memoryLedger();
+  json parts = {{"process", ledger.processBytes() / kMiB}};
+  for (size_t p = 0; p < MemoryLedger::kParts; ++p)
+    parts[heldName(static_cast<Held>(p))] = ledger.atPeak()[p] / kMiB;
+  const double peak = static_cast<double>(peakMemoryMiB());
+  parts["other"] = std::max(0.0, peak - (ledger.processBytes() + ledger.peakTotal()) / kMiB);
+  return parts;
+}
 
 /// One rank's entry, as JSON text (gathered as bytes).
 std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounters& c) {
@@ -21,7 +37,8 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
               {"halo_bricks_received", c.haloBricks},
               {"triangles", c.triangles},
               {"routed_bytes_sent", c.routedBytes},
-              {"peak_memory_mib", peakMemoryMiB()}}
+              {"peak_memory_mib", peakMemoryMiB()},
+              {"memory_at_peak_mib", memoryBreakdown()}}
       .dump();
 }
 

@@ -13,13 +13,6 @@ namespace rangefuse {
 namespace {
 
 template <class T>
-void packVector(std::vector<char>& buf, const std::vector<T>& v) {
-  const uint64_t n = v.size();
-  mpi::pack(buf, &n, 1);
-  mpi::pack(buf, v.data(), n);
-}
-
-template <class T>
 void unpackVector(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) {
   uint64_t n;
   mpi::unpack(buf, pos, &n, 1);
@@ -27,20 +20,7 @@ void unpackVector(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) 
   mpi::unpack(buf, pos, v.data(), n);
 }
 
-void packScan(std::vector<char>& buf, uint64_t index, const PrismScan& s) {
-  mpi::pack(buf, &index, 1);
-  packVector(buf, s.surface.points);
-  packVector(buf, s.surface.normals);
-  packVector(buf, s.surface.confidence);
-  packVector(buf, s.surface.triangles);
-  packVector(buf, s.surface.colours);
-  mpi::pack(buf, &s.surface.texelSide, 1);
-  packVector(buf, s.surface.texels);
-  packVector(buf, s.surface.blocks);
-  packVector(buf, s.limits);
-  mpi::pack(buf, &s.surface.sensor, 1);
-}
-
+/// Reads one part as packSubScan wrote it; returns its scan index.
 uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   uint64_t index;
   mpi::unpack(buf, pos, &index, 1);
@@ -57,35 +37,99 @@ uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   return index;
 }
 
-/// The part of `scan` made of the listed triangles (in order) and the vertices they use.
+/// The vertices the listed triangles use, in order of first use; remap[v] is set to v's place
+/// among them (the caller puts -1 back).
+std::vector<uint32_t> usedVertices(const ScanSurface& s, const std::vector<uint32_t>& triangles,
+                                   std::vector<int32_t>& remap) {
+  std::vector<uint32_t> used;
+  for (uint32_t t : triangles)
+    for (const int32_t v : s.triangles[t])
+      if (remap[v] < 0) {
+        remap[v] = static_cast<int32_t>(used.size());
+        used.push_back(v);
+      }
+  return used;
+}
+
+/// Appends the listed elements of v as packVector would append the vector made of them.
+template <class T>
+void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vector<uint32_t>& pick,
+                size_t per = 1) {
+  const uint64_t n = v.empty() ? 0 : pick.size() * per;
+  mpi::pack(buf, &n, 1);
+  if (n > 0)
+    for (uint32_t i : pick) mpi::pack(buf, v.data() + size_t(i) * per, per);
+}
+
+/// Appends the part of `scan` made of the listed triangles, as subScan would make it, to buf:
+/// its index, then each vector with its length. Written straight from the scan and sized once
+/// (no copy of the part in between, no doubling).
+void packSubScan(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
+                 const std::vector<uint32_t>& triangles, std::vector<int32_t>& remap) {
+  const ScanSurface& s = scan.surface;
+  const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
+  const size_t perPoint = size_t(s.texelSide) * s.texelSide;
+  const size_t v = used.size(), t = triangles.size();
+  const size_t bytes =
+      9 * sizeof(uint64_t) + sizeof(s.texelSide) + sizeof(s.sensor) +
+      v * (2 * sizeof(Eigen::Vector3d) + sizeof(double)) +
+      t * (sizeof(Triangle) + sizeof(scan.limits[0])) +
+      (s.colours.empty() ? 0 : v * sizeof(Colour)) +
+      (s.texels.empty() ? 0 : v * (perPoint * sizeof(Texel) + sizeof(s.blocks[0])));
+  buf.reserve(buf.size() + bytes);
+  mpi::pack(buf, &index, 1);
+  packPicked(buf, s.points, used);
+  packPicked(buf, s.normals, used);
+  packPicked(buf, s.confidence, used);
+  const uint64_t nt = t;
+  mpi::pack(buf, &nt, 1);
+  for (uint32_t k : triangles) {
+    const Triangle& tri = s.triangles[k];
+    const Triangle local{remap[tri[0]], remap[tri[1]], remap[tri[2]]};
+    mpi::pack(buf, &local, 1);
+  }
+  packPicked(buf, s.colours, used);
+  mpi::pack(buf, &s.texelSide, 1);
+  packPicked(buf, s.texels, used, perPoint);
+  packPicked(buf, s.blocks, used);
+  packPicked(buf, scan.limits, triangles);
+  mpi::pack(buf, &s.sensor, 1);
+  for (uint32_t k : used) remap[k] = -1;
+}
+
+/// The part of `scan` made of the listed triangles (in order) and the vertices they use. Sized
+/// before it is filled: a routed part grows no vector by doubling (each step would leave pages
+/// behind that the rank then holds).
 PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
                   std::vector<int32_t>& remap) {
-  PrismScan part;
   const ScanSurface& s = scan.surface;
-  part.surface.sensor = s.sensor;
-  part.surface.texelSide = s.texelSide;
+  const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
+  PrismScan part;
+  ScanSurface& p = part.surface;
+  p.sensor = s.sensor;
+  p.texelSide = s.texelSide;
   const size_t perPoint = size_t(s.texelSide) * s.texelSide;
-  std::vector<uint32_t> used;
-  for (uint32_t t : triangles) {
-    Triangle tri = s.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      int32_t& to = remap[tri[k]];
-      if (to < 0) {
-        to = static_cast<int32_t>(used.size());
-        used.push_back(tri[k]);
-        part.surface.points.push_back(s.points[tri[k]]);
-        part.surface.normals.push_back(s.normals[tri[k]]);
-        part.surface.confidence.push_back(s.confidence[tri[k]]);
-        if (!s.colours.empty()) part.surface.colours.push_back(s.colours[tri[k]]);
-        if (!s.texels.empty()) {
-          part.surface.blocks.push_back(s.blocks[tri[k]]);
-          const auto from = s.texels.begin() + tri[k] * perPoint;
-          part.surface.texels.insert(part.surface.texels.end(), from, from + perPoint);
-        }
-      }
-      tri[k] = to;
+  p.points.reserve(used.size());
+  p.normals.reserve(used.size());
+  p.confidence.reserve(used.size());
+  if (!s.colours.empty()) p.colours.reserve(used.size());
+  if (!s.texels.empty()) p.blocks.reserve(used.size()), p.texels.reserve(used.size() * perPoint);
+  for (const uint32_t v : used) {
+    p.points.push_back(s.points[v]);
+    p.normals.push_back(s.normals[v]);
+    p.confidence.push_back(s.confidence[v]);
+    if (!s.colours.empty()) p.colours.push_back(s.colours[v]);
+    if (!s.texels.empty()) {
+      p.blocks.push_back(s.blocks[v]);
+      const auto from = s.texels.begin() + v * perPoint;
+      p.texels.insert(p.texels.end(), from, from + perPoint);
     }
-    part.surface.triangles.push_back(tri);
+  }
+  p.triangles.reserve(triangles.size());
+  part.limits.reserve(triangles.size());
+  for (uint32_t t : triangles) {
+    const Triangle& tri = s.triangles[t];
+    p.triangles.push_back({remap[tri[0]], remap[tri[1]], remap[tri[2]]});
     part.limits.push_back(scan.limits[t]);
   }
   for (uint32_t v : used) remap[v] = -1;
@@ -219,7 +263,7 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
   for (int r = 0; r < ranks; ++r) {
     if (triangles[r].empty() || r == me) continue;
     const size_t before = out[r].size();
-    packScan(out[r], index, subScan(world, triangles[r], remap));
+    packSubScan(out[r], index, world, triangles[r], remap);
     stats.copies += triangles[r].size();
     stats.bytes[r] += out[r].size() - before;
   }
@@ -232,14 +276,16 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
     mine.emplace_back(index, subScan(world, triangles[me], remap));
 }
 
-IndexedScans unpackRouted(const std::vector<std::vector<char>>& in) {
+IndexedScans unpackRouted(std::vector<std::vector<char>>&& in) {
   IndexedScans scans;
-  for (const auto& part : in)
+  for (auto& part : in) {
     for (size_t pos = 0; pos < part.size();) {
       PrismScan s;
       const uint64_t i = unpackScan(part, pos, s);
       scans.emplace_back(i, std::move(s));
     }
+    std::vector<char>().swap(part);  // unpacked: the next rank's part may take its place
+  }
   // One reader per scan, so a scan arrives once: scan order is all the field needs.
   std::sort(scans.begin(), scans.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });

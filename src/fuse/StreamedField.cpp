@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/fuse/ColourChoice.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/ScanFiles.h"
@@ -56,6 +57,8 @@ class ScanShare {
     if (it == kept_.end()) return read(i);
     PrismScan s = std::move(it->second);
     kept_.erase(it);
+    held_ -= scanBytes(s);
+    memoryLedger().set(Held::keptScans, held_);
     return s;
   }
 
@@ -64,6 +67,8 @@ class ScanShare {
     const uint64_t bytes = scanBytes(s);
     if (keptBytes_ + bytes > o_.keepBytes) return;
     keptBytes_ += bytes;
+    held_ += bytes;
+    memoryLedger().set(Held::keptScans, held_);
     kept_.emplace(i, std::move(s));
   }
 
@@ -75,7 +80,8 @@ class ScanShare {
   std::vector<int> readers_;
   int me_;
   std::map<size_t, PrismScan> kept_;
-  uint64_t keptBytes_ = 0;
+  uint64_t keptBytes_ = 0;  ///< offered and kept, for the budget
+  uint64_t held_ = 0;       ///< kept and not yet taken
 };
 
 /// The bytes each scan reads: its file's, or its share of a PTX file's scan.
@@ -135,6 +141,9 @@ struct SightMaps {
         mpi::unpack(part, pos, &index, 1);
         all[scanOf[index]].join(SightMap::unpack(part, pos));
       }
+    uint64_t held = 0;
+    for (const SightMap& m : all) held += m.bytes();
+    memoryLedger().set(Held::sightMaps, held);
   }
 };
 
@@ -234,6 +243,37 @@ std::vector<std::pair<size_t, std::vector<PrismScan*>>> partsByScan(
   return images;
 }
 
+uint64_t partsBytes(const IndexedScans& parts) {
+  uint64_t bytes = 0;
+  for (const auto& [i, s] : parts) bytes += scanBytes(s);
+  return bytes;
+}
+
+/// Collective: routes this rank's scans of entries [first, end) to the brick owners and
+/// appends what this rank is sent, and its own part, to `parts`. One round (about one scan a
+/// rank) at a time, so what is in flight is a scan's copies, not a window's.
+bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, double reach,
+                  const BrickLayout& layout, MPI_Comm comm, IndexedScans& parts,
+                  RoutingStats& routing) {
+  const int ranks = mpi::size(comm), me = mpi::rank(comm);
+  for (size_t round = first; round < end; round += ranks) {
+    std::vector<std::vector<char>> out(ranks);
+    if (!collectively(comm, [&] {
+          for (size_t i = round; i < std::min(end, round + ranks); ++i) {
+            if (!share.reads(i)) continue;
+            PrismScan s = share.take(i);
+            if (!colour) dropColour(s.surface);  // nothing to route or keep
+            routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
+          }
+        }))
+      return false;
+    IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
+    std::move(received.begin(), received.end(), std::back_inserter(parts));
+    memoryLedger().set(Held::routedScans, partsBytes(parts));
+  }
+  return true;
+}
+
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
 bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf, ScanShare& share,
@@ -242,7 +282,7 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
                     FusedField& field, RankCounters& counters, RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(field.scanCount);
-  const int ranks = mpi::size(comm), me = mpi::rank(comm);
+  const int ranks = mpi::size(comm);
   // The closest-surface methods keep the scans instead (no per-voxel entries for them).
   std::optional<PrismIntegrator> integrator;
   if (reach == 0) integrator.emplace(store, threads, hypotheses);
@@ -252,22 +292,21 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
   const bool alone = ranks == 1 && reach == 0;
   for (size_t w = 0, first = 0; w < windows.size(); first = windows[w++]) {
     const size_t end = windows[w];
-    std::vector<std::vector<char>> out(ranks);
     IndexedScans parts;
-    if (!collectively(comm, [&] {
-          for (size_t i = first; i < end; ++i) {
-            if (!alone && !share.reads(i)) continue;
-            PrismScan s = share.take(i);
-            if (!store.hasColour()) dropColour(s.surface);  // nothing to route or keep
-            if (alone)
+    if (alone) {
+      if (!collectively(comm, [&] {
+            for (size_t i = first; i < end; ++i) {
+              PrismScan s = share.take(i);
+              if (!store.hasColour()) dropColour(s.surface);
               parts.emplace_back(i, std::move(s));
-            else
-              routeScan(i, std::move(s), store.layout(), reach, me, out, parts, routing);
-          }
-        }))
+            }
+            memoryLedger().set(Held::routedScans, partsBytes(parts));
+          }))
+        return false;
+    } else if (!routeEntries(first, end, share, store.hasColour(), reach, store.layout(), comm,
+                             parts, routing)) {
       return false;
-    IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
-    std::move(received.begin(), received.end(), std::back_inserter(parts));
+    }
     // One reader per entry, so each index comes once: scan order is all the field needs.
     std::sort(parts.begin(), parts.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -289,7 +328,10 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
       counters.prisms += st.prisms;
       if (alone) routing.copies += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
+      memoryLedger().set(Held::integrator, integrator->bytes());
     }
+    parts.clear();
+    memoryLedger().set(Held::routedScans, 0);
     if (end < conf.scans.size())
       progress.update("field", std::to_string(end) + " of " + std::to_string(conf.scans.size()) +
                                    " scans added");
@@ -381,6 +423,9 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   if (o.planned) o.planned(field.layout);
   field.store = std::make_unique<BrickStore>(field.layout, me);
   if (colour != ColourKind::none) field.store->enableColour(colour);
+  memoryLedger().set(Held::field, field.store->bytes());
+  // The field's layout and the store's copy.
+  memoryLedger().set(Held::brickList, 2 * field.layout.bytes());
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
   RoutingStats routing;

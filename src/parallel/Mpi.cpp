@@ -85,6 +85,7 @@ std::vector<std::vector<char>> exchangeBytes(std::vector<std::vector<char>> out,
     in[from].resize(incoming[from]);
     sendrecvChunked(out[to].data(), out[to].size(), to, in[from].data(), incoming[from], from,
                     comm);
+    std::vector<char>().swap(out[to]);  // sent: what arrives may take its place
   }
   return in;
 }

@@ -124,6 +124,13 @@ void PrismIntegrator::storeGrew() {
   measureStore();
 }
 
+uint64_t PrismIntegrator::bytes() const {
+  uint64_t b = sizeof(uint32_t) * latest_.capacity();
+  for (const Slab& s : slabs_)
+    b += sizeof(Sample) * s.samples.capacity() + sizeof(Colour) * s.colours.capacity();
+  return b;
+}
+
 void PrismIntegrator::measureStore() {
   // Voxel offsets and positions in a slab's list (at most the rank's voxels) take 32 bits.
   if (store_.sums().size() > std::numeric_limits<uint32_t>::max())

@@ -42,6 +42,11 @@ int64_t BrickLayout::find(uint64_t code) const {
   return (it != codes.end() && *it == code) ? it - codes.begin() : -1;
 }
 
+uint64_t BrickLayout::bytes() const {
+  return sizeof(uint64_t) * (codes.capacity() + work.capacity()) +
+         sizeof(size_t) * rankStart.capacity();
+}
+
 int BrickLayout::ownerOf(size_t i) const {
   return static_cast<int>(std::upper_bound(rankStart.begin(), rankStart.end(), i) -
                           rankStart.begin()) -

@@ -5,6 +5,7 @@
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
+#include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {
@@ -108,12 +109,18 @@ BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64
   std::vector<char> bytes;
   mpi::pack(bytes, flat.data(), flat.size());
   BrickWork all;
-  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
+  const std::vector<std::vector<char>> parts = mpi::allgatherBytes(bytes, comm);
+  uint64_t gathered = 0;
+  for (const auto& part : parts) {
     std::vector<uint64_t> pairs(part.size() / sizeof(uint64_t));
     size_t pos = 0;
     mpi::unpack(part, pos, pairs.data(), pairs.size());
     for (size_t i = 0; i < pairs.size(); i += 2) all[pairs[i]] += pairs[i + 1];
+    gathered += part.size();
   }
+  // A map entry: its node (key, value, next) and a bucket pointer.
+  memoryLedger().set(Held::brickList,
+                     gathered + all.size() * (2 * sizeof(uint64_t) + 2 * sizeof(void*)));
   checkVoxels(grid, "voxels needed near the surface:",
               static_cast<double>(all.size()) * std::pow(grid.brick, 3), maxVoxels);
   return layoutFromWork(all, grid, mpi::size(comm));

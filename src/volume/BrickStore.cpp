@@ -56,6 +56,13 @@ void BrickStore::enableColour(ColourKind kind) {
   colours_.resize(sums_.size());
 }
 
+uint64_t BrickStore::bytes() const {
+  // An index entry: its node (key, value, next) and a bucket pointer.
+  const uint64_t perEntry = sizeof(std::pair<uint64_t, int64_t>) + 2 * sizeof(void*);
+  return sizeof(VoxelSums) * sums_.capacity() + sizeof(VoxelColour) * colours_.capacity() +
+         sizeof(uint64_t) * codes_.capacity() + perEntry * index_.size();
+}
+
 void BrickStore::sortBricks() {
   if (ordered_) return;
   // slot[k]: where the brick that belongs at sorted position k is now. Follow each cycle of

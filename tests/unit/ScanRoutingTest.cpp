@@ -283,3 +283,39 @@ TEST(ScanRouting, JoinedPartsAreTheirVerticesAndTrianglesInTurn) {
   EXPECT_EQ(j.surface.normals.size(), 7u);
   EXPECT_EQ(j.surface.confidence.size(), 7u);
 }
+
+TEST(ScanRouting, ASentPartIsThePartKeptUnserialised) {
+  // Colours and texels too: every vector of a part travels.
+  PrismScan scan = wavyScan();
+  ScanSurface& s = scan.surface;
+  s.texelSide = 2;
+  for (size_t v = 0; v < s.points.size(); ++v) {
+    const float c = static_cast<float>(v % 251) / 251;
+    s.colours.emplace_back(c, 1 - c, 0.5f);
+    s.blocks.push_back({static_cast<int32_t>(v), static_cast<int32_t>(2 * v)});
+    for (int k = 0; k < 4; ++k)
+      s.texels.push_back({static_cast<uint8_t>(v + k), static_cast<uint8_t>(k), 7, 255});
+  }
+  const std::vector<PrismScan> one{scan};
+  const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 3);
+  for (int r = 0; r < 3; ++r) {
+    std::vector<std::vector<char>> out(3);
+    RoutingStats stats;
+    stats.bytes.assign(3, 0);
+    IndexedScans kept, none;
+    routeScan(5, scan, layout, 0, r, out, kept, stats);   // rank r's part, unserialised
+    routeScan(5, scan, layout, 0, -1, out, none, stats);  // and everyone's, sent
+    const IndexedScans sent = unpackRouted(std::move(out));
+    ASSERT_EQ(kept.size(), 1u);
+    const auto same = [&](const IndexedScans& got) {
+      return std::find_if(got.begin(), got.end(), [&](const auto& e) {
+        const ScanSurface &a = e.second.surface, &b = kept[0].second.surface;
+        return e.first == 5 && a.points == b.points && a.normals == b.normals &&
+               a.confidence == b.confidence && a.triangles == b.triangles &&
+               a.colours == b.colours && a.texels == b.texels && a.blocks == b.blocks &&
+               a.texelSide == b.texelSide && e.second.limits == kept[0].second.limits;
+      });
+    };
+    EXPECT_NE(same(sent), sent.end()) << "rank " << r;
+  }
+}

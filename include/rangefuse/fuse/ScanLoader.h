@@ -51,7 +51,7 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
                std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats);
 
 /// The scan parts received from every rank, in scan order.
-IndexedScans unpackRouted(const std::vector<std::vector<char>>& in);
+IndexedScans unpackRouted(std::vector<std::vector<char>>&& in);
 
 /// Parts of one scan as one: their vertices and triangles in turn (the first one's sensor).
 PrismScan joinScans(std::vector<PrismScan>&& parts);

@@ -82,6 +82,8 @@ class PrismIntegrator {
   IntegrationStats addImages(const std::vector<Image>& images);
   /// Follows the store after BrickStore::grow(): its new bricks take samples too.
   void storeGrew();
+  /// Bytes of its per-voxel index and the threads' sample lists.
+  uint64_t bytes() const;
 
  private:
   /// The value the image gives voxel `at` (its offset in the sums: a rank holds under 2^32

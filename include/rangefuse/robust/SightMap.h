@@ -50,6 +50,8 @@ class SightMap {
   static SightMap unpack(const std::vector<char>& in, size_t& pos);
 
   int width() const { return width_; }
+  /// Bytes it holds.
+  uint64_t bytes() const { return sizeof(*this) + sizeof(float) * depth_.capacity(); }
   int height() const { return height_; }
 
  private:

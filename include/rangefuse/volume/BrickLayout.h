@@ -31,6 +31,8 @@ struct BrickLayout {
   /// Owner rank of brick at position i.
   int ownerOf(size_t i) const;
   int ranks() const { return static_cast<int>(rankStart.size()) - 1; }
+  /// Bytes its lists hold.
+  uint64_t bytes() const;
 };
 
 /// Cuts the Morton-sorted bricks into `ranks` contiguous runs of near-equal work.

@@ -87,6 +87,8 @@ class BrickStore {
   void grow(const BrickLayout& layout, const std::vector<uint64_t>& fresh);
   /// Puts the local bricks back in code order, in place (one brick of scratch).
   void sortBricks();
+  /// Bytes of the local bricks: sums, colours, codes and their index (not the layout).
+  uint64_t bytes() const;
 
  private:
   BrickLayout layout_;
