@@ -52,6 +52,31 @@ std::string perRank(MPI_Comm comm, uint64_t value) {
   return s.str();
 }
 
+/// "a / b / c s": seconds per rank, on rank 0.
+std::string secondsPerRank(MPI_Comm comm, double seconds) {
+  std::vector<double> all(mpi::size(comm));
+  MPI_Gather(&seconds, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, comm);
+  std::string text;
+  char one[32];
+  for (size_t r = 0; r < all.size(); ++r) {
+    std::snprintf(one, sizeof one, "%s%.2f", r ? " / " : "", all[r]);
+    text += one;
+  }
+  return text + " s";
+}
+
+/// " (max/mean X)" of a value across ranks, when there are several.
+std::string balance(MPI_Comm comm, uint64_t value) {
+  if (mpi::size(comm) == 1) return "";
+  uint64_t max = value, sum = value;
+  MPI_Allreduce(MPI_IN_PLACE, &max, 1, MPI_UINT64_T, MPI_MAX, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_UINT64_T, MPI_SUM, comm);
+  char text[40];
+  std::snprintf(text, sizeof text, " (max/mean %.3f)",
+                sum == 0 ? 1.0 : static_cast<double>(max) * mpi::size(comm) / sum);
+  return text;
+}
+
 /// Rank 0 warns when the checkpoint or the mesh may not fit where they go.
 void warnStorage(const FuseOptions& o, const BrickLayout& layout, MPI_Comm comm) {
   if (mpi::rank(comm) != 0) return;
@@ -273,7 +298,9 @@ std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& fie
   std::string line = std::string(toString(o.method)) + ": " +
                      std::to_string(field.layout.codes.size()) + " bricks, per rank " +
                      perRank(comm, counters.bricks) + "; voxels updated per rank " +
-                     perRank(comm, counters.voxelUpdates);
+                     perRank(comm, counters.voxelUpdates) + balance(comm, counters.voxelUpdates);
+  if (!methodInfo(o.method).closestSurface && mpi::size(comm) > 1)
+    line += "; adding images per rank " + secondsPerRank(comm, counters.addSeconds);
   if (methodInfo(o.method).hypotheses) {
     uint64_t r[3] = {counters.robust.agreed, counters.robust.unopposed, counters.robust.removed};
     MPI_Allreduce(MPI_IN_PLACE, r, 3, MPI_UINT64_T, MPI_SUM, comm);

@@ -33,6 +33,8 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
               {"bricks", c.bricks},
               {"prisms", c.prisms},
               {"voxels_updated", c.voxelUpdates},
+              {"voxel_updates_predicted", c.predictedUpdates},
+              {"adding_seconds", c.addSeconds},
               {"evaluated_points", c.evaluatedPoints},
               {"halo_bricks_received", c.haloBricks},
               {"triangles", c.triangles},

@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
@@ -243,6 +244,13 @@ std::vector<std::pair<size_t, std::vector<PrismScan*>>> partsByScan(
   return images;
 }
 
+/// The voxel updates the cost model predicts for rank `me`'s bricks.
+uint64_t predictedUpdates(const BrickLayout& layout, int me) {
+  uint64_t work = 0;
+  for (size_t b = layout.rankStart[me]; b < layout.rankStart[me + 1]; ++b) work += layout.work[b];
+  return static_cast<uint64_t>(static_cast<double>(work) / kWorkPerUpdate);
+}
+
 uint64_t partsBytes(const IndexedScans& parts) {
   uint64_t bytes = 0;
   for (const auto& [i, s] : parts) bytes += scanBytes(s);
@@ -324,7 +332,10 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
       images.emplace_back(image.begin(), image.end());
     }
     if (integrator) {
+      const auto start = std::chrono::steady_clock::now();
       const IntegrationStats st = integrator->addImages(images);
+      counters.addSeconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       counters.prisms += st.prisms;
       if (alone) routing.copies += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
@@ -428,6 +439,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   memoryLedger().set(Held::brickList, 2 * field.layout.bytes());
   counters = RankCounters{};
   counters.bricks = field.store->brickCount();
+  counters.predictedUpdates = predictedUpdates(field.layout, me);
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
   if (o.robust) hypotheses.emplace(*field.store, *o.robust);

@@ -1,6 +1,7 @@
 #include "rangefuse/prism/PrismField.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -19,6 +20,100 @@ Eigen::AlignedBox3d pointBounds(const std::vector<PrismScan>& scans) {
 }
 
 }  // namespace
+
+double expectedUpdates(const Prism& p, double voxel) {
+  const double area = 0.5 * (p.p[1] - p.p[0]).cross(p.p[2] - p.p[0]).norm();
+  return area * (p.dMax - p.dMin) / (voxel * voxel * voxel);
+}
+
+namespace {
+
+/// A prism's voxel range and predicted cost (work units); false when it holds no voxel.
+bool prismCost(const Prism& prism, const VoxelGrid& grid, double setupUpdates, VoxelIndex& lo,
+               VoxelIndex& hi, double& units) {
+  const Eigen::AlignedBox3d bounds = prismBounds(prism);
+  grid.voxelRange(bounds, lo, hi);
+  if ((lo.array() > hi.array()).any()) return false;
+  // A prism thinner than a voxel along some axis holds a voxel centre only by chance; given
+  // that it holds one (it is planned), it holds 1/chance times the mean: a dense scan's small
+  // prisms would otherwise be counted short by the share of them that hold none.
+  const Eigen::Array3d extent = bounds.sizes().array() / grid.voxel;
+  const double chance = extent.min(1.0).prod();
+  const double box = (hi - lo + VoxelIndex::Ones()).cast<double>().prod();
+  const double updates = std::min(box, expectedUpdates(prism, grid.voxel) / chance);
+  units = kWorkPerUpdate * (setupUpdates + updates);
+  return true;
+}
+
+/// Voxels of [lo, hi] (per axis) that also lie in brick b.
+double overlapVoxels(const VoxelIndex& lo, const VoxelIndex& hi, const BrickCoord& b, int brick) {
+  double n = 1;
+  for (int a = 0; a < 3; ++a)
+    n *= std::min(hi[a], (b[a] + 1) * brick - 1) - std::max(lo[a], b[a] * brick) + 1;
+  return n;
+}
+
+/// The predicted cost of a run of prisms whose boxes touch the same bricks [lo, hi], per brick
+/// (x fastest): neighbouring triangles (grid order) mostly do, and the run is added to the
+/// work map once.
+class CostRun {
+ public:
+  /// Adds the cost `units` of a prism on voxels [vLo, vHi], shared among its bricks as the
+  /// voxels of its box are (each share rounded on its own: the same integers whoever adds
+  /// them); a prism on other bricks than the run's first adds the run to `work`.
+  void add(const VoxelIndex& vLo, const VoxelIndex& vHi, double units, const VoxelGrid& grid,
+           uint64_t maxVoxels, BrickWork& work) {
+    const BrickCoord bLo = brickOf(vLo, grid.brick), bHi = brickOf(vHi, grid.brick);
+    if (shares_.empty() || bLo != lo_ || bHi != hi_) {
+      flush(grid, maxVoxels, work);
+      lo_ = bLo, hi_ = bHi;
+      shares_.assign((hi_ - lo_ + BrickCoord::Ones()).prod(), 0);
+    }
+    if (shares_.size() == 1) {
+      shares_[0] += std::llround(units);
+      return;
+    }
+    const double box = (vHi - vLo + VoxelIndex::Ones()).cast<double>().prod();
+    size_t i = 0;
+    BrickCoord b;
+    for (b.z() = lo_.z(); b.z() <= hi_.z(); ++b.z())
+      for (b.y() = lo_.y(); b.y() <= hi_.y(); ++b.y())
+        for (b.x() = lo_.x(); b.x() <= hi_.x(); ++b.x())
+          shares_[i++] += std::llround(units * overlapVoxels(vLo, vHi, b, grid.brick) / box);
+  }
+
+  /// Adds the run to `work` (refused as addBrickWork refuses) and empties it.
+  void flush(const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work) {
+    if (shares_.empty()) return;
+    if (shares_.size() == 1) {
+      addBrickWork(grid, lo_, hi_, shares_[0], maxVoxels, work);
+    } else {
+      addBrickWork(grid, lo_, hi_, 0, maxVoxels, work);  // refused here if too many bricks
+      size_t i = 0;
+      BrickCoord b;
+      for (b.z() = lo_.z(); b.z() <= hi_.z(); ++b.z())
+        for (b.y() = lo_.y(); b.y() <= hi_.y(); ++b.y())
+          for (b.x() = lo_.x(); b.x() <= hi_.x(); ++b.x()) work[mortonEncode(b)] += shares_[i++];
+    }
+    shares_.clear();
+  }
+
+ private:
+  BrickCoord lo_, hi_;
+  std::vector<uint64_t> shares_;
+};
+
+}  // namespace
+
+void addPrismCost(const Prism& prism, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
+                  double setupUpdates) {
+  VoxelIndex lo, hi;
+  double units;
+  if (!prismCost(prism, grid, setupUpdates, lo, hi, units)) return;
+  CostRun run;
+  run.add(lo, hi, units, grid, maxVoxels, work);
+  run.flush(grid, maxVoxels, work);
+}
 
 PrismLimits computePrismLimits(const ScanSurface& s, double eps) {
   PrismLimits limits(s.triangles.size());
@@ -57,33 +152,28 @@ bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, doubl
 }
 
 void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
-                  int threads) {
+                  int threads, double setupUpdates) {
   const size_t n = scan.surface.triangles.size(), parts = std::max(1, threads);
   std::vector<BrickWork> part(parts);
   parallelFor(parts, threads, [&](size_t k) {
     BrickWork& mine = parts == 1 ? work : part[k];
-    // Neighbouring triangles (grid order) mostly touch the same bricks: added once a run.
-    BrickCoord runLo, runHi, lo, hi;
-    uint64_t run = 0;
+    CostRun run;
     for (size_t t = n * k / parts; t < n * (k + 1) / parts; ++t) {
-      if (!bricksOfBox(grid, prismBounds(scanPrism(scan, t)), lo, hi)) continue;
-      if (run > 0 && lo == runLo && hi == runHi) {
-        ++run;
-        continue;
-      }
-      if (run > 0) addBrickWork(grid, runLo, runHi, run, maxVoxels, mine);
-      runLo = lo, runHi = hi, run = 1;
+      VoxelIndex lo, hi;
+      double units;
+      if (prismCost(scanPrism(scan, t), grid, setupUpdates, lo, hi, units))
+        run.add(lo, hi, units, grid, maxVoxels, mine);
     }
-    if (run > 0) addBrickWork(grid, runLo, runHi, run, maxVoxels, mine);
+    run.flush(grid, maxVoxels, mine);
   });
   if (parts > 1)
     for (const BrickWork& p : part) addWork(p, grid, maxVoxels, work);
 }
 
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,
-                       uint64_t maxVoxels) {
+                       uint64_t maxVoxels, double setupUpdates) {
   BrickWork work;
-  for (const auto& s : scans) addPrismWork(s, grid, maxVoxels, work);
+  for (const auto& s : scans) addPrismWork(s, grid, maxVoxels, work, 1, setupUpdates);
   return layoutFromWork(work, grid, ranks);
 }
 
@@ -121,6 +211,8 @@ PrismIntegrator::PrismIntegrator(BrickStore& store, int threads, SurfaceHypothes
 
 void PrismIntegrator::storeGrew() {
   latest_.resize(store_.sums().size(), 0);
+  for (Slab& s : slabs_)
+    if (!s.brickUpdates.empty()) s.brickUpdates.resize(store_.brickCount(), 0);
   measureStore();
 }
 
@@ -129,6 +221,17 @@ uint64_t PrismIntegrator::bytes() const {
   for (const Slab& s : slabs_)
     b += sizeof(Sample) * s.samples.capacity() + sizeof(Colour) * s.colours.capacity();
   return b;
+}
+
+void PrismIntegrator::countUpdatesPerBrick() {
+  for (Slab& s : slabs_) s.brickUpdates.assign(store_.brickCount(), 0);
+}
+
+std::vector<uint64_t> PrismIntegrator::updatesPerBrick() const {
+  std::vector<uint64_t> n(store_.brickCount(), 0);
+  for (const Slab& s : slabs_)
+    for (size_t b = 0; b < s.brickUpdates.size(); ++b) n[b] += s.brickUpdates[b];
+  return n;
 }
 
 void PrismIntegrator::measureStore() {
@@ -281,6 +384,8 @@ IntegrationStats PrismIntegrator::integrateSlab(const std::vector<Image>& images
     for (const PrismScan* part : image) stats.prisms += rasterizeSlab(*part, slab);
     accumulate(slab);
     stats.voxelUpdates += slab.samples.size();
+    if (!slab.brickUpdates.empty())
+      for (const Sample& s : slab.samples) ++slab.brickUpdates[s.at / store_.voxelsPerBrick()];
     slab.samples.clear();
     slab.colours.clear();
   }

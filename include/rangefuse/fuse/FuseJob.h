@@ -101,7 +101,12 @@ struct RankCounters {
   uint64_t bricks = 0, prisms = 0, voxelUpdates = 0, haloBricks = 0, triangles = 0;
   uint64_t evaluatedPoints = 0;  ///< consensus and naive: distance evaluations
   uint64_t routedBytes = 0;      ///< streamed: scan bytes this rank sent to other ranks
-  HypothesisStats robust;        ///< robust: how this rank's voxels were decided
+  /// Prism fields: the voxel updates the planner's cost model gave this rank's bricks (their
+  /// work over kWorkPerUpdate, prism set-up included), and the seconds the rank spent adding
+  /// images to them (its own work, not waiting for other ranks).
+  uint64_t predictedUpdates = 0;
+  double addSeconds = 0;
+  HypothesisStats robust;  ///< robust: how this rank's voxels were decided
 };
 
 /// Collective: reads the scans (each rank a share, then shared), at `poses` when given (one per

@@ -42,16 +42,35 @@ VoxelGrid fitGrid(const std::vector<PrismScan>& scans, double voxel, int brick, 
 /// guarantee), so that the scans can be added to a field on this grid.
 bool gridHolds(const VoxelGrid& grid, const std::vector<PrismScan>& scans, double eps);
 
-/// Adds one to the work of every brick a prism of the scan touches (see addBrickWork), with the
-/// triangles shared among `threads`.
-void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
-                  int threads = 1);
+/// Work units of one voxel update in a brick's work: the cost model keeps fractions of an
+/// update as integers, whose sums are the same in any order (the cut, on any rank count).
+constexpr double kWorkPerUpdate = 16;
+/// A prism's set-up (bounds, row spans, feet's cubic) costs about as much as this many voxel
+/// updates (fitted over merge factors 0.5-3 on a depth sequence: 320 ns a prism, 60 ns an
+/// update; docs/distributed.md).
+constexpr double kPrismSetupUpdates = 5;
 
-/// Every brick some prism's bounding box touches, with the number of such prisms as its
-/// work, split over `ranks`. The same on every rank. Throws InputError, before allocating
-/// any voxel, when the bricks would hold more than maxVoxels voxels.
+/// The voxel updates a prism is expected to make: the voxel centres within its volume (the
+/// triangle's area times the prism's extent across the envelope, in voxels).
+double expectedUpdates(const Prism& prism, double voxel);
+
+/// Adds a prism's predicted cost (`setupUpdates` and its expected updates, in kWorkPerUpdate
+/// units) to the bricks its bounding box touches, shared as the box's voxels are; every such
+/// brick enters `work`. Throws InputError as addBrickWork does.
+void addPrismCost(const Prism& prism, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
+                  double setupUpdates = kPrismSetupUpdates);
+
+/// Adds the predicted cost of every prism of the scan (addPrismCost), with the triangles shared
+/// among `threads`.
+void addPrismWork(const PrismScan& scan, const VoxelGrid& grid, uint64_t maxVoxels, BrickWork& work,
+                  int threads = 1, double setupUpdates = kPrismSetupUpdates);
+
+/// Every brick some prism's bounding box touches, with the predicted cost of its prisms as its
+/// work (addPrismWork), split over `ranks`. The same on every rank. Throws InputError, before
+/// allocating any voxel, when the bricks would hold more than maxVoxels voxels.
 BrickLayout planBricks(const std::vector<PrismScan>& scans, const VoxelGrid& grid, int ranks,
-                       uint64_t maxVoxels = InputLimits{}.maxVoxels);
+                       uint64_t maxVoxels = InputLimits{}.maxVoxels,
+                       double setupUpdates = kPrismSetupUpdates);
 
 struct IntegrationStats {
   uint64_t prisms = 0;        ///< prisms rasterized on this rank
@@ -84,6 +103,11 @@ class PrismIntegrator {
   void storeGrew();
   /// Bytes of its per-voxel index and the threads' sample lists.
   uint64_t bytes() const;
+  /// From now on counts the voxel updates of each local brick (a check of the planner's cost
+  /// model; off by default, it costs a division a sample).
+  void countUpdatesPerBrick();
+  /// Per local brick, the voxel updates counted since countUpdatesPerBrick().
+  std::vector<uint64_t> updatesPerBrick() const;
 
  private:
   /// The value the image gives voxel `at` (its offset in the sums: a rank holds under 2^32
@@ -96,7 +120,8 @@ class PrismIntegrator {
   struct Slab {
     int zLo = 0, zHi = -1;
     std::vector<Sample> samples;
-    std::vector<Colour> colours;  ///< the samples' colours, when the store has colour
+    std::vector<Colour> colours;         ///< the samples' colours, when the store has colour
+    std::vector<uint64_t> brickUpdates;  ///< per local brick, when counted
   };
   /// Checks the store fits 32-bit offsets and finds the voxel layers its bricks span.
   void measureStore();

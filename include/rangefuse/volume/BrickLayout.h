@@ -23,7 +23,7 @@ inline BrickCoord brickOf(const VoxelIndex& v, int brick) {
 struct BrickLayout {
   VoxelGrid grid;
   std::vector<uint64_t> codes;    ///< Morton-sorted
-  std::vector<uint64_t> work;     ///< per brick: prisms touching it
+  std::vector<uint64_t> work;     ///< per brick: predicted cost (addPrismCost units)
   std::vector<size_t> rankStart;  ///< ranks + 1 entries: rank r owns [rankStart[r], rankStart[r+1])
 
   /// Position of a brick in `codes`, or -1 when it does not exist.

@@ -12,7 +12,7 @@
 
 namespace rangefuse {
 
-/// Per brick (Morton code), the number of boxes touching it.
+/// Per brick (Morton code), its work: the predicted cost of the boxes touching it.
 using BrickWork = std::unordered_map<uint64_t, uint64_t>;
 
 /// The lattice around `box`: voxel `voxel`, bricks of `brick` voxels, origin a whole number of
