@@ -443,8 +443,10 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
   if (o.robust) hypotheses.emplace(*field.store, *o.robust);
+  // A quarter of --scan-memory a rank: the parts routed to a rank take the place of the kept
+  // scans they came from, so a window adds to its memory only the scans read again.
   const std::vector<size_t> windows =
-      wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4), scanOf);
+      wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4 * ranks), scanOf);
   if (!integrateShare(conf, scanOf, share, windows, o.routeReach, o.threads,
                       hypotheses ? &*hypotheses : nullptr, comm, progress, field, counters,
                       routing))

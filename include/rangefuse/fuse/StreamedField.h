@@ -20,8 +20,8 @@ struct StreamOptions {
   int brick = 8;
   SurfaceOptions surface;
   InputLimits limits;
-  /// Prepared scans a rank keeps between passes (the rest are re-read); a quarter of it bounds
-  /// the scans of one routing window, all ranks together (see routingWindows).
+  /// Prepared scans a rank keeps between passes (the rest are re-read); a quarter of it, a
+  /// rank, bounds the scans of one routing window (see routingWindows).
   uint64_t keepBytes = 0;
   int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)
   /// PTX scans of more cells than this (0: none) are read in bands of columns, each by its own
@@ -39,11 +39,11 @@ struct StreamOptions {
   std::function<void(const BrickLayout&)> planned;
 };
 
-/// Where the field pass's windows end: each window is routed in one exchange and added before
-/// the next. A window takes `ranks` consecutive scans, and `ranks` more while its prepared
-/// scans stay within `budget` bytes in all (each rank holds about its share): ranks wait for
-/// one another once a window, and a view that falls mostly on one rank's bricks is evened out
-/// by the other views of its window.
+/// Where the field pass's windows end: each window is routed round by round (one scan a rank)
+/// and added before the next. A window takes `ranks` consecutive scans, and `ranks` more while
+/// its prepared scans stay within `budget` bytes in all (each rank holds about its share):
+/// ranks wait for one another once a window, and a view that falls mostly on one rank's bricks
+/// is evened out by the other views of its window.
 std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
                                    uint64_t budget);
 
