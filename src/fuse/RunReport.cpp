@@ -3,6 +3,7 @@
 #include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/MpiTraffic.h"
 
 using nlohmann::json;
 
@@ -26,6 +27,7 @@ json memoryBreakdown() {
 
 /// One rank's entry, as JSON text (gathered as bytes).
 std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounters& c) {
+  const mpi::Traffic traffic = mpi::traffic();
   json stages = json::object();
   for (const auto& [name, seconds] : progress.stages()) stages[name] = seconds;
   return json{{"rank", mpi::rank(comm)},
@@ -40,6 +42,10 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
               {"triangles", c.triangles},
               {"routed_bytes_sent", c.routedBytes},
               {"peak_memory_mib", peakMemoryMiB()},
+              {"mpi",
+               {{"bytes_sent", traffic.bytesSent},
+                {"bytes_received", traffic.bytesReceived},
+                {"calls", traffic.calls}}},
               {"memory_at_peak_mib", memoryBreakdown()}}
       .dump();
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/MpiTraffic.h"
 
 namespace rangefuse {
 namespace {
@@ -65,6 +66,29 @@ TEST(ChunkedCollectives, ChunkSizeComesFromTheEnvironment) {
   EXPECT_EQ(mpi::chunkBytes(), uint64_t{1} << 30);
   unsetenv("RANGEFUSE_MPI_CHUNK_BYTES");
   EXPECT_EQ(mpi::chunkBytes(), uint64_t{1} << 30);
+}
+
+TEST(MpiTraffic, CountsEveryByteAnExchangeMoves) {
+  // Chunks of 7 bytes: a message of m bytes goes as ceil(m / 7) sends and receives.
+  setenv("RANGEFUSE_MPI_CHUNK_BYTES", "7", 1);
+  const int me = mpi::rank(), n = mpi::size();
+  std::vector<std::vector<char>> out(n);
+  uint64_t sent = 0, received = 0, messages = 0;
+  for (int r = 0; r < n; ++r) {
+    out[r] = message(me, r);
+    if (r == me) continue;
+    sent += message(me, r).size(), received += message(r, me).size();
+    messages += (message(me, r).size() + 6) / 7 + (message(r, me).size() + 6) / 7;
+  }
+  const mpi::Traffic before = mpi::traffic();
+  mpi::exchangeBytes(out, MPI_COMM_WORLD);
+  const mpi::Traffic after = mpi::traffic();
+  unsetenv("RANGEFUSE_MPI_CHUNK_BYTES");
+  // The sizes go first: one all-to-all of a uint64 for every rank.
+  const uint64_t sizes = sizeof(uint64_t) * n;
+  EXPECT_EQ(after.bytesSent - before.bytesSent, sent + sizes);
+  EXPECT_EQ(after.bytesReceived - before.bytesReceived, received + sizes);
+  EXPECT_EQ(after.calls - before.calls, messages + 1);
 }
 
 }  // namespace
