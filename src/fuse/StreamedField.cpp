@@ -30,6 +30,7 @@ class ScanShare {
       : o_(o), conf_(conf), readers_(std::move(readers)), me_(me) {}
 
   bool reads(size_t i) const { return readers_[i] == me_; }
+  int reader(size_t i) const { return readers_[i]; }
 
   /// Scan i read from its file and placed at its pose.
   PrismScan read(size_t i) const {
@@ -258,21 +259,26 @@ uint64_t partsBytes(const IndexedScans& parts) {
 }
 
 /// Collective: routes this rank's scans of entries [first, end) to the brick owners and
-/// appends what this rank is sent, and its own part, to `parts`. One round (about one scan a
-/// rank) at a time, so what is in flight is a scan's copies, not a window's.
+/// appends what this rank is sent, and its own part, to `parts`. Round k sends the k-th entry
+/// of every reader: what is in flight is a scan's copies, not a window's, and each rank gives
+/// away a scan as it receives about one (the window is added in scan order whatever the order
+/// it arrived in).
 bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, double reach,
                   const BrickLayout& layout, MPI_Comm comm, IndexedScans& parts,
                   RoutingStats& routing) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
-  for (size_t round = first; round < end; round += ranks) {
+  std::vector<std::vector<size_t>> byReader(ranks);
+  for (size_t i = first; i < end; ++i) byReader[share.reader(i)].push_back(i);
+  size_t rounds = 0;
+  for (const auto& entries : byReader) rounds = std::max(rounds, entries.size());
+  for (size_t k = 0; k < rounds; ++k) {
     std::vector<std::vector<char>> out(ranks);
     if (!collectively(comm, [&] {
-          for (size_t i = round; i < std::min(end, round + ranks); ++i) {
-            if (!share.reads(i)) continue;
-            PrismScan s = share.take(i);
-            if (!colour) dropColour(s.surface);  // nothing to route or keep
-            routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
-          }
+          if (k >= byReader[me].size()) return;
+          const size_t i = byReader[me][k];
+          PrismScan s = share.take(i);
+          if (!colour) dropColour(s.surface);  // nothing to route or keep
+          routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
         }))
       return false;
     IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
@@ -374,20 +380,28 @@ std::vector<size_t> wholeScanWindows(std::vector<size_t> ends, const std::vector
   return ends;
 }
 
-std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks) {
-  std::vector<int> reader(fileBytes.size(), 0);
-  std::vector<uint64_t> load(ranks, 0);
-  for (size_t first = 0; first < fileBytes.size(); first += ranks) {
-    const size_t end = std::min(fileBytes.size(), first + ranks);
-    std::vector<size_t> order;
-    for (size_t i = first; i < end; ++i) order.push_back(i);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return fileBytes[a] > fileBytes[b]; });
-    for (size_t i : order) {
-      const int r = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
-      reader[i] = r;
-      load[r] += fileBytes[i];
-    }
+std::vector<int> assignReadersNearby(const std::vector<Eigen::Vector3d>& positions,
+                                     const std::vector<uint64_t>& fileBytes, int ranks) {
+  const size_t n = positions.size();
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : positions) box.extend(p);
+  // Positions on a lattice of 2^20 steps an axis (a coarser one for one spread thinner).
+  const double span = n == 0 ? 1 : std::max(box.sizes().maxCoeff(), 1e-300);
+  std::vector<std::pair<uint64_t, size_t>> order;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d q = (positions[i] - box.min()) / span * double((1 << 20) - 1);
+    order.emplace_back(mortonEncode(q.array().round().cast<int>().matrix()), i);
+  }
+  std::sort(order.begin(), order.end());
+  uint64_t total = 0;
+  for (uint64_t b : fileBytes) total += b + 1;  // + 1: empty files count as scans too
+  std::vector<int> reader(n, 0);
+  uint64_t before = 0;
+  for (const auto& [code, i] : order) {
+    // The rank whose share of the bytes holds the middle of this scan's.
+    const double middle = before + 0.5 * double(fileBytes[i] + 1);
+    reader[i] = std::min(ranks - 1, static_cast<int>(middle * ranks / double(total)));
+    before += fileBytes[i] + 1;
   }
   return reader;
 }
@@ -401,7 +415,9 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   std::vector<size_t> scanOf;
   for (const io::ConfScan& c : conf.scans)
     scanOf.push_back(scanOf.empty() ? 0 : scanOf.back() + (c.band == 0));
-  ScanShare share(o, conf, assignReaders(fileSizes(conf), ranks), me);
+  std::vector<Eigen::Vector3d> sensors;
+  for (const io::ConfScan& c : conf.scans) sensors.push_back(c.pose.apply(Eigen::Vector3d::Zero()));
+  ScanShare share(o, conf, assignReadersNearby(sensors, fileSizes(conf), ranks), me);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   std::vector<uint64_t> bytes;

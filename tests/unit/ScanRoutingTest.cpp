@@ -200,13 +200,42 @@ TEST(ScanRouting, PartsCarryOnlyTheVerticesTheirTrianglesUse) {
   }
 }
 
-TEST(AssignReaders, BalancesEachWindowBySize) {
-  // Windows of 2: {100, 1}, {1, 100}, {50}: each rank reads one of each pair.
-  const std::vector<int> readers = assignReaders({100, 1, 1, 100, 50}, 2);
-  EXPECT_NE(readers[0], readers[1]);
-  EXPECT_NE(readers[2], readers[3]);
-  EXPECT_NE(readers[0], readers[3]) << "the two big files go to different ranks";
-  EXPECT_EQ(assignReaders({5, 5, 5}, 1), (std::vector<int>{0, 0, 0}));
+TEST(AssignReaders, ScansTakenNearbyGoToOneRank) {
+  // Three sites far apart, their scans listed interleaved: each site is read by one rank.
+  std::vector<Eigen::Vector3d> at;
+  std::vector<uint64_t> bytes;
+  for (int k = 0; k < 12; ++k) {
+    const int site = k % 3;
+    at.emplace_back(100.0 * site + 0.1 * k, 0.05 * k, 1.0);
+    bytes.push_back(1000 + k);
+  }
+  const std::vector<int> readers = assignReadersNearby(at, bytes, 3);
+  for (int k = 3; k < 12; ++k) EXPECT_EQ(readers[k], readers[k % 3]) << "scan " << k;
+  EXPECT_EQ(std::set<int>(readers.begin(), readers.end()).size(), 3u);
+}
+
+TEST(AssignReaders, SharesTheBytesEvenlyAlongTheCurve) {
+  // Random sizes at random places: every rank reads its share, give or take one file.
+  std::vector<Eigen::Vector3d> at;
+  std::vector<uint64_t> bytes;
+  uint64_t total = 0, largest = 0;
+  for (int k = 0; k < 200; ++k) {
+    at.emplace_back((k * 7919) % 101, (k * 104729) % 37, (k * 31) % 53);
+    bytes.push_back(1 + (k * 2654435761u) % 5000);
+    total += bytes.back(), largest = std::max(largest, bytes.back());
+  }
+  for (int ranks : {1, 2, 5}) {
+    const std::vector<int> readers = assignReadersNearby(at, bytes, ranks);
+    std::vector<uint64_t> load(ranks, 0);
+    for (size_t k = 0; k < bytes.size(); ++k) load[readers[k]] += bytes[k];
+    for (int r = 0; r < ranks; ++r)
+      EXPECT_NEAR(double(load[r]), double(total) / ranks, double(largest) + bytes.size())
+          << ranks << " ranks, rank " << r;
+  }
+  // Scans at one place (a fixed camera) are read in list order: contiguous runs.
+  const std::vector<int> still = assignReadersNearby(
+      std::vector<Eigen::Vector3d>(9, Eigen::Vector3d(1, 2, 3)), std::vector<uint64_t>(9, 10), 3);
+  EXPECT_EQ(still, (std::vector<int>{0, 0, 0, 1, 1, 1, 2, 2, 2}));
 }
 
 }  // namespace

@@ -51,9 +51,12 @@ std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int r
 /// each entry), whose parts a brick owner joins into one image before adding it.
 std::vector<size_t> wholeScanWindows(std::vector<size_t> ends, const std::vector<size_t>& scanOf);
 
-/// The reader rank of each scan: scans are taken in windows of `ranks` consecutive scans and
-/// each window is shared by file size (largest to the least loaded rank).
-std::vector<int> assignReaders(const std::vector<uint64_t>& fileBytes, int ranks);
+/// The reader rank of each scan, by where it was taken: the scans sorted along the Morton curve
+/// of their sensors' positions (ties in list order) and cut into `ranks` runs of near-equal
+/// file bytes. Bricks are owned along the same curve, so a scan is mostly read by a rank that
+/// owns the surface near its sensor: its parts stay on that rank instead of crossing to it.
+std::vector<int> assignReadersNearby(const std::vector<Eigen::Vector3d>& positions,
+                                     const std::vector<uint64_t>& fileBytes, int ranks);
 
 /// Collective: the prism field of the .conf's scans at the .conf's poses. Contributions reach
 /// every voxel in scan order (a large scan's bands in turn), then triangle order, so the field
