@@ -2,8 +2,9 @@
 # Weak scaling: the same work on every rank, 1 to 16 ranks (more ranks than cores are
 # oversubscribed, so wall times say little here; memory and traffic per rank are the figures).
 # Each rank brings one copy of the bunny seen by VIEWS scans of 1024 x 1024 (the 48-view set's
-# views spread around it), the copies side by side 0.25 m apart, so the field, the scans and
-# the mesh all grow with the rank count. Prints, per rank count, the input points, the largest
+# views spread around it), the copies side by side SPACING m apart (default 1: each copy's
+# scanner positions apart from the others'; at 0.25 they interleave with the neighbours'), so
+# the field, the scans and the mesh all grow with the rank count. Prints, per rank count, the input points, the largest
 # rank's peak memory and what it was made of, MPI bytes and calls per rank (largest), the
 # balance of voxel updates and the wall time.
 # Usage: bash jobs/benchmark_weak_scaling.sh [VIEWS] [RANKS...]   (defaults: 6  1 2 4 8 16)
@@ -11,7 +12,7 @@
 # Environment: CACHE (default /tmp/rangefuse-bench), where the 48-view set is made once.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-views=${1:-6}
+views=${1:-6} spacing=${SPACING:-1}
 shift $(($# > 0 ? 1 : 0)) || true
 ranks=("$@")
 ((${#ranks[@]})) || ranks=(1 2 4 8 16)
@@ -29,14 +30,14 @@ trap 'rm -rf "$work"' EXIT
 
 # copies COUNT: a scan list of COUNT bunnies, each seen by the same VIEWS views, shifted in x.
 copies() {
-  awk -v copies="$1" -v views="$views" -v dir="$set_dir" '
+  awk -v copies="$1" -v views="$views" -v dir="$set_dir" -v spacing="$spacing" '
     { line[NR - 1] = $0 }
     END {
       step = int(48 / views); if (step < 1) step = 1
       for (c = 0; c < copies; ++c)
         for (v = 0; v < views; ++v) {
           split(line[(v * step) % 48], f, " ")
-          printf "%s %s/%s %.17g %s %s", f[1], dir, f[2], f[3] + 0.25 * c, f[4], f[5]
+          printf "%s %s/%s %.17g %s %s", f[1], dir, f[2], f[3] + spacing * c, f[4], f[5]
           for (k = 6; k <= 9; ++k) printf " %s", f[k]
           printf "\n"
         }
