@@ -1,18 +1,31 @@
 #!/usr/bin/env bash
-# The headline benchmarks, one after another, each beside its peer in the same run: rerun
-# before closing an issue that touches the pipeline, and compare with docs/benchmarks.md.
-#   benchmark.sh           bunny and noisy sets: accuracy beside Open3D TSDF
-#   benchmark_speed.sh     dense scans: seconds and memory beside Open3D
-#   benchmark_sequence.sh  a depth-camera sequence at true poses beside ScalableTSDFVolume
-#   benchmark_tracking.sh  depth streams without poses beside Open3D's frame-to-frame ICP
-# Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md;
-# default benchmarks-out/). Takes about an hour on two cores.
+# The headline benchmarks, one after another, each beside its peer in the same run, then one
+# table of the headline figures (jobs/summarize_benchmarks.py): rerun before closing an issue
+# that touches the pipeline, and compare with docs/benchmarks.md.
+#   benchmark.sh              bunny and noisy sets: accuracy, speed-up of 2 ranks against 1
+#   benchmark_speed.sh        dense scans: seconds and accuracy beside Open3D TSDF
+#   benchmark_memory.sh       the 48-view set: peak memory per rank on 1 and 4 ranks, and
+#                             what each peak was made of
+#   benchmark_weak_scaling.sh the same work on every rank, 1 to 8 ranks
+#   benchmark_sequence.sh     a depth-camera sequence at true poses beside ScalableTSDFVolume
+#   benchmark_tracking.sh     depth streams without poses beside Open3D's frame-to-frame ICP
+# Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md, the
+# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about an hour on two cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-benchmarks-out}
 mkdir -p "$out"
-for name in benchmark benchmark_speed benchmark_sequence benchmark_tracking; do
-  echo "== $name ($(date +%H:%M:%S))"
-  bash "jobs/$name.sh" | tee "$out/$name.md"
-done
-echo "== done ($(date +%H:%M:%S)); tables in $out/"
+run() {  # NAME [ARGS...]
+  local name=$1
+  shift
+  echo "== $name $* ($(date +%H:%M:%S))"
+  bash "jobs/$name.sh" "$@" | tee "$out/$name.md"
+}
+run benchmark
+run benchmark_speed
+run benchmark_memory 48 1024 1 4
+run benchmark_weak_scaling 6 1 2 4 8
+run benchmark_sequence
+run benchmark_tracking
+echo "== summary ($(date +%H:%M:%S)); tables in $out/"
+python3 jobs/summarize_benchmarks.py "$out" | tee "$out/summary.md"

@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""One table of the headline figures from the tables benchmark_all.sh saved in OUT_DIR.
+
+Usage: python3 jobs/summarize_benchmarks.py OUT_DIR
+
+Reads the Markdown tables each benchmark script printed (OUT_DIR/NAME.md) and prints one row
+per figure: what, on which set, rangefuse's value, the peer's (measured in the same run) and
+the ratio. A script that did not run, or a table without the row, is left out.
+"""
+import os
+import re
+import sys
+
+
+def tables(path):
+    """Every Markdown table of a file, as lists of {header: cell} rows."""
+    if not os.path.exists(path):
+        return []
+    found, header, rows = [], None, None
+    for line in open(path, encoding="utf-8"):
+        line = line.strip()
+        if not line.startswith("|"):
+            if rows is not None:
+                found.append(rows)
+            header, rows = None, None
+            continue
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if header is None:
+            header = cells
+        elif rows is None:
+            rows = []  # the |---| line
+        else:
+            rows.append(dict(zip(header, cells)))
+    if rows is not None:
+        found.append(rows)
+    return found
+
+
+def number(cell, index=0):
+    """The index-th number in a cell ("8.2", "455 / 456" -> 455), or None."""
+    values = re.findall(r"-?\d+(?:\.\d+)?", cell or "")
+    return float(values[index]) if len(values) > index else None
+
+
+def ratio(ours, peer):
+    return "%.2f" % (ours / peer) if ours is not None and peer else "—"
+
+
+def show(value, digits=2):
+    return "—" if value is None else ("%.*f" % (digits, value))
+
+
+def summary(out):
+    rows = []  # (figure, set, rangefuse, peer, ours / peer)
+    for table in tables(os.path.join(out, "benchmark_speed.md"))[:1]:
+        for r in table:
+            if r.get("input", "").startswith("("):
+                continue  # a second run of the same input
+            ours, peer = number(r.get("Chamfer (voxel)")), number(r.get("Open3D Chamfer"))
+            rows.append(("Chamfer (voxel), Open3D TSDF beside", r["input"], show(ours, 3),
+                         show(peer, 3), ratio(ours, peer)))
+            whole = number(r.get("read to write / Open3D compute"))
+            rows.append(("seconds read to write / Open3D compute", r["input"], show(whole),
+                         "1", show(whole)))
+    for table in tables(os.path.join(out, "benchmark_sequence.md"))[:1]:
+        ours = next((r for r in table if r["tool"].startswith("rangefuse prism")), None)
+        peer = next((r for r in table if r["tool"].startswith("Open3D")), None)
+        if ours and peer:
+            for key, label, digits in [("seconds read to mesh", "seconds read to mesh", 2),
+                                       ("peak memory (MiB)", "peak memory (MiB)", 0),
+                                       ("Chamfer (voxel)", "Chamfer (voxel)", 3)]:
+                a, b = number(ours[key]), number(peer[key])
+                rows.append((label + ", depth sequence", ours["tool"], show(a, digits),
+                             show(b, digits), ratio(a, b)))
+    for table in tables(os.path.join(out, "benchmark_tracking.md"))[:1]:
+        for r in table:
+            if r["tool"].startswith("rangefuse"):
+                rows.append(("ATE (mm), tracked without poses", r["sequence"] + ", " + r["tool"],
+                             r["ATE (mm)"], "", ""))
+            elif r["tool"].startswith("Open3D"):
+                rows.append(("ATE (mm), tracked without poses", r["sequence"] + ", " + r["tool"],
+                             "", r["ATE (mm)"], ""))
+    memory = tables(os.path.join(out, "benchmark_memory.md"))
+    if memory:
+        peaks = {r["ranks"]: max(number(x) for x in r["peak memory per rank (MiB)"].split("/"))
+                 for r in memory[0] if r["ranks"].isdigit()}
+        for n in sorted(peaks, key=int):
+            if n != "1" and "1" in peaks:
+                rows.append(("peak memory per rank (MiB), %s ranks against 1" % n,
+                             "48 x 1024², 0.5 mm", show(peaks[n], 0), show(peaks["1"], 0),
+                             ratio(peaks[n], peaks["1"])))
+    for table in tables(os.path.join(out, "benchmark.md"))[:1]:
+        for r in table:
+            if r.get("ranks") == "2" and number(r.get("speed-up 2 vs 1 (job)")):
+                rows.append(("speed-up, 2 ranks against 1 (job)", r["dataset"] + ", " + r["method"],
+                             r["speed-up 2 vs 1 (job)"], "", ""))
+    weak = tables(os.path.join(out, "benchmark_weak_scaling.md"))
+    if weak and weak[0]:
+        last = weak[0][-1]
+        rows.append(("weak scaling: peak per rank, %s ranks against 1" % last["ranks"],
+                     "a bunny copy a rank", last["peak per rank, largest (MiB)"],
+                     weak[0][0]["peak per rank, largest (MiB)"], last["/ 1 rank"]))
+    print("| figure | set | rangefuse | peer or base | ratio |")
+    print("|---|---|---|---|---|")
+    for row in rows:
+        print("| " + " | ".join(row) + " |")
+
+
+if __name__ == "__main__":
+    summary(sys.argv[1] if len(sys.argv) > 1 else "benchmarks-out")
