@@ -258,6 +258,23 @@ uint64_t partsBytes(const IndexedScans& parts) {
   return bytes;
 }
 
+/// Gives the pages of freed scans back to the system once enough have been freed: the parts a
+/// rank receives are allocated apart from the scans it gave away, which would otherwise stay
+/// resident beside them (48-view set on 4 ranks: 189 -> 179 MiB; a trim costs a few ms).
+class Trimmer {
+ public:
+  void freed(uint64_t bytes) {
+    pending_ += bytes;
+    if (pending_ < kBytes) return;
+    malloc_trim(0);
+    pending_ = 0;
+  }
+
+ private:
+  static constexpr uint64_t kBytes = 16 << 20;
+  uint64_t pending_ = 0;
+};
+
 /// Collective: routes this rank's scans of entries [first, end) to the brick owners and
 /// appends what this rank is sent, and its own part, to `parts`. Round k sends the k-th entry
 /// of every reader: what is in flight is a scan's copies, not a window's, and each rank gives
@@ -271,12 +288,15 @@ bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, doubl
   for (size_t i = first; i < end; ++i) byReader[share.reader(i)].push_back(i);
   size_t rounds = 0;
   for (const auto& entries : byReader) rounds = std::max(rounds, entries.size());
+  Trimmer trim;
   for (size_t k = 0; k < rounds; ++k) {
     std::vector<std::vector<char>> out(ranks);
+    uint64_t given = 0;
     if (!collectively(comm, [&] {
           if (k >= byReader[me].size()) return;
           const size_t i = byReader[me][k];
           PrismScan s = share.take(i);
+          given = scanBytes(s);
           if (!colour) dropColour(s.surface);  // nothing to route or keep
           routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
         }))
@@ -284,6 +304,7 @@ bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, doubl
     IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
     std::move(received.begin(), received.end(), std::back_inserter(parts));
     memoryLedger().set(Held::routedScans, partsBytes(parts));
+    trim.freed(given);
   }
   return true;
 }
