@@ -121,23 +121,38 @@ void printWarnings(const std::map<size_t, std::string>& mine, MPI_Comm comm) {
   for (const auto& [i, w] : sorted) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
 }
 
-/// The sight maps of robust fusion: this rank's, then every scan's once shared.
+/// The sight maps of robust fusion: this rank's, then those of every scan that may see this
+/// rank's bricks once shared.
 struct SightMaps {
   std::map<size_t, SightMap> mine;
-  std::vector<SightMap> all;
+  std::vector<SightMap> all;  ///< per scan; empty (NaN everywhere) where it cannot see them
 
-  /// Collective: every rank's maps into all, one per scan (`scanOf`: the scan of each entry;
-  /// a scan read in bands gets their maps joined).
-  void share(const std::vector<size_t>& scanOf, MPI_Comm comm) {
-    std::vector<char> bytes;
+  /// Collective: each of this rank's maps to every rank whose bricks it may see (`scanOf`: the
+  /// scan of each entry; a scan read in bands gets their maps joined). Maps are asked about
+  /// the surface a voxel's hypothesis puts within `reach` of its centre (the envelope); a map
+  /// left out would have answered NaN wherever that rank asks (SightMap::mayCover), so the
+  /// field is the same bits, and a rank holds the maps of the scans that see its part only.
+  void share(const std::vector<size_t>& scanOf, const BrickLayout& layout, double reach,
+             MPI_Comm comm) {
+    const int ranks = mpi::size(comm);
+    std::vector<Eigen::AlignedBox3d> boxes(ranks);
+    for (int r = 0; r < ranks; ++r) {
+      boxes[r] = ownedBox(layout, r);
+      boxes[r].min().array() -= reach;
+      boxes[r].max().array() += reach;
+    }
+    std::vector<std::vector<char>> out(ranks);
     for (const auto& [i, m] : mine) {
       const uint64_t index = i;
-      mpi::pack(bytes, &index, 1);
-      m.pack(bytes);
+      for (int r = 0; r < ranks; ++r) {
+        if (!m.mayCover(boxes[r])) continue;
+        mpi::pack(out[r], &index, 1);
+        m.pack(out[r]);
+      }
     }
     mine.clear();
     all.assign(scanOf.empty() ? 0 : scanOf.back() + 1, SightMap{});
-    for (const auto& part : mpi::allgatherBytes(bytes, comm))
+    for (const auto& part : mpi::exchangeBytes(std::move(out), comm))
       for (size_t pos = 0; pos < part.size();) {
         uint64_t index;
         mpi::unpack(part, pos, &index, 1);
@@ -146,6 +161,18 @@ struct SightMaps {
     uint64_t held = 0;
     for (const SightMap& m : all) held += m.bytes();
     memoryLedger().set(Held::sightMaps, held);
+  }
+
+  /// The world box of rank r's bricks (empty when it has none).
+  static Eigen::AlignedBox3d ownedBox(const BrickLayout& layout, int r) {
+    Eigen::AlignedBox3d box;
+    const VoxelGrid& g = layout.grid;
+    for (size_t b = layout.rankStart[r]; b < layout.rankStart[r + 1]; ++b) {
+      const VoxelIndex first = mortonDecode(layout.codes[b]) * g.brick;
+      box.extend(g.centre(first));
+      box.extend(g.centre(first + VoxelIndex::Constant(g.brick - 1)));
+    }
+    return box;
   }
 };
 
@@ -454,7 +481,6 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   if (!collectively(comm, [&] { colour = chooseColour(o.colour, kinds, conf, note); }))
     return false;
   if (!note.empty() && me == 0) std::fprintf(stderr, "note: %s\n", note.c_str());
-  if (sights) sights->share(scanOf, comm);
   malloc_trim(0);  // what reading freed goes back to the system before the field is allocated
   std::string read = std::to_string(scans.scans.size()) + " scans";
   if (conf.scans.size() > scans.scans.size())
@@ -469,6 +495,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
       !planShare(o, conf, share, grid, comm, field.layout))
     return false;
   if (o.planned) o.planned(field.layout);
+  // A hypothesis's surface lies within the envelope of its voxel: a voxel more for rounding.
+  if (sights) sights->share(scanOf, field.layout, o.eps + o.voxel, comm);
   field.store = std::make_unique<BrickStore>(field.layout, me);
   if (colour != ColourKind::none) field.store->enableColour(colour);
   memoryLedger().set(Held::field, field.store->bytes());

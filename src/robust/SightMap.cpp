@@ -184,6 +184,23 @@ double SightMap::clearance(const Eigen::Vector3d& p) const {
   return nearest - r.z();
 }
 
+bool SightMap::mayCover(const Eigen::AlignedBox3d& box) const {
+  if (rays_ == Rays::Station) return true;  // azimuths wrap: not worth bounding
+  Eigen::AlignedBox2d seen;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d q =
+        toScan_.apply(box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+    // A corner at or behind the sensor's plane: the box's image is unbounded.
+    if (rays_ == Rays::Pinhole && !(q.z() < 0)) return true;
+    // Orthographic and (all corners in front) perspective images of the box lie in the
+    // bounds of its corners' images.
+    seen.extend(project(q).head<2>());
+  }
+  // clearance() answers only for cells in [1, width - 1) x [1, height - 1).
+  return seen.max().x() >= 1 && seen.min().x() < width_ - 1 && seen.max().y() >= 1 &&
+         seen.min().y() < height_ - 1;
+}
+
 void SightMap::pack(std::vector<char>& out) const {
   double head[17] = {static_cast<double>(rays_), au_, bu_, av_, bv_};
   for (int i = 0; i < 9; ++i) head[5 + i] = toScan_.R(i / 3, i % 3);

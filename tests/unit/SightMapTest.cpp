@@ -37,6 +37,42 @@ TEST(SightMap, PinholeClearanceIsTheDepthInFrontOfThePlane) {
   }
 }
 
+TEST(SightMap, ABoxItCannotCoverAnswersNaNEverywhere) {
+  // Brute force: random boxes around a placed pinhole map and an orthographic one; where
+  // mayCover says no, every sampled point of the box answers NaN, and boxes of each kind occur.
+  SightMap pinhole = SightMap::fromPinholeGrid(planeGrid(40), 2);
+  Pose pose;
+  pose.t = Eigen::Vector3d(1, 2, 3);
+  pinhole.place(pose);
+  ScanSurface square;  // [0, 10]^2 at z = 2, seen from +z
+  square.points = {{0, 0, 2}, {10, 0, 2}, {10, 10, 2}, {0, 10, 2}};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const SightMap ortho = SightMap::fromSurface(square, 0.5);
+  std::srand(7);
+  auto uniform = [](double lo, double hi) { return lo + (hi - lo) * std::rand() / RAND_MAX; };
+  for (const SightMap* m : std::vector<const SightMap*>{&pinhole, &ortho}) {
+    int covered = 0, apart = 0;
+    for (int b = 0; b < 400; ++b) {
+      const Eigen::Vector3d c(uniform(-20, 20), uniform(-20, 20), uniform(-25, 15));
+      const Eigen::Vector3d half(uniform(0.1, 3), uniform(0.1, 3), uniform(0.1, 3));
+      const Eigen::AlignedBox3d box(c - half, c + half);
+      if (m->mayCover(box)) {
+        ++covered;
+        continue;
+      }
+      ++apart;
+      for (int s = 0; s < 200; ++s) {
+        const Eigen::Vector3d p(uniform(box.min().x(), box.max().x()),
+                                uniform(box.min().y(), box.max().y()),
+                                uniform(box.min().z(), box.max().z()));
+        ASSERT_TRUE(std::isnan(m->clearance(p))) << "box " << b;
+      }
+    }
+    EXPECT_GT(covered, 20);
+    EXPECT_GT(apart, 20);
+  }
+}
+
 TEST(SightMap, NoReturnSawThroughEverything) {
   const SightMap m = SightMap::fromPinholeGrid(planeGrid(20), 1);
   EXPECT_EQ(m.clearance(Eigen::Vector3d(0.25 * 5, 0, -5)), INFINITY);    // column 24: no return

@@ -45,6 +45,10 @@ class SightMap {
   /// where they all saw nothing, NaN where any is unknown.
   double clearance(const Eigen::Vector3d& p) const;
 
+  /// False when clearance() is NaN everywhere in `box` (world): the box lies off the raster or,
+  /// for a pinhole, wholly behind the sensor. True when it may not be (stations: always).
+  bool mayCover(const Eigen::AlignedBox3d& box) const;
+
   /// Serialised form, for sending to other ranks.
   void pack(std::vector<char>& out) const;
   static SightMap unpack(const std::vector<char>& in, size_t& pos);
