@@ -70,16 +70,18 @@ def summary(out):
                                        ("peak memory (MiB)", "peak memory (MiB)", 0),
                                        ("Chamfer (voxel)", "Chamfer (voxel)", 3)]:
                 a, b = number(ours[key]), number(peer[key])
-                rows.append((label + ", depth sequence", ours["tool"], show(a, digits),
-                             show(b, digits), ratio(a, b)))
-    for table in tables(os.path.join(out, "benchmark_tracking.md"))[:1]:
-        for r in table:
-            if r["tool"].startswith("rangefuse"):
-                rows.append(("ATE (mm), tracked without poses", r["sequence"] + ", " + r["tool"],
-                             r["ATE (mm)"], "", ""))
-            elif r["tool"].startswith("Open3D"):
-                rows.append(("ATE (mm), tracked without poses", r["sequence"] + ", " + r["tool"],
-                             "", r["ATE (mm)"], ""))
+                rows.append((label + ", ScalableTSDFVolume beside", "depth sequence, "
+                             + ours["tool"], show(a, digits), show(b, digits), ratio(a, b)))
+    # The tracking script's log lines may cut its table: its rows are all of its tables'.
+    for table in [sum(tables(os.path.join(out, "benchmark_tracking.md")), [])]:
+        for sequence in dict.fromkeys(r["sequence"] for r in table):
+            mine = [r for r in table if r["sequence"] == sequence]
+            ours = next((r for r in mine if r["tool"] == "rangefuse, 2 ranks"), None)
+            peer = next((r for r in mine if r["tool"].startswith("Open3D")), None)
+            if ours and peer:
+                a, b = number(ours["ATE (mm)"]), number(peer["ATE (mm)"])
+                rows.append(("ATE (mm), tracked without poses, Open3D ICP beside", sequence,
+                             show(a), show(b), ratio(a, b)))
     memory = tables(os.path.join(out, "benchmark_memory.md"))
     if memory:
         peaks = {r["ranks"]: max(number(x) for x in r["peak memory per rank (MiB)"].split("/"))
@@ -92,7 +94,8 @@ def summary(out):
     for table in tables(os.path.join(out, "benchmark.md"))[:1]:
         for r in table:
             if r.get("ranks") == "2" and number(r.get("speed-up 2 vs 1 (job)")):
-                rows.append(("speed-up, 2 ranks against 1 (job)", r["dataset"] + ", " + r["method"],
+                rows.append(("speed-up, 2 ranks against 1 (job)",
+                             "%s, %s, %s" % (r["dataset"], r["method"], r["voxel"]),
                              r["speed-up 2 vs 1 (job)"], "", ""))
     weak = tables(os.path.join(out, "benchmark_weak_scaling.md"))
     if weak and weak[0]:
