@@ -13,26 +13,22 @@ import sys
 
 
 def tables(path):
-    """Every Markdown table of a file, as lists of {header: cell} rows."""
+    """Every Markdown table of a file, as lists of {header: cell} rows. A table starts at a
+    header line followed by |---|; lines that are not table rows (log lines a script printed
+    in the middle) are skipped without ending it."""
     if not os.path.exists(path):
         return []
-    found, header, rows = [], None, None
-    for line in open(path, encoding="utf-8"):
-        line = line.strip()
-        if not line.startswith("|"):
-            if rows is not None:
-                found.append(rows)
-            header, rows = None, None
+    lines = [l.strip() for l in open(path, encoding="utf-8")]
+    found, header = [], None
+    for i, line in enumerate(lines):
+        if not line.startswith("|") or line.startswith("|---"):
             continue
         cells = [c.strip() for c in line.strip("|").split("|")]
-        if header is None:
+        if i + 1 < len(lines) and lines[i + 1].startswith("|---"):
             header = cells
-        elif rows is None:
-            rows = []  # the |---| line
-        else:
-            rows.append(dict(zip(header, cells)))
-    if rows is not None:
-        found.append(rows)
+            found.append([])
+        elif header is not None:
+            found[-1].append(dict(zip(header, cells)))
     return found
 
 
@@ -72,8 +68,7 @@ def summary(out):
                 a, b = number(ours[key]), number(peer[key])
                 rows.append((label + ", ScalableTSDFVolume beside", "depth sequence, "
                              + ours["tool"], show(a, digits), show(b, digits), ratio(a, b)))
-    # The tracking script's log lines may cut its table: its rows are all of its tables'.
-    for table in [sum(tables(os.path.join(out, "benchmark_tracking.md")), [])]:
+    for table in tables(os.path.join(out, "benchmark_tracking.md"))[:1]:
         for sequence in dict.fromkeys(r["sequence"] for r in table):
             mine = [r for r in table if r["sequence"] == sequence]
             ours = next((r for r in mine if r["tool"] == "rangefuse, 2 ranks"), None)
