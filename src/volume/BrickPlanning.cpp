@@ -32,6 +32,12 @@ std::vector<uint64_t> sortedPairs(const BrickWork& work) {
   return flat;
 }
 
+/// The rank that sums brick `code`'s work while planning: spread by a hash, so that each rank
+/// sums about as many bricks wherever they lie.
+int summerOf(uint64_t code, int ranks) {
+  return static_cast<int>(((code * 0x9E3779B97F4A7C15ull) >> 32) % static_cast<uint64_t>(ranks));
+}
+
 }  // namespace
 
 VoxelGrid gridAround(const Eigen::AlignedBox3d& box, double voxel, int brick, double eps,
@@ -105,25 +111,50 @@ BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ran
 
 BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64_t maxVoxels,
                             MPI_Comm comm) {
-  const std::vector<uint64_t> flat = sortedPairs(mine);
-  std::vector<char> bytes;
-  mpi::pack(bytes, flat.data(), flat.size());
-  BrickWork all;
-  const std::vector<std::vector<char>> parts = mpi::allgatherBytes(bytes, comm);
-  uint64_t gathered = 0;
-  for (const auto& part : parts) {
-    std::vector<uint64_t> pairs(part.size() / sizeof(uint64_t));
-    size_t pos = 0;
-    mpi::unpack(part, pos, pairs.data(), pairs.size());
-    for (size_t i = 0; i < pairs.size(); i += 2) all[pairs[i]] += pairs[i + 1];
-    gathered += part.size();
+  const int ranks = mpi::size(comm);
+  // Each brick's pairs go to the one rank that sums them, so that no rank holds every rank's
+  // pairs of every brick (nor a map of them all) at once.
+  std::vector<std::vector<char>> out(ranks);
+  for (const auto& [code, w] : mine) {
+    const uint64_t pair[2] = {code, w};
+    mpi::pack(out[summerOf(code, ranks)], pair, 2);
   }
-  // A map entry: its node (key, value, next) and a bucket pointer.
-  memoryLedger().set(Held::brickList,
-                     gathered + all.size() * (2 * sizeof(uint64_t) + 2 * sizeof(void*)));
+  BrickWork summed;
+  for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
+    for (size_t pos = 0; pos < part.size();) {
+      uint64_t pair[2];
+      mpi::unpack(part, pos, pair, 2);
+      summed[pair[0]] += pair[1];
+    }
+    std::vector<char>().swap(part);
+  }
+  // Then every rank's sums to every rank, each brick once: the list, sorted.
+  std::vector<char> bytes;
+  const std::vector<uint64_t> flat = sortedPairs(summed);
+  summed = {};
+  mpi::pack(bytes, flat.data(), flat.size());
+  std::vector<std::pair<uint64_t, uint64_t>> all;
+  uint64_t gathered = 0;
+  for (auto& part : mpi::allgatherBytes(bytes, comm)) {
+    gathered += part.size();
+    for (size_t pos = 0; pos < part.size();) {
+      uint64_t pair[2];
+      mpi::unpack(part, pos, pair, 2);
+      all.emplace_back(pair[0], pair[1]);
+    }
+    std::vector<char>().swap(part);
+  }
+  memoryLedger().set(Held::brickList, gathered + sizeof(all[0]) * all.capacity());
   checkVoxels(grid, "voxels needed near the surface:",
               static_cast<double>(all.size()) * std::pow(grid.brick, 3), maxVoxels);
-  return layoutFromWork(all, grid, mpi::size(comm));
+  std::sort(all.begin(), all.end());
+  BrickLayout layout;
+  layout.grid = grid;
+  layout.codes.reserve(all.size());
+  layout.work.reserve(all.size());
+  for (const auto& [code, w] : all) layout.codes.push_back(code), layout.work.push_back(w);
+  layout.rankStart = partitionWork(layout.work, ranks);
+  return layout;
 }
 
 void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels) {

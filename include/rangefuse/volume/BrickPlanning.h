@@ -42,7 +42,8 @@ BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ran
 
 /// Collective: the layout of every rank's work summed (a brick's work is an integer sum, so the
 /// layout does not depend on how the boxes were spread over ranks). No rank sees another's
-/// boxes: only (brick, work) pairs travel. Throws InputError past maxVoxels on every rank.
+/// boxes: only (brick, work) pairs travel, first to the rank that sums each brick, then each
+/// brick's sum once to every rank. Throws InputError past maxVoxels on every rank.
 BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64_t maxVoxels,
                             MPI_Comm comm);
 
