@@ -15,6 +15,7 @@
 #include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/volume/BrickPlanning.h"
 
 namespace rangefuse::io {
 namespace {
@@ -128,16 +129,22 @@ std::vector<uint64_t> brickDigests(const float* sums, size_t bricks, size_t perB
   return rowDigests(sums, bricks, perBrick * 6);
 }
 
-/// Every rank's brick checksums, in rank order (the bricks' order).
-std::vector<uint64_t> gatherDigests(const std::vector<uint64_t>& own, MPI_Comm comm) {
-  std::vector<char> bytes;
-  mpi::pack(bytes, own.data(), own.size());
-  std::vector<uint64_t> all;
-  for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
-    const uint64_t* p = reinterpret_cast<const uint64_t*>(part.data());
-    all.insert(all.end(), p, p + part.size() / sizeof(uint64_t));
-  }
-  return all;
+/// Collective: the checksum of every rank's bytes joined in rank order, on every rank: each
+/// rank folds its own into the sum of those before it and passes it on.
+uint64_t chainedDigest(const void* data, size_t bytes, MPI_Comm comm) {
+  const int me = mpi::rank(comm), n = mpi::size(comm);
+  constexpr int kTag = 7301;
+  uint64_t h = kFnvOffset;
+  if (me > 0) MPI_Recv(&h, 1, MPI_UINT64_T, me - 1, kTag, comm, MPI_STATUS_IGNORE);
+  h = fnv1a64(data, bytes, h);
+  if (me + 1 < n) MPI_Send(&h, 1, MPI_UINT64_T, me + 1, kTag, comm);
+  MPI_Bcast(&h, 1, MPI_UINT64_T, n - 1, comm);
+  return h;
+}
+
+/// Collective: chainedDigest of `values`.
+uint64_t chainedDigest(const std::vector<uint64_t>& values, MPI_Comm comm) {
+  return chainedDigest(values.data(), values.size() * sizeof(uint64_t), comm);
 }
 
 void writeAttributeString(hid_t obj, const char* name, const std::string& value) {
@@ -212,16 +219,15 @@ std::vector<uint64_t> colourDigests(const uint16_t* colours, size_t bricks, size
 /// kind an attribute of the colours' dataset.
 void writeColours(hid_t file, const BrickStore& store, const std::string& tmp, MPI_Comm comm) {
   const BrickLayout& l = store.layout();
-  const hsize_t nb = l.codes.size(), per = store.voxelsPerBrick();
+  const hsize_t nb = l.totalBricks(), per = store.voxelsPerBrick();
   Handle colours = createDataset(file, "field_colours", H5T_NATIVE_UINT16, nb, per * 3, tmp, comm);
   Handle digests = createDataset(file, "field_colour_digests", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   const uint16_t* mine = reinterpret_cast<const uint16_t*>(store.colours().data());
   const std::vector<uint64_t> own = colourDigests(mine, store.brickCount(), per);
-  const std::vector<uint64_t> all = gatherDigests(own, comm);
   writeAttributeString(colours, "kind", colourKindName(store.colourKind()));
-  writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));
+  writeAttributeU64(digests, kDigest, chainedDigest(own, comm));
   const int r = mpi::rank(comm);
-  const hsize_t first = l.rankStart[r], count = l.rankStart[r + 1] - first;
+  const hsize_t first = l.globalStart[r], count = store.brickCount();
   writeRows(colours, H5T_NATIVE_UINT16, first, count, per * 3, mine, tmp, "field_colours", comm);
   writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_colour_digests",
             comm);
@@ -229,25 +235,27 @@ void writeColours(hid_t file, const BrickStore& store, const std::string& tmp, M
 
 /// The field's datasets, each with a checksum: codes and work whole, the voxel sums per brick
 /// (field_digests, rank-count independent so that any partition can check its own bricks).
+/// Every rank writes its own bricks' rows.
 void writeField(hid_t file, const BrickStore& store, const std::string& tmp, MPI_Comm comm) {
-  const bool root = mpi::rank(comm) == 0;
   const BrickLayout& l = store.layout();
-  const hsize_t nb = l.codes.size(), per = store.voxelsPerBrick();
+  const int r = mpi::rank(comm);
+  const hsize_t nb = l.totalBricks(), per = store.voxelsPerBrick();
+  const hsize_t first = l.globalStart[r], count = store.brickCount();
+  const std::vector<uint64_t> ownCodes(l.codes.begin() + l.rankStart[r],
+                                       l.codes.begin() + l.rankStart[r + 1]);
+  const std::vector<uint64_t> ownWork(l.work.begin() + l.rankStart[r],
+                                      l.work.begin() + l.rankStart[r + 1]);
   Handle codes = createDataset(file, "field_codes", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   Handle work = createDataset(file, "field_work", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   Handle sums = createDataset(file, "field_sums", H5T_NATIVE_FLOAT, nb, per * 6, tmp, comm);
   Handle digests = createDataset(file, "field_digests", H5T_NATIVE_UINT64, nb, 0, tmp, comm);
   const float* mine = reinterpret_cast<const float*>(store.sums().data());
   const std::vector<uint64_t> own = brickDigests(mine, store.brickCount(), per);
-  const std::vector<uint64_t> all = gatherDigests(own, comm);
-  writeAttributeU64(codes, kDigest, fnv1a64(l.codes.data(), nb * sizeof(uint64_t)));
-  writeAttributeU64(work, kDigest, fnv1a64(l.work.data(), nb * sizeof(uint64_t)));
-  writeAttributeU64(digests, kDigest, fnv1a64(all.data(), nb * sizeof(uint64_t)));
-  writeRows(codes, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.codes.data(), tmp, "field_codes",
-            comm);
-  writeRows(work, H5T_NATIVE_UINT64, 0, root ? nb : 0, 0, l.work.data(), tmp, "field_work", comm);
-  const int r = mpi::rank(comm);
-  const hsize_t first = l.rankStart[r], count = l.rankStart[r + 1] - first;
+  writeAttributeU64(codes, kDigest, chainedDigest(ownCodes, comm));
+  writeAttributeU64(work, kDigest, chainedDigest(ownWork, comm));
+  writeAttributeU64(digests, kDigest, chainedDigest(own, comm));
+  writeRows(codes, H5T_NATIVE_UINT64, first, count, 0, ownCodes.data(), tmp, "field_codes", comm);
+  writeRows(work, H5T_NATIVE_UINT64, first, count, 0, ownWork.data(), tmp, "field_work", comm);
   writeRows(sums, H5T_NATIVE_FLOAT, first, count, per * 6, mine, tmp, "field_sums", comm);
   writeRows(digests, H5T_NATIVE_UINT64, first, count, 0, own.data(), tmp, "field_digests", comm);
   if (store.hasColour()) writeColours(file, store, tmp, comm);
@@ -278,7 +286,7 @@ void writeFile(const std::string& tmp, const CheckpointMeta& meta, const BrickSt
 uint64_t checkpointBytes(const CheckpointMeta& meta, const BrickStore* store) {
   uint64_t bytes = metaJson(meta).dump().size() + 4096;
   if (store)
-    bytes += store->layout().codes.size() *
+    bytes += store->layout().totalBricks() *
              (3 * 8 + store->voxelsPerBrick() * (store->hasColour() ? 30 : 24));
   return bytes;
 }
@@ -353,33 +361,103 @@ CheckpointMeta readCheckpointMeta(const std::string& path, MPI_Comm comm,
 
 namespace {
 
-/// The voxel colours, when the checkpoint has them (older ones and uncoloured fields do not:
-/// the store is then left without colour).
-void readColours(hid_t file, const std::string& path, const BrickLayout& layout, int r,
-                 BrickStore& store) {
+/// Rows [first, first + count) of this rank's part when `rows` are cut in equal parts.
+void sliceOf(hsize_t rows, MPI_Comm comm, hsize_t& first, hsize_t& count) {
+  const hsize_t r = static_cast<hsize_t>(mpi::rank(comm)),
+                n = static_cast<hsize_t>(mpi::size(comm));
+  first = rows * r / n;
+  count = rows * (r + 1) / n - first;
+}
+
+/// Collective: refuses a whole dataset, read in slices on the ranks, whose checksum differs
+/// from the one written beside it.
+void verifyChained(hid_t file, const char* name, const std::vector<uint64_t>& slice,
+                   const std::string& path, const std::string& what, MPI_Comm comm) {
+  const uint64_t got = chainedDigest(slice, comm);
+  mpi::collectivelyOrThrow(comm, [&] {
+    check(got == datasetDigest(file, name, path), path,
+          "damaged: " + what +
+              " does not match its checksum (the file changed after it was "
+              "written; resume from an earlier checkpoint or run again from the scans)");
+  });
+}
+
+/// Collective: this rank's slice of the brick list as (code, work) pairs, checked: checksums,
+/// Morton order (across slices too), inside the lattice.
+std::vector<std::pair<uint64_t, uint64_t>> readBrickSlice(hid_t file, const std::string& path,
+                                                          const VoxelGrid& grid, MPI_Comm comm) {
+  hsize_t nb = 0, first = 0, count = 0;
+  std::vector<uint64_t> codes, work, digests;
+  uint64_t before = 0;
+  mpi::collectivelyOrThrow(comm, [&] {
+    nb = datasetDims(file, "field_codes", 1, path)[0];
+    check(datasetDims(file, "field_digests", 1, path)[0] == nb, path,
+          "field_digests does not match field_codes");
+    sliceOf(nb, comm, first, count);
+    codes = readRows<uint64_t>(file, "field_codes", H5T_NATIVE_UINT64, first, count, 0, path);
+    work = readRows<uint64_t>(file, "field_work", H5T_NATIVE_UINT64, first, count, 0, path);
+    digests = readRows<uint64_t>(file, "field_digests", H5T_NATIVE_UINT64, first, count, 0, path);
+    if (first > 0 && count > 0)
+      before = readRows<uint64_t>(file, "field_codes", H5T_NATIVE_UINT64, first - 1, 1, 0, path)[0];
+  });
+  verifyChained(file, "field_codes", codes, path, "field_codes (the brick list)", comm);
+  verifyChained(file, "field_work", work, path, "field_work", comm);
+  verifyChained(file, "field_digests", digests, path, "field_digests (the checksums of the bricks)",
+                comm);
+  std::vector<std::pair<uint64_t, uint64_t>> pairs;
+  mpi::collectivelyOrThrow(comm, [&] {
+    for (size_t i = 0; i < codes.size(); ++i) {
+      check((i == 0 ? first == 0 || before < codes[0] : codes[i - 1] < codes[i]), path,
+            "field_codes are not in Morton order");
+      // the mesher packs 20 bits of voxel index per axis
+      check((int64_t(mortonDecode(codes[i]).maxCoeff()) + 1) * grid.brick <= (1 << 20), path,
+            "field_codes hold a brick outside the lattice");
+      pairs.emplace_back(codes[i], work[i]);
+    }
+  });
+  return pairs;
+}
+
+/// Collective: the voxel colours, when the checkpoint has them (older ones and uncoloured
+/// fields do not: the store is then left without colour).
+void readColours(hid_t file, const std::string& path, const BrickLayout& layout, BrickStore& store,
+                 MPI_Comm comm) {
   if (H5Lexists(file, "field_colours", H5P_DEFAULT) <= 0) return;
-  const hsize_t nb = layout.codes.size(), per = store.voxelsPerBrick();
-  const auto dims = datasetDims(file, "field_colours", 2, path);
-  check(dims[0] == nb && dims[1] == per * 3, path, "field_colours does not match field_codes");
-  Handle set(H5Dopen2(file, "field_colours", H5P_DEFAULT), H5Dclose);
-  const std::string kind = readAttributeString(set, "kind");
-  check(kind == "rgb" || kind == "intensity", path,
-        "field_colours has kind '" + kind + "', not rgb or intensity");
-  const std::vector<uint64_t> digests =
-      readRows<uint64_t>(file, "field_colour_digests", H5T_NATIVE_UINT64, 0, nb, 0, path);
-  verify(datasetDigest(file, "field_colour_digests", path), digests.data(), nb * sizeof(uint64_t),
-         path, "field_colour_digests (the checksums of the colours)");
-  const hsize_t first = layout.rankStart[r], count = layout.rankStart[r + 1] - first;
-  const std::vector<uint16_t> colours =
-      readRows<uint16_t>(file, "field_colours", H5T_NATIVE_UINT16, first, count, per * 3, path);
-  const std::vector<uint64_t> got = colourDigests(colours.data(), count, per);
-  for (size_t b = 0; b < got.size(); ++b)
-    check(got[b] == digests[first + b], path,
-          "damaged: the colours of brick " + std::to_string(first + b) +
-              " (field_colours) do not match their checksum");
-  store.enableColour(parseColourKind(kind, ColourKind::none));
-  std::memcpy(static_cast<void*>(store.colours().data()), colours.data(),
-              colours.size() * sizeof(uint16_t));
+  const hsize_t nb = layout.totalBricks(), per = store.voxelsPerBrick();
+  std::string kind;
+  std::vector<uint64_t> slice;
+  mpi::collectivelyOrThrow(comm, [&] {
+    const auto dims = datasetDims(file, "field_colours", 2, path);
+    check(dims[0] == nb && dims[1] == per * 3, path, "field_colours does not match field_codes");
+    check(datasetDims(file, "field_colour_digests", 1, path)[0] == nb, path,
+          "field_colour_digests does not match field_codes");
+    Handle set(H5Dopen2(file, "field_colours", H5P_DEFAULT), H5Dclose);
+    kind = readAttributeString(set, "kind");
+    check(kind == "rgb" || kind == "intensity", path,
+          "field_colours has kind '" + kind + "', not rgb or intensity");
+    hsize_t first = 0, count = 0;
+    sliceOf(nb, comm, first, count);
+    slice =
+        readRows<uint64_t>(file, "field_colour_digests", H5T_NATIVE_UINT64, first, count, 0, path);
+  });
+  verifyChained(file, "field_colour_digests", slice, path,
+                "field_colour_digests (the checksums of the colours)", comm);
+  mpi::collectivelyOrThrow(comm, [&] {
+    const int r = mpi::rank(comm);
+    const hsize_t first = layout.globalStart[r], count = store.brickCount();
+    const std::vector<uint64_t> digests =
+        readRows<uint64_t>(file, "field_colour_digests", H5T_NATIVE_UINT64, first, count, 0, path);
+    const std::vector<uint16_t> colours =
+        readRows<uint16_t>(file, "field_colours", H5T_NATIVE_UINT16, first, count, per * 3, path);
+    const std::vector<uint64_t> got = colourDigests(colours.data(), count, per);
+    for (size_t b = 0; b < got.size(); ++b)
+      check(got[b] == digests[b], path,
+            "damaged: the colours of brick " + std::to_string(first + b) +
+                " (field_colours) do not match their checksum");
+    store.enableColour(parseColourKind(kind, ColourKind::none));
+    std::memcpy(static_cast<void*>(store.colours().data()), colours.data(),
+                colours.size() * sizeof(uint16_t));
+  });
 }
 
 }  // namespace
@@ -389,42 +467,29 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
   check(meta.hasField, path, "holds no field");
   Handle fapl = accessList(comm);
   Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl), H5Fclose);
-  check(file.ok(), path, "cannot open as HDF5 (corrupt or truncated)");
-  const hsize_t nb = datasetDims(file, "field_codes", 1, path)[0];
-  layout = BrickLayout{};
-  layout.grid = meta.grid;
-  layout.codes = readRows<uint64_t>(file, "field_codes", H5T_NATIVE_UINT64, 0, nb, 0, path);
-  layout.work = readRows<uint64_t>(file, "field_work", H5T_NATIVE_UINT64, 0, nb, 0, path);
-  check(datasetDims(file, "field_digests", 1, path)[0] == nb, path,
-        "field_digests does not match field_codes");
-  const std::vector<uint64_t> digests =
-      readRows<uint64_t>(file, "field_digests", H5T_NATIVE_UINT64, 0, nb, 0, path);
-  const size_t words = nb * sizeof(uint64_t);
-  verify(datasetDigest(file, "field_codes", path), layout.codes.data(), words, path,
-         "field_codes (the brick list)");
-  verify(datasetDigest(file, "field_work", path), layout.work.data(), words, path, "field_work");
-  verify(datasetDigest(file, "field_digests", path), digests.data(), words, path,
-         "field_digests (the checksums of the bricks)");
-  for (size_t i = 1; i < layout.codes.size(); ++i)
-    check(layout.codes[i - 1] < layout.codes[i], path, "field_codes are not in Morton order");
-  for (uint64_t code : layout.codes)  // the mesher packs 20 bits of voxel index per axis
-    check((int64_t(mortonDecode(code).maxCoeff()) + 1) * meta.grid.brick <= (1 << 20), path,
-          "field_codes hold a brick outside the lattice");
-  layout.rankStart = partitionWork(layout.work, mpi::size(comm));
+  mpi::collectivelyOrThrow(
+      comm, [&] { check(file.ok(), path, "cannot open as HDF5 (corrupt or truncated)"); });
+  // Each rank checks a slice of the brick list; the bricks are then cut by work for this
+  // number of ranks and each rank reads its own rows.
+  layout = spreadSorted(readBrickSlice(file, path, meta.grid, comm), meta.grid, comm);
   auto store = std::make_unique<BrickStore>(layout, mpi::rank(comm));
-  const int r = mpi::rank(comm);
-  const hsize_t per = store->voxelsPerBrick();
-  const std::vector<float> sums =
-      readRows<float>(file, "field_sums", H5T_NATIVE_FLOAT, layout.rankStart[r],
-                      layout.rankStart[r + 1] - layout.rankStart[r], per * 6, path);
-  const std::vector<uint64_t> got = brickDigests(sums.data(), store->brickCount(), per);
-  for (size_t b = 0; b < got.size(); ++b)
-    check(got[b] == digests[layout.rankStart[r] + b], path,
-          "damaged: the voxel sums of brick " + std::to_string(layout.rankStart[r] + b) +
-              " (field_sums) do not match their checksum; resume from an earlier checkpoint or "
-              "run again from the scans");
-  std::memcpy(static_cast<void*>(store->sums().data()), sums.data(), sums.size() * sizeof(float));
-  readColours(file, path, layout, r, *store);
+  mpi::collectivelyOrThrow(comm, [&] {
+    const int r = mpi::rank(comm);
+    const hsize_t per = store->voxelsPerBrick(), first = layout.globalStart[r],
+                  count = store->brickCount();
+    const std::vector<float> sums =
+        readRows<float>(file, "field_sums", H5T_NATIVE_FLOAT, first, count, per * 6, path);
+    const std::vector<uint64_t> digests =
+        readRows<uint64_t>(file, "field_digests", H5T_NATIVE_UINT64, first, count, 0, path);
+    const std::vector<uint64_t> got = brickDigests(sums.data(), count, per);
+    for (size_t b = 0; b < got.size(); ++b)
+      check(got[b] == digests[b], path,
+            "damaged: the voxel sums of brick " + std::to_string(first + b) +
+                " (field_sums) do not match their checksum; resume from an earlier checkpoint or "
+                "run again from the scans");
+    std::memcpy(static_cast<void*>(store->sums().data()), sums.data(), sums.size() * sizeof(float));
+  });
+  readColours(file, path, layout, *store, comm);
   return store;
 }
 

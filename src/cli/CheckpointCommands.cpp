@@ -33,7 +33,8 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
   if (!io::writeMeshPartPly(out, part, comm)) return 1;
   if (mpi::rank(comm) == 0)
     std::printf("mesh: %llu triangles from %zu bricks -> %s\n",
-                static_cast<unsigned long long>(part.totalFaces), layout.codes.size(), out.c_str());
+                static_cast<unsigned long long>(part.totalFaces), layout.totalBricks(),
+                out.c_str());
   return 0;
 }
 

@@ -263,8 +263,11 @@ bool buildFieldOf(const FuseOptions& o, std::vector<PrismScan> world, MPI_Comm c
   field.scanCount = field.scans.size();
   field.scanTriangles = countTriangles(field.scans);
   if (!collectively(comm, [&] {
-        field.layout = planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps),
-                                  mpi::size(comm), o.limits.maxVoxels);
+        // Every rank holds every scan here, so each plans the whole list and keeps its part.
+        field.layout =
+            directoryOf(planBricks(field.scans, fitGrid(field.scans, o.voxel, o.brick, eps),
+                                   mpi::size(comm), o.limits.maxVoxels),
+                        mpi::rank(comm));
       }))
     return false;
   warnStorage(o, field.layout, comm);
@@ -296,7 +299,7 @@ namespace {
 std::string fieldLine(const FuseOptions& o, MPI_Comm comm, const FusedField& field,
                       const RankCounters& counters) {
   std::string line = std::string(toString(o.method)) + ": " +
-                     std::to_string(field.layout.codes.size()) + " bricks, per rank " +
+                     std::to_string(field.layout.totalBricks()) + " bricks, per rank " +
                      perRank(comm, counters.bricks) + "; voxels updated per rank " +
                      perRank(comm, counters.voxelUpdates) + balance(comm, counters.voxelUpdates);
   if (!methodInfo(o.method).closestSurface && mpi::size(comm) > 1)
@@ -435,7 +438,7 @@ int resumeFromField(const FuseOptions& o, const io::CheckpointMeta& meta, MPI_Co
     return 1;
   RankCounters counters;
   counters.bricks = field.store->brickCount();
-  progress.stage("resume", o.resume + ": field of " + std::to_string(field.layout.codes.size()) +
+  progress.stage("resume", o.resume + ": field of " + std::to_string(field.layout.totalBricks()) +
                                " bricks, per rank " + perRank(comm, counters.bricks));
   return finish(o, comm, progress, scans, field, counters, {});
 }

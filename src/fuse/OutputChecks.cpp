@@ -32,7 +32,7 @@ void checkOutputs(const FuseOptions& o, int rank) {
 }
 
 std::vector<std::string> storageWarnings(const FuseOptions& o, const BrickLayout& layout) {
-  const uint64_t B = layout.grid.brick, bricks = layout.codes.size();
+  const uint64_t B = layout.grid.brick, bricks = layout.totalBricks();
   const uint64_t checkpoint = bricks * B * B * B * 24;
   const uint64_t faces = 2 * B * B * bricks;
   const uint64_t mesh = faces * 13 + faces / 2 * (o.normals ? 24 : 12);

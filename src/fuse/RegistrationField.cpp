@@ -57,14 +57,7 @@ class GrowingPrismField : public RegistrationField {
   const BrickStore& add(size_t i, const std::vector<Pose>& poses) override {
     poses_ = poses;
     placed_.emplace_back(i, poses[i]);
-    int holds = 1;
-    collectivelyOrThrow(comm_, [&] {
-      if (!scans_.holds(i)) return;
-      const std::vector<PrismScan> one{placeScan(*scans_.held->get(i), poses[i])};
-      holds = gridHolds(grid_, one, eps_) && layoutHolds(one);
-    });
-    MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
-    if (!holds) return rebuild();
+    if (!fieldHolds(i, poses[i])) return rebuild();
     addRouted(scans_, {i}, poses_, *integrator_, store_->layout(), comm_);
     return *store_;
   }
@@ -84,12 +77,28 @@ class GrowingPrismField : public RegistrationField {
     return true;
   }
 
-  /// True when every brick the scan's prisms touch is planned.
-  bool layoutHolds(const std::vector<PrismScan>& one) const {
-    const BrickLayout needed = planBricks(one, grid_, 1, o_.limits.maxVoxels);
-    for (uint64_t code : needed.codes)
-      if (store_->layout().find(code) < 0) return false;
-    return true;
+  /// Collective: true when scan i at `pose` lies in the lattice and every brick its prisms
+  /// touch is planned (each brick asked of the rank whose range holds it).
+  bool fieldHolds(size_t i, const Pose& pose) const {
+    int holds = 1;
+    std::vector<std::vector<char>> out(mpi::size(comm_));
+    collectivelyOrThrow(comm_, [&] {
+      if (!scans_.holds(i)) return;
+      const std::vector<PrismScan> one{placeScan(*scans_.held->get(i), pose)};
+      holds = gridHolds(grid_, one, eps_);
+      if (!holds) return;
+      const BrickLayout needed = planBricks(one, grid_, 1, o_.limits.maxVoxels);
+      for (uint64_t code : needed.codes)
+        mpi::pack(out[store_->layout().ownerOfCode(code)], &code, 1);
+    });
+    for (const auto& part : mpi::exchangeBytes(std::move(out), comm_))
+      for (size_t pos = 0; pos < part.size();) {
+        uint64_t code;
+        mpi::unpack(part, pos, &code, 1);
+        if (store_->localBrick(code) < 0) holds = 0;
+      }
+    MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
+    return holds != 0;
   }
 
   /// New bricks around every scan at poses_, then the fused scans added in order.
@@ -102,10 +111,8 @@ class GrowingPrismField : public RegistrationField {
     });
     BrickLayout layout =
         planPlacedOn(scans_, every, poses_, grid_, o_.limits.maxVoxels, o_.threads, comm_);
-    collectivelyOrThrow(comm_, [&] {
-      dilateBricks(layout, mpi::size(comm_), o_.limits.maxVoxels);
-      store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
-    });
+    collectivelyOrThrow(comm_, [&] { dilateBricks(layout, o_.limits.maxVoxels, comm_); });
+    store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
     integrator_ = std::make_unique<PrismIntegrator>(*store_, o_.threads);
     std::vector<size_t> order;
     for (const auto& [i, pose] : placed_) order.push_back(i);

@@ -91,7 +91,7 @@ void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progres
       {"parameters", parameters},
       {"ranks", mpi::size(comm)},
       {"threads_per_rank", o.threads},
-      {"total_bricks", field.layout.codes.size()},
+      {"total_bricks", field.layout.totalBricks()},
       {"wall_seconds", progress.elapsed()},
       {"per_rank", ranks},
       {"mesh", {{"file", o.out}, {"triangles", mesh.totalFaces}, {"vertices", mesh.totalVertices}}},

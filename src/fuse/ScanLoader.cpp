@@ -224,16 +224,16 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
   return box;
 }
 
-/// The ranks owning the planned bricks of [lo, hi], ascending, each once.
-std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo,
-                             const BrickCoord& hi) {
+/// The ranks that may own bricks of [lo, hi] (BrickLayout::mayOwn), ascending, each once.
+std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo, const BrickCoord& hi,
+                             int me) {
   std::vector<int> owners;
   BrickCoord b;
   for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
     for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
       for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
-        const int64_t at = layout.find(mortonEncode(b));
-        if (at >= 0) owners.push_back(layout.ownerOf(at));
+        const int owner = layout.mayOwn(mortonEncode(b), me);
+        if (owner >= 0) owners.push_back(owner);
       }
   std::sort(owners.begin(), owners.end());
   owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
@@ -253,7 +253,7 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
     BrickCoord lo, hi;
     if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
     if (lo != lastLo || hi != lastHi) {
-      owners = brickOwners(layout, lo, hi);
+      owners = brickOwners(layout, lo, hi, me);
       lastLo = lo, lastHi = hi;
     }
     for (int r : owners) triangles[r].push_back(static_cast<uint32_t>(t));

@@ -135,11 +135,10 @@ struct SightMaps {
   void share(const std::vector<size_t>& scanOf, const BrickLayout& layout, double reach,
              MPI_Comm comm) {
     const int ranks = mpi::size(comm);
-    std::vector<Eigen::AlignedBox3d> boxes(ranks);
-    for (int r = 0; r < ranks; ++r) {
-      boxes[r] = ownedBox(layout, r);
-      boxes[r].min().array() -= reach;
-      boxes[r].max().array() += reach;
+    std::vector<Eigen::AlignedBox3d> boxes = ownedBoxes(layout, comm);
+    for (Eigen::AlignedBox3d& box : boxes) {
+      box.min().array() -= reach;
+      box.max().array() += reach;
     }
     std::vector<std::vector<char>> out(ranks);
     for (const auto& [i, m] : mine) {
@@ -163,16 +162,25 @@ struct SightMaps {
     memoryLedger().set(Held::sightMaps, held);
   }
 
-  /// The world box of rank r's bricks (empty when it has none).
-  static Eigen::AlignedBox3d ownedBox(const BrickLayout& layout, int r) {
+  /// Collective: the world box of each rank's bricks (empty when it has none).
+  static std::vector<Eigen::AlignedBox3d> ownedBoxes(const BrickLayout& layout, MPI_Comm comm) {
     Eigen::AlignedBox3d box;
     const VoxelGrid& g = layout.grid;
-    for (size_t b = layout.rankStart[r]; b < layout.rankStart[r + 1]; ++b) {
+    const int me = mpi::rank(comm);
+    for (size_t b = layout.rankStart[me]; b < layout.rankStart[me + 1]; ++b) {
       const VoxelIndex first = mortonDecode(layout.codes[b]) * g.brick;
       box.extend(g.centre(first));
       box.extend(g.centre(first + VoxelIndex::Constant(g.brick - 1)));
     }
-    return box;
+    std::vector<char> bytes;
+    mpi::pack(bytes, &box, 1);
+    std::vector<Eigen::AlignedBox3d> boxes;
+    for (const auto& part : mpi::allgatherBytes(bytes, comm)) {
+      size_t pos = 0;
+      mpi::unpack(part, pos, &box, 1);
+      boxes.push_back(box);
+    }
+    return boxes;
   }
 };
 

@@ -429,7 +429,7 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
                               std::to_string(scans.names.size()) + " frames tracked and fused" +
                               (lostCount ? ", " + std::to_string(lostCount) + " lost and left out"
                                          : std::string()) +
-                              "; " + std::to_string(field.layout.codes.size()) + " bricks");
+                              "; " + std::to_string(field.layout.totalBricks()) + " bricks");
   return true;
 }
 

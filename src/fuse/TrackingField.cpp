@@ -15,51 +15,51 @@ namespace {
 using mpi::collectivelyOrThrow;
 using namespace internal;
 
+using Pair = std::pair<uint64_t, uint64_t>;
+
 /// The (code, work) pairs of `work`, sorted by code.
-std::vector<std::pair<uint64_t, uint64_t>> sortedPairs(const BrickWork& work) {
-  std::vector<std::pair<uint64_t, uint64_t>> pairs(work.begin(), work.end());
+std::vector<Pair> sortedPairs(const BrickWork& work) {
+  std::vector<Pair> pairs(work.begin(), work.end());
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
 
-/// The sorted union of a layout's bricks and `more` (code, work) pairs, work added; no owners.
-BrickLayout joined(const BrickLayout& layout, const std::vector<uint64_t>& more) {
+/// Rank me's own bricks of `layout` and the (code, work) pairs `more` (flat, sorted, none of
+/// them held), sorted.
+std::vector<Pair> ownJoined(const BrickLayout& layout, int me, const std::vector<uint64_t>& more) {
+  std::vector<Pair> own;
+  own.reserve(layout.rankStart[me + 1] - layout.rankStart[me] + more.size() / 2);
+  for (size_t i = layout.rankStart[me]; i < layout.rankStart[me + 1]; ++i)
+    own.emplace_back(layout.codes[i], layout.work[i]);
+  for (size_t k = 0; k < more.size(); k += 2) own.emplace_back(more[k], more[k + 1]);
+  std::inplace_merge(own.begin(), own.end() - static_cast<std::ptrdiff_t>(more.size() / 2),
+                     own.end());
+  return own;
+}
+
+/// Collective: `layout` with this rank's `fresh` (code, work) pairs joined, the owners' ranges
+/// kept and every rank's bricks counted; the bricks bordering other ranks' new bricks are not
+/// learnt (borderKnown false).
+BrickLayout grownBy(const BrickLayout& layout, const std::vector<uint64_t>& fresh, MPI_Comm comm) {
   BrickLayout out;
   out.grid = layout.grid;
-  out.codes.reserve(layout.codes.size() + more.size() / 2);
-  out.work.reserve(out.codes.capacity());
+  out.firstCodes = layout.firstCodes;
   size_t a = 0, b = 0;
-  while (a < layout.codes.size() || b < more.size()) {
+  while (a < layout.codes.size() || b < fresh.size()) {
     const uint64_t ca = a < layout.codes.size() ? layout.codes[a] : ~uint64_t{0};
-    const uint64_t cb = b < more.size() ? more[b] : ~uint64_t{0};
-    const uint64_t code = std::min(ca, cb);
-    uint64_t work = 0;
-    if (ca == code) work += layout.work[a++];
-    if (cb == code) work += more[b + 1], b += 2;
-    out.codes.push_back(code);
-    out.work.push_back(work);
+    const uint64_t cb = b < fresh.size() ? fresh[b] : ~uint64_t{0};
+    out.codes.push_back(std::min(ca, cb));
+    out.work.push_back(ca < cb ? layout.work[a++] : (b += 2, fresh[b - 1]));
   }
+  out.rankStart = runsOf(out.codes, out.firstCodes);
+  const int ranks = mpi::size(comm), me = mpi::rank(comm);
+  uint64_t count = out.rankStart[me + 1] - out.rankStart[me];
+  std::vector<uint64_t> counts(ranks);
+  MPI_Allgather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
+  out.globalStart.assign(ranks + 1, 0);
+  for (int r = 0; r < ranks; ++r) out.globalStart[r + 1] = out.globalStart[r] + counts[r];
+  out.borderKnown = false;
   return out;
-}
-
-/// The first code each rank owns (ranks + 1 entries, the last past every code): a brick that
-/// joins later goes to the rank whose range holds its code, so no old brick changes owner.
-std::vector<uint64_t> ownedRanges(const BrickLayout& layout) {
-  std::vector<uint64_t> bounds(layout.rankStart.size(), ~uint64_t{0});
-  bounds[0] = 0;
-  for (size_t r = 1; r + 1 < bounds.size(); ++r)
-    if (layout.rankStart[r] < layout.codes.size()) bounds[r] = layout.codes[layout.rankStart[r]];
-  return bounds;
-}
-
-/// Rank runs of `layout` by code ranges `bounds` (see ownedRanges).
-void ownByRanges(BrickLayout& layout, const std::vector<uint64_t>& bounds) {
-  layout.rankStart.resize(bounds.size());
-  for (size_t r = 0; r < bounds.size(); ++r)
-    layout.rankStart[r] =
-        static_cast<size_t>(std::lower_bound(layout.codes.begin(), layout.codes.end(), bounds[r]) -
-                            layout.codes.begin());
-  layout.rankStart.back() = layout.codes.size();
 }
 
 /// Collective: a store on `layout` holding the sums of `from` (on another layout of the same
@@ -75,7 +75,7 @@ std::unique_ptr<BrickStore> moveSums(const BrickStore& from, const BrickLayout& 
   for (size_t b = 0; b < from.brickCount(); ++b) {
     const uint64_t code = from.code(b);
     const VoxelSums* sums = &from.sums()[b * per];
-    const int owner = layout.ownerOf(static_cast<size_t>(layout.find(code)));
+    const int owner = layout.ownerOfCode(code);
     const VoxelColour* colours = coloured ? &from.colours()[b * per] : nullptr;
     if (owner == me) {
       const size_t at = to->localBrick(code) * per;
@@ -128,9 +128,13 @@ std::vector<double> TrackingField::latticeOrigin() const {
 
 const BrickStore& TrackingField::build(const std::vector<size_t>& which,
                                        const std::vector<Pose>& poses) {
+  const int ranks = mpi::size(comm_);
   BrickLayout empty;
   empty.grid = grid_;
-  empty.rankStart.assign(mpi::size(comm_) + 1, 0);
+  empty.rankStart.assign(ranks + 1, 0);
+  empty.globalStart.assign(ranks + 1, 0);
+  empty.firstCodes.assign(ranks + 1, ~uint64_t{0});
+  empty.firstCodes[0] = 0;  // rank 0's range holds every code until the first split
   store_ = std::make_unique<BrickStore>(empty, mpi::rank(comm_));
   store_->enableColour(settings_.colour);
   integrator_.reset();
@@ -147,38 +151,39 @@ const BrickStore& TrackingField::add(size_t i, const std::vector<Pose>& poses) {
 
 void TrackingField::grow(size_t i, const Pose& pose) {
   const std::vector<uint64_t> fresh = newBricks(i, pose);
-  if (fresh.empty()) return;
-  BrickLayout next = joined(store_->layout(), fresh);
+  const uint64_t before = store_->layout().totalBricks();
+  BrickLayout next = grownBy(store_->layout(), fresh, comm_);
+  const uint64_t total = next.totalBricks();
+  if (total == before) return;
   collectivelyOrThrow(comm_, [&] {
-    const double voxels = static_cast<double>(next.codes.size()) * std::pow(grid_.brick, 3);
+    const double voxels = static_cast<double>(total) * std::pow(grid_.brick, 3);
     if (voxels > static_cast<double>(settings_.maxVoxels))
       throw InputError("--voxel " + std::to_string(settings_.voxel) + ": the tracked field needs " +
                        std::to_string(static_cast<uint64_t>(voxels)) +
                        " voxels, more than --max-voxels " + std::to_string(settings_.maxVoxels));
   });
+  const int me = mpi::rank(comm_);
   // Split by work anew (the sums move) only when the field has grown by half since it last
   // was: moving every brick at every frame costs more than the frame, and growing by half
   // bounds the moves to three times the final field.
-  if (2 * next.codes.size() > 3 * balancedBricks_) {
-    next.rankStart = partitionWork(next.work, mpi::size(comm_));
+  if (2 * total > 3 * balancedBricks_) {
+    next = spreadSorted(ownJoined(store_->layout(), me, fresh), grid_, comm_);
     store_ = moveSums(*store_, next, comm_);
-    balancedBricks_ = next.codes.size();
-    ranges_ = ownedRanges(next);
+    balancedBricks_ = total;
     integrator_.reset();
     return;
   }
-  ownByRanges(next, ranges_);
   std::vector<uint64_t> mine;
-  const int me = mpi::rank(comm_);
-  for (size_t k = 0; k < fresh.size(); k += 2)
-    if (next.ownerOf(static_cast<size_t>(next.find(fresh[k]))) == me) mine.push_back(fresh[k]);
+  for (size_t k = 0; k < fresh.size(); k += 2) mine.push_back(fresh[k]);
   store_->grow(next, mine);
   if (integrator_) integrator_->storeGrew();
 }
 
 std::vector<uint64_t> TrackingField::newBricks(size_t i, const Pose& pose) {
-  // The reader plans the frame's bricks; every rank learns the (brick, work) pairs.
-  std::vector<char> mine;
+  // The reader plans the frame's bricks; each (brick, work) pair goes to the rank whose range
+  // holds the brick.
+  const BrickLayout& layout = store_->layout();
+  std::vector<std::vector<char>> out(mpi::size(comm_));
   collectivelyOrThrow(comm_, [&] {
     if (!scans_.holds(i)) return;
     const std::vector<PrismScan> one{placeScan(*scans_.held->get(i), pose)};
@@ -187,17 +192,14 @@ std::vector<uint64_t> TrackingField::newBricks(size_t i, const Pose& pose) {
                        " voxels from the first frames: tracking lost");
     BrickWork work;
     addPrismWork(one[0], grid_, settings_.maxVoxels, work, settings_.threads);
-    for (const auto& [code, count] : sortedPairs(work)) {
-      mpi::pack(mine, &code, 1);
-      mpi::pack(mine, &count, 1);
-    }
+    for (const Pair& p : sortedPairs(work)) mpi::pack(out[layout.ownerOfCode(p.first)], &p, 1);
   });
   std::vector<uint64_t> fresh;
-  for (const auto& part : mpi::allgatherBytes(mine, comm_))
+  for (const auto& part : mpi::exchangeBytes(std::move(out), comm_))
     for (size_t at = 0; at < part.size();) {
       uint64_t v[2];
       mpi::unpack(part, at, v, 2);
-      const int64_t known = store_->layout().find(v[0]);
+      const int64_t known = layout.find(v[0]);
       if (known >= 0)
         store_->addWork(static_cast<size_t>(known), v[1]);
       else
@@ -216,6 +218,12 @@ void TrackingField::integrate(size_t i, const std::vector<Pose>& poses) {
 std::unique_ptr<BrickStore> TrackingField::release() {
   integrator_.reset();
   store_->sortBricks();
+  // The bricks of other ranks that joined beside this rank's since the last split: the mesh's
+  // halo needs them.
+  const BrickLayout& layout = store_->layout();
+  store_->grow(
+      directoryFromOwn(ownJoined(layout, mpi::rank(comm_), {}), layout.firstCodes, grid_, comm_),
+      {});
   return std::move(store_);
 }
 

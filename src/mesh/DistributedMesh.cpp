@@ -29,8 +29,8 @@ std::set<int> haloReaders(const BrickLayout& layout, uint64_t code, int me) {
   for (const BrickCoord& o : kUpper) {
     const BrickCoord y = c - o;
     if ((y.array() < 0).any()) continue;
-    const int64_t i = layout.find(mortonEncode(y));
-    if (i >= 0 && layout.ownerOf(i) != me) readers.insert(layout.ownerOf(i));
+    const int owner = layout.neighbourOwner(mortonEncode(y), me);
+    if (owner >= 0 && owner != me) readers.insert(owner);
   }
   return readers;
 }

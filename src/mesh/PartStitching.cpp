@@ -34,10 +34,9 @@ std::vector<int> otherUsers(uint64_t key, const BrickLayout& layout, int me) {
     c[a1] -= i & 1;
     c[a2] -= i >> 1;
     if ((c.array() < 0).any()) continue;
-    const int64_t b = layout.find(mortonEncode(brickOf(c, B)));
-    if (b < 0) continue;
-    const int r = layout.ownerOf(b);
-    if (r != me && std::find(ranks.begin(), ranks.end(), r) == ranks.end()) ranks.push_back(r);
+    const int r = layout.neighbourOwner(mortonEncode(brickOf(c, B)), me);
+    if (r >= 0 && r != me && std::find(ranks.begin(), ranks.end(), r) == ranks.end())
+      ranks.push_back(r);
   }
   return ranks;
 }

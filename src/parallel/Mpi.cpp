@@ -68,7 +68,8 @@ bool agree(bool ok, const std::string& message, MPI_Comm comm) {
   int mine = ok ? size(comm) : rank(comm), first = 0;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
   if (first == size(comm)) return true;
-  if (first == rank(comm)) std::cerr << "rangefuse: error: " << message << std::endl;
+  if (first == rank(comm) && !message.empty())
+    std::cerr << "rangefuse: error: " << message << std::endl;
   return false;
 }
 

@@ -16,15 +16,16 @@ struct RoutedPoint {
   double w;
 };
 
-/// The ranks owning brick c or one of its 26 neighbours, each once.
-std::vector<int> ownersAround(const BrickLayout& layout, const BrickCoord& c) {
+/// The ranks that may own brick c or one of its 26 neighbours (BrickLayout::mayOwn), each once.
+std::vector<int> ownersAround(const BrickLayout& layout, const BrickCoord& c, int me) {
   std::vector<int> ranks;
   for (int z = -1; z <= 1; ++z)
     for (int y = -1; y <= 1; ++y)
       for (int x = -1; x <= 1; ++x) {
-        const int64_t b = layout.find(mortonEncode(c + BrickCoord(x, y, z)));
-        if (b < 0) continue;
-        const int owner = layout.ownerOf(static_cast<size_t>(b));
+        const BrickCoord n = c + BrickCoord(x, y, z);
+        if ((n.array() < 0).any()) continue;
+        const int owner = layout.mayOwn(mortonEncode(n), me);
+        if (owner < 0) continue;
         if (std::find(ranks.begin(), ranks.end(), owner) == ranks.end()) ranks.push_back(owner);
       }
   return ranks;
@@ -185,7 +186,7 @@ void ControlRouting::packControlPoints(size_t i, const Pose& pose, const BrickLa
     const BrickCoord c = brickOf(g.nearest(pose.apply(s.points[v])), g.brick);
     const uint64_t code = mortonEncode(c);
     auto it = owners.find(code);
-    if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c)).first;
+    if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c, me)).first;
     const RoutedPoint p{i, v, s.points[v], s.normals[v], s.confidence[v]};
     for (int r : it->second)
       if (r == me && held_[i].scan)

@@ -30,19 +30,21 @@ struct FootVoxel {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
 
-FootVoxel footVoxel(const BrickLayout& layout, const Eigen::Vector3d& q, size_t perBrick) {
+FootVoxel footVoxel(const BrickLayout& layout, const Eigen::Vector3d& q, size_t perBrick, int me) {
   const VoxelGrid& g = layout.grid;
   const VoxelIndex v = g.nearest(q);
   FootVoxel foot;
-  if ((v.array() < 0).any()) return foot;
+  if ((v.array() < 0).any() || v.maxCoeff() >= (1 << 20)) return foot;
   const BrickCoord bc = brickOf(v, g.brick);
-  const int64_t b = layout.find(mortonEncode(bc));
-  if (b < 0) return foot;
+  const uint64_t code = mortonEncode(bc);
+  foot.owner = layout.mayOwn(code, me);
+  if (foot.owner < 0) return foot;
   const VoxelIndex l = v - bc * g.brick;
   const size_t B = static_cast<size_t>(g.brick);
-  foot.voxel = static_cast<uint64_t>(b) * perBrick + (static_cast<size_t>(l.z()) * B + l.y()) * B +
-               static_cast<size_t>(l.x());
-  foot.owner = layout.ownerOf(static_cast<size_t>(b));
+  // Codes follow the bricks' order and leave room for the voxel (the lattice is at most 2^20
+  // voxels an axis, so code x voxels a brick < 2^60).
+  foot.voxel =
+      code * perBrick + (static_cast<size_t>(l.z()) * B + l.y()) * B + static_cast<size_t>(l.x());
   foot.centre = g.centre(v);
   return foot;
 }
@@ -130,7 +132,7 @@ std::vector<ExactShare> exactShares(const std::vector<Pose>& poses, const BrickS
           !sampleField(store, c.points[k], c.normals[k], settings, f, &cache))
         continue;
       const Eigen::Vector3d q = footPoint(c.points[k], c.sensor.toward(c.points[k]), f);
-      const FootVoxel foot = footVoxel(store.layout(), q, store.voxelsPerBrick());
+      const FootVoxel foot = footVoxel(store.layout(), q, store.voxelsPerBrick(), me);
       if (foot.owner < 0) continue;
       addPoint(parts[foot.owner], foot, static_cast<uint32_t>(i), c.points[k],
                std::min(1.0, c.weights[k]), maxResidual);
@@ -150,12 +152,14 @@ std::vector<ExactShare> exactShares(const std::vector<Pose>& poses, const BrickS
   return std::move(mine).sorted();
 }
 
-/// The field at voxel `voxel` (a layout position, in this rank's bricks): its centre, unit
+/// The field at voxel `voxel` (brick code x voxels a brick + voxel in the brick): its centre, unit
 /// gradient and distance; false when the field is too light there.
 bool voxelPlane(const BrickStore& store, uint64_t voxel, float minWeight, Eigen::Vector3d& centre,
                 Eigen::Vector3d& f, double& d) {
-  const size_t perBrick = store.voxelsPerBrick(), global = voxel / perBrick;
-  const size_t local = global - store.globalIndex(0), inBrick = voxel % perBrick;
+  const size_t perBrick = store.voxelsPerBrick(), inBrick = voxel % perBrick;
+  const int64_t found = store.localBrick(voxel / perBrick);
+  if (found < 0) return false;  // a brick in this rank's range that does not exist
+  const size_t local = static_cast<size_t>(found);
   const VoxelSums& sums = store.sums()[local * perBrick + inBrick];
   f = Eigen::Vector3d(sums.wf[0], sums.wf[1], sums.wf[2]);
   if (!(sums.w > minWeight) || !(f.norm() > 0)) return false;

@@ -54,6 +54,20 @@ Eigen::AlignedBox3d brickBounds(const VoxelGrid& grid, const std::vector<uint64_
   return box;
 }
 
+namespace {
+
+/// Collective: the box of every rank's bricks.
+Eigen::AlignedBox3d allBrickBounds(const BrickStore& store, MPI_Comm comm) {
+  std::vector<uint64_t> codes(store.brickCount());
+  for (size_t b = 0; b < codes.size(); ++b) codes[b] = store.code(b);
+  Eigen::AlignedBox3d box = brickBounds(store.grid(), codes);
+  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
+  return box;
+}
+
+}  // namespace
+
 SparseField SparseField::gather(const BrickStore& store, float minWeight, int root, MPI_Comm comm,
                                 const std::function<bool(const BrickCoord&)>& keep) {
   std::vector<char> buf;
@@ -61,7 +75,7 @@ SparseField SparseField::gather(const BrickStore& store, float minWeight, int ro
     if (!keep || keep(mortonDecode(store.code(b)))) packBrick(buf, store, b);
   SparseField field(store.grid(), minWeight);
   unpackBricks(mpi::gatherBytes(buf, root, comm), store.voxelsPerBrick(), store.hasColour(), field);
-  field.frame_ = brickBounds(store.grid(), store.layout().codes);
+  field.frame_ = allBrickBounds(store, comm);
   return field;
 }
 
@@ -77,9 +91,8 @@ SparseField SparseField::withNeighbours(const BrickStore& store, float minWeight
     for (int o = 0; o < 27; ++o) {
       const BrickCoord n = c + BrickCoord(o % 3 - 1, (o / 3) % 3 - 1, o / 9 - 1);
       if ((n.array() < 0).any()) continue;
-      const int64_t i = layout.find(mortonEncode(n));
-      if (i < 0 || layout.ownerOf(i) == me) continue;
-      const int r = layout.ownerOf(i);
+      const int r = layout.neighbourOwner(mortonEncode(n), me);
+      if (r < 0 || r == me) continue;
       if (std::find(sent.begin(), sent.end(), r) != sent.end()) continue;
       sent.push_back(r);
       packBrick(out[r], store, b);
@@ -87,7 +100,7 @@ SparseField SparseField::withNeighbours(const BrickStore& store, float minWeight
   }
   for (const auto& buf : mpi::exchangeBytes(std::move(out), comm))
     unpackBricks(buf, store.voxelsPerBrick(), store.hasColour(), field);
-  field.frame_ = brickBounds(store.grid(), layout.codes);
+  field.frame_ = allBrickBounds(store, comm);
   return field;
 }
 

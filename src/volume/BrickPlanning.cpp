@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
@@ -10,6 +11,8 @@
 
 namespace rangefuse {
 namespace {
+
+using Pair = std::pair<uint64_t, uint64_t>;
 
 constexpr int kMaxVoxelsPerAxis = 1 << 20;  // vertex keys pack 20 bits per axis
 
@@ -23,21 +26,155 @@ void checkVoxels(const VoxelGrid& grid, const char* what, double voxels, uint64_
 }
 
 /// Sorted (code, work) pairs of a work map, flattened.
-std::vector<uint64_t> sortedPairs(const BrickWork& work) {
-  std::vector<std::pair<uint64_t, uint64_t>> pairs(work.begin(), work.end());
+std::vector<Pair> sortedPairs(const BrickWork& work) {
+  std::vector<Pair> pairs(work.begin(), work.end());
   std::sort(pairs.begin(), pairs.end());
-  std::vector<uint64_t> flat;
-  flat.reserve(2 * pairs.size());
-  for (const auto& [code, w] : pairs) flat.push_back(code), flat.push_back(w);
-  return flat;
+  return pairs;
 }
 
-/// The rank that sums brick `code`'s work while planning: spread by a hash, so that each rank
-/// sums about as many bricks wherever they lie.
-int summerOf(uint64_t code, int ranks) {
-  return static_cast<int>(((code * 0x9E3779B97F4A7C15ull) >> 32) % static_cast<uint64_t>(ranks));
+/// Pairs sorted by code with the work of equal codes summed.
+std::vector<Pair> summedPairs(const std::vector<Pair>& sorted) {
+  std::vector<Pair> out;
+  for (const Pair& p : sorted) {
+    if (!out.empty() && out.back().first == p.first)
+      out.back().second += p.second;
+    else
+      out.push_back(p);
+  }
+  return out;
 }
 
+/// Sum over ranks.
+uint64_t totalOf(uint64_t mine, MPI_Comm comm) {
+  uint64_t total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, comm);
+  return total;
+}
+
+/// Collective: ranks - 1 codes that cut every rank's sorted codes into ranges of about equal
+/// size (regular sampling: a few evenly spaced codes of each rank, gathered and sorted).
+std::vector<uint64_t> splittersOf(const std::vector<Pair>& sorted, MPI_Comm comm) {
+  const int ranks = mpi::size(comm);
+  constexpr size_t kSamples = 64;
+  std::vector<uint64_t> samples;
+  const size_t n = sorted.size(), take = std::min(n, kSamples);
+  for (size_t k = 0; k < take; ++k) samples.push_back(sorted[k * n / take].first);
+  std::vector<char> bytes;
+  mpi::pack(bytes, samples.data(), samples.size());
+  std::vector<uint64_t> all;
+  for (const auto& part : mpi::allgatherBytes(bytes, comm))
+    for (size_t pos = 0; pos < part.size();) {
+      uint64_t c;
+      mpi::unpack(part, pos, &c, 1);
+      all.push_back(c);
+    }
+  std::sort(all.begin(), all.end());
+  std::vector<uint64_t> splitters;
+  for (int r = 1; r < ranks; ++r)
+    splitters.push_back(all.empty() ? ~uint64_t{0} : all[all.size() * r / ranks]);
+  return splitters;
+}
+
+/// Collective: where each rank's run starts in the whole sorted list (ranks + 1 entries), the
+/// cuts partitionWork would make on the whole list, found from each rank's part of it.
+std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, MPI_Comm comm) {
+  const int ranks = mpi::size(comm);
+  uint64_t local[2] = {mine.size(), 0}, before[2] = {0, 0}, total[2] = {0, 0};
+  for (const Pair& p : mine) local[1] += p.second;
+  MPI_Exscan(local, before, 2, MPI_UINT64_T, MPI_SUM, comm);
+  if (mpi::rank(comm) == 0) before[0] = before[1] = 0;  // MPI leaves rank 0's undefined
+  MPI_Allreduce(local, total, 2, MPI_UINT64_T, MPI_SUM, comm);
+  // Brick i opens rank r's run once the work before it reaches r/ranks of the total; a cut
+  // met on an earlier rank is met here too, so the smallest candidate wins.
+  std::vector<uint64_t> start(ranks + 1, total[0]);
+  uint64_t prefix = before[1];
+  int r = 1;
+  for (size_t i = 0; i < mine.size() && r < ranks; ++i) {
+    while (r < ranks && prefix * ranks >= total[1] * r) start[r++] = before[0] + i;
+    prefix += mine[i].second;
+  }
+  start[0] = 0;
+  MPI_Allreduce(MPI_IN_PLACE, start.data(), ranks + 1, MPI_UINT64_T, MPI_MIN, comm);
+  return start;
+}
+
+/// Collective: the code at each cut (the first code of each rank's range); past every code
+/// for ranks with nothing after them.
+std::vector<uint64_t> firstCodesOf(const std::vector<Pair>& mine,
+                                   const std::vector<uint64_t>& start, MPI_Comm comm) {
+  uint64_t first = 0;
+  const uint64_t n = mine.size();
+  MPI_Exscan(&n, &first, 1, MPI_UINT64_T, MPI_SUM, comm);
+  if (mpi::rank(comm) == 0) first = 0;
+  std::vector<uint64_t> codes(start.size(), ~uint64_t{0});
+  for (size_t r = 0; r + 1 < start.size(); ++r)
+    if (start[r] >= first && start[r] < first + n) codes[r] = mine[start[r] - first].first;
+  MPI_Allreduce(MPI_IN_PLACE, codes.data(), static_cast<int>(codes.size()), MPI_UINT64_T, MPI_MIN,
+                comm);
+  codes[0] = 0;
+  return codes;
+}
+
+/// Collective: each rank's part of the whole sorted list sent to the ranks owning it by the
+/// cuts; returns this rank's run, sorted.
+std::vector<Pair> sendToOwners(std::vector<Pair> mine, const std::vector<uint64_t>& start,
+                               MPI_Comm comm) {
+  uint64_t first = 0;
+  const uint64_t n = mine.size();
+  MPI_Exscan(&n, &first, 1, MPI_UINT64_T, MPI_SUM, comm);
+  if (mpi::rank(comm) == 0) first = 0;
+  std::vector<std::vector<char>> out(mpi::size(comm));
+  for (size_t i = 0; i < mine.size(); ++i) {
+    const auto at = std::upper_bound(start.begin(), start.end() - 1, first + i);
+    mpi::pack(out[at - start.begin() - 1], &mine[i], 1);
+  }
+  std::vector<Pair>().swap(mine);
+  for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
+    const size_t k = part.size() / sizeof(Pair), at = mine.size();
+    mine.resize(at + k);
+    std::memcpy(static_cast<void*>(mine.data() + at), part.data(), part.size());
+    std::vector<char>().swap(part);
+  }
+  return mine;  // senders' parts arrive in rank order, each sorted
+}
+
+/// Collective: this rank's run and the bricks of other ranks bordering it (asked of their
+/// owners), sorted.
+std::vector<Pair> withBorder(std::vector<Pair> own, const std::vector<uint64_t>& firstCodes, int me,
+                             MPI_Comm comm) {
+  const uint64_t lo = firstCodes[me], hi = firstCodes[me + 1];
+  std::vector<uint64_t> asked;
+  for (const Pair& p : own)
+    for (uint64_t n : neighbourCodes(p.first))
+      if (n < lo || n >= hi) asked.push_back(n);
+  std::sort(asked.begin(), asked.end());
+  asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
+  const int ranks = mpi::size(comm);
+  std::vector<std::vector<char>> out(ranks);
+  for (uint64_t c : asked) {
+    const int owner = static_cast<int>(
+        std::upper_bound(firstCodes.begin(), firstCodes.end() - 1, c) - firstCodes.begin() - 1);
+    mpi::pack(out[owner], &c, 1);
+  }
+  std::vector<uint64_t>().swap(asked);
+  std::vector<std::vector<char>> answers(ranks);
+  const std::vector<std::vector<char>> questions = mpi::exchangeBytes(std::move(out), comm);
+  for (int r = 0; r < ranks; ++r)
+    for (size_t pos = 0; pos < questions[r].size();) {
+      uint64_t c;
+      mpi::unpack(questions[r], pos, &c, 1);
+      const auto it = std::lower_bound(own.begin(), own.end(), Pair(c, 0));
+      if (it != own.end() && it->first == c) mpi::pack(answers[r], &*it, 1);
+    }
+  for (const auto& part : mpi::exchangeBytes(std::move(answers), comm))
+    for (size_t pos = 0; pos < part.size();) {
+      Pair p;
+      mpi::unpack(part, pos, &p, 1);
+      own.push_back(p);
+    }
+  std::sort(own.begin(), own.end());
+  return own;
+}
 }  // namespace
 
 VoxelGrid gridAround(const Eigen::AlignedBox3d& box, double voxel, int brick, double eps,
@@ -100,86 +237,96 @@ void addWork(const BrickWork& part, const VoxelGrid& grid, uint64_t maxVoxels, B
 BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ranks) {
   BrickLayout layout;
   layout.grid = grid;
-  const std::vector<uint64_t> flat = sortedPairs(work);
-  for (size_t i = 0; i < flat.size(); i += 2) {
-    layout.codes.push_back(flat[i]);
-    layout.work.push_back(flat[i + 1]);
-  }
-  layout.rankStart = partitionWork(layout.work, ranks);
+  for (const auto& [code, w] : sortedPairs(work))
+    layout.codes.push_back(code), layout.work.push_back(w);
+  layout.setRuns(partitionWork(layout.work, ranks));
   return layout;
 }
 
 BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64_t maxVoxels,
                             MPI_Comm comm) {
-  const int ranks = mpi::size(comm);
-  // Each brick's pairs go to the one rank that sums them, so that no rank holds every rank's
-  // pairs of every brick (nor a map of them all) at once.
-  std::vector<std::vector<char>> out(ranks);
-  for (const auto& [code, w] : mine) {
-    const uint64_t pair[2] = {code, w};
-    mpi::pack(out[summerOf(code, ranks)], pair, 2);
+  // Sample sort: each brick's pairs go to the rank whose range of codes holds it, so that the
+  // summed bricks come out sorted across ranks and no rank holds every brick.
+  std::vector<Pair> pairs = sortedPairs(mine);
+  const std::vector<uint64_t> splitters = splittersOf(pairs, comm);
+  std::vector<std::vector<char>> out(mpi::size(comm));
+  for (const Pair& p : pairs) {
+    const size_t to =
+        std::upper_bound(splitters.begin(), splitters.end(), p.first) - splitters.begin();
+    mpi::pack(out[to], &p, 1);
   }
-  BrickWork summed;
+  std::vector<Pair>().swap(pairs);
   for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
-    for (size_t pos = 0; pos < part.size();) {
-      uint64_t pair[2];
-      mpi::unpack(part, pos, pair, 2);
-      summed[pair[0]] += pair[1];
-    }
+    const size_t n = part.size() / sizeof(Pair), at = pairs.size();
+    pairs.resize(at + n);
+    std::memcpy(static_cast<void*>(pairs.data() + at), part.data(), part.size());
     std::vector<char>().swap(part);
   }
-  // Then every rank's sums to every rank, each brick once: the list, sorted.
-  std::vector<char> bytes;
-  const std::vector<uint64_t> flat = sortedPairs(summed);
-  summed = {};
-  mpi::pack(bytes, flat.data(), flat.size());
-  std::vector<std::pair<uint64_t, uint64_t>> all;
-  uint64_t gathered = 0;
-  for (auto& part : mpi::allgatherBytes(bytes, comm)) {
-    gathered += part.size();
-    for (size_t pos = 0; pos < part.size();) {
-      uint64_t pair[2];
-      mpi::unpack(part, pos, pair, 2);
-      all.emplace_back(pair[0], pair[1]);
-    }
-    std::vector<char>().swap(part);
-  }
-  memoryLedger().set(Held::brickList, gathered + sizeof(all[0]) * all.capacity());
+  std::sort(pairs.begin(), pairs.end());
+  pairs = summedPairs(pairs);
   checkVoxels(grid, "voxels needed near the surface:",
-              static_cast<double>(all.size()) * std::pow(grid.brick, 3), maxVoxels);
-  std::sort(all.begin(), all.end());
-  BrickLayout layout;
-  layout.grid = grid;
-  layout.codes.reserve(all.size());
-  layout.work.reserve(all.size());
-  for (const auto& [code, w] : all) layout.codes.push_back(code), layout.work.push_back(w);
-  layout.rankStart = partitionWork(layout.work, ranks);
-  return layout;
+              static_cast<double>(totalOf(pairs.size(), comm)) * std::pow(grid.brick, 3),
+              maxVoxels);
+  return spreadSorted(std::move(pairs), grid, comm);
 }
 
-void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels) {
-  std::vector<uint64_t> codes;
-  codes.reserve(layout.codes.size() * 27);
-  for (uint64_t c : layout.codes) {
-    const BrickCoord b = mortonDecode(c);
-    BrickCoord d;
-    for (d.z() = -1; d.z() <= 1; ++d.z())
-      for (d.y() = -1; d.y() <= 1; ++d.y())
-        for (d.x() = -1; d.x() <= 1; ++d.x())
-          if (((b + d).array() >= 0).all()) codes.push_back(mortonEncode(b + d));
+void dilateBricks(BrickLayout& layout, uint64_t maxVoxels, MPI_Comm comm) {
+  // Each brick's neighbours go to the rank whose range holds them: ranges stay in rank order.
+  const int me = mpi::rank(comm);
+  std::vector<std::vector<char>> out(mpi::size(comm));
+  std::vector<Pair> mine;
+  for (size_t i = layout.rankStart[me]; i < layout.rankStart[me + 1]; ++i) {
+    mine.emplace_back(layout.codes[i], layout.work[i]);
+    for (uint64_t n : neighbourCodes(layout.codes[i])) {
+      const int owner = layout.ownerOfCode(n);
+      if (owner == me) {
+        mine.emplace_back(n, 0);
+      } else {
+        const Pair p(n, 0);
+        mpi::pack(out[owner], &p, 1);
+      }
+    }
   }
-  std::sort(codes.begin(), codes.end());
-  codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
+  for (const auto& part : mpi::exchangeBytes(std::move(out), comm))
+    for (size_t pos = 0; pos < part.size();) {
+      Pair p;
+      mpi::unpack(part, pos, &p, 1);
+      mine.push_back(p);
+    }
+  std::sort(mine.begin(), mine.end());
+  mine = summedPairs(mine);
   checkVoxels(layout.grid, "voxels near the surface, registration room included:",
-              static_cast<double>(codes.size()) * std::pow(layout.grid.brick, 3), maxVoxels);
-  std::vector<uint64_t> work(codes.size(), 0);
-  for (size_t i = 0; i < codes.size(); ++i) {
-    const int64_t at = layout.find(codes[i]);
-    if (at >= 0) work[i] = layout.work[at];
-  }
-  layout.codes = std::move(codes);
-  layout.work = std::move(work);
-  layout.rankStart = partitionWork(layout.work, ranks);
+              static_cast<double>(totalOf(mine.size(), comm)) * std::pow(layout.grid.brick, 3),
+              maxVoxels);
+  layout = spreadSorted(std::move(mine), layout.grid, comm);
+}
+
+BrickLayout spreadSorted(std::vector<std::pair<uint64_t, uint64_t>> mine, const VoxelGrid& grid,
+                         MPI_Comm comm) {
+  const std::vector<uint64_t> start = cutsOf(mine, comm);
+  const std::vector<uint64_t> firstCodes = firstCodesOf(mine, start, comm);
+  return directoryFromOwn(sendToOwners(std::move(mine), start, comm), firstCodes, grid, comm);
+}
+
+BrickLayout directoryFromOwn(std::vector<std::pair<uint64_t, uint64_t>> own,
+                             const std::vector<uint64_t>& firstCodes, const VoxelGrid& grid,
+                             MPI_Comm comm) {
+  const int ranks = mpi::size(comm);
+  uint64_t count = own.size();
+  std::vector<uint64_t> counts(ranks);
+  MPI_Allgather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
+  const std::vector<Pair> held = withBorder(std::move(own), firstCodes, mpi::rank(comm), comm);
+  BrickLayout layout;
+  layout.grid = grid;
+  layout.codes.reserve(held.size());
+  layout.work.reserve(held.size());
+  for (const auto& [code, w] : held) layout.codes.push_back(code), layout.work.push_back(w);
+  layout.firstCodes = firstCodes;
+  layout.globalStart.assign(ranks + 1, 0);
+  for (int r = 0; r < ranks; ++r) layout.globalStart[r + 1] = layout.globalStart[r] + counts[r];
+  layout.rankStart = runsOf(layout.codes, firstCodes);
+  memoryLedger().set(Held::brickList, layout.bytes());
+  return layout;
 }
 
 }  // namespace rangefuse

@@ -28,8 +28,7 @@ void permuteBricks(std::vector<T>& data, const std::vector<size_t>& slot, size_t
 
 }  // namespace
 
-BrickStore::BrickStore(const BrickLayout& layout, int rank)
-    : layout_(layout), rank_(rank), first_(layout.rankStart[rank]) {
+BrickStore::BrickStore(const BrickLayout& layout, int rank) : layout_(layout), rank_(rank) {
   const int B = layout.grid.brick;
   perBrick_ = static_cast<size_t>(B) * B * B;
   for (size_t i = layout.rankStart[rank]; i < layout.rankStart[rank + 1]; ++i) {
@@ -41,7 +40,6 @@ BrickStore::BrickStore(const BrickLayout& layout, int rank)
 
 void BrickStore::grow(const BrickLayout& layout, const std::vector<uint64_t>& fresh) {
   layout_ = layout;
-  first_ = layout.rankStart[rank_];
   for (const uint64_t code : fresh) {
     if (code < (codes_.empty() ? 0 : codes_.back())) ordered_ = false;
     index_[code] = static_cast<int64_t>(codes_.size());

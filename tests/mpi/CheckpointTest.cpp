@@ -27,7 +27,7 @@ BrickLayout testLayout(int ranks) {
   std::sort(l.codes.begin(), l.codes.end());
   l.codes.erase(std::unique(l.codes.begin(), l.codes.end()), l.codes.end());
   for (size_t i = 0; i < l.codes.size(); ++i) l.work.push_back(1 + (i * 13) % 7);
-  l.rankStart = partitionWork(l.work, ranks);
+  l.setRuns(partitionWork(l.work, ranks));
   return l;
 }
 
@@ -74,8 +74,14 @@ TEST(Checkpoint, EveryVoxelAndPoseRoundTripsBitForBit) {
   EXPECT_EQ(back.progress, meta.progress);
   BrickLayout readLayout;
   const auto read = io::readCheckpointField(path, back, readLayout, MPI_COMM_WORLD);
-  EXPECT_EQ(readLayout.codes, layout.codes);
-  EXPECT_EQ(readLayout.work, layout.work);
+  // Each rank reads back its own part: its bricks, those bordering them, every rank's range.
+  const BrickLayout want = directoryOf(layout, mpi::rank());
+  EXPECT_EQ(readLayout.codes, want.codes);
+  EXPECT_EQ(readLayout.work, want.work);
+  EXPECT_EQ(readLayout.rankStart, want.rankStart);
+  EXPECT_EQ(readLayout.firstCodes, want.firstCodes);
+  EXPECT_EQ(readLayout.globalStart, want.globalStart);
+  EXPECT_EQ(readLayout.totalBricks(), layout.codes.size());
   for (size_t b = 0; b < read->brickCount(); ++b)
     for (size_t v = 0; v < read->voxelsPerBrick(); ++v) {
       const float* f =

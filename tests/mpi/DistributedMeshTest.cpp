@@ -33,8 +33,10 @@ TriangleMesh serialSphereMesh() {
 BrickLayout splitLayout(const std::string& split) {
   BrickLayout l = sphereLayout(mpi::size());
   const size_t n = l.codes.size();
-  if (split == "first") std::fill(l.rankStart.begin() + 1, l.rankStart.end(), n);
-  if (split == "last") std::fill(l.rankStart.begin(), l.rankStart.end() - 1, 0);
+  std::vector<size_t> start = l.rankStart;
+  if (split == "first") std::fill(start.begin() + 1, start.end(), n);
+  if (split == "last") std::fill(start.begin(), start.end() - 1, 0);
+  l.setRuns(start);
   return l;
 }
 

@@ -81,8 +81,10 @@ TEST(MeshPartXdmf, HoldsTheSingleRankMeshWhateverTheSplit) {
   for (const std::string split : {"work", "first", "last"}) {
     BrickLayout layout = sphereLayout(mpi::size());
     const size_t n = layout.codes.size();
-    if (split == "first") std::fill(layout.rankStart.begin() + 1, layout.rankStart.end(), n);
-    if (split == "last") std::fill(layout.rankStart.begin(), layout.rankStart.end() - 1, 0);
+    std::vector<size_t> start = layout.rankStart;
+    if (split == "first") std::fill(start.begin() + 1, start.end(), n);
+    if (split == "last") std::fill(start.begin(), start.end() - 1, 0);
+    layout.setRuns(start);
     BrickStore store(layout, mpi::rank());
     fillSphere(store);
     MeshPart part = extractDistributedMesh(store, 0, MPI_COMM_WORLD);

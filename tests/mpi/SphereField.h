@@ -28,7 +28,7 @@ inline BrickLayout sphereLayout(int ranks) {
       }
   std::sort(l.codes.begin(), l.codes.end());
   l.work.assign(l.codes.size(), 1);
-  l.rankStart = partitionWork(l.work, ranks);
+  l.setRuns(partitionWork(l.work, ranks));
   return l;
 }
 

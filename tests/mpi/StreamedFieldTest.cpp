@@ -43,6 +43,8 @@ void streamedField(const FuseOptions& o, FusedField& field, RankCounters& counte
 void expectSameField(const FusedField& a, const FusedField& b) {
   ASSERT_EQ(a.layout.codes, b.layout.codes);
   ASSERT_EQ(a.layout.rankStart, b.layout.rankStart);
+  ASSERT_EQ(a.layout.firstCodes, b.layout.firstCodes);
+  ASSERT_EQ(a.layout.globalStart, b.layout.globalStart);
   ASSERT_EQ(a.layout.work, b.layout.work);
   EXPECT_EQ(a.layout.grid.origin, b.layout.grid.origin);
   const auto &sa = a.store->sums(), &sb = b.store->sums();

@@ -38,7 +38,7 @@ BrickLayout sphereBricks(double voxel, const Eigen::Vector3d& c, double r) {
       }
   std::sort(l.codes.begin(), l.codes.end());
   l.work.assign(l.codes.size(), 1);
-  l.rankStart = {0, l.codes.size()};
+  l.setRuns({0, l.codes.size()});
   return l;
 }
 

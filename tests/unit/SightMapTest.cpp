@@ -187,7 +187,7 @@ BrickStore tinyStore() {
   layout.grid.voxel = 1, layout.grid.brick = 2;
   layout.codes = {mortonEncode(BrickCoord(0, 0, 0))};
   layout.work = {1};
-  layout.rankStart = {0, 1};
+  layout.setRuns({0, 1});
   return BrickStore(layout, 0);
 }
 

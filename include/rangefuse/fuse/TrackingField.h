@@ -23,7 +23,8 @@ struct TrackingFieldSettings {
 };
 
 /// A RegistrationField whose add() never rebuilds: the bricks a new frame's prisms reach join
-/// the layout, each on the rank whose range of codes holds it, and the sums already held stay
+/// the field, each on the rank whose range of codes holds it (a rank's directory knows its own
+/// bricks and, once released, those bordering them), and the sums already held stay
 /// where they are; when the field has grown by half, the bricks are split over the ranks by
 /// work anew and the sums move to their new owners unchanged. A voxel's sums are therefore
 /// those of adding the frames in order, on any number of ranks. The lattice is fixed by the
@@ -53,8 +54,9 @@ class TrackingField : public RegistrationField {
  private:
   /// Collective: the layout grown by the bricks scan i's prisms touch at `pose`.
   void grow(size_t i, const Pose& pose);
-  /// Collective: the (code, work) pairs, flat, of the bricks scan i reaches at `pose` that the
-  /// layout lacks; the work of those it has is added to them.
+  /// Collective: the (code, work) pairs, flat and sorted, of the bricks scan i reaches at
+  /// `pose` that this rank's range lacks (each brick's pairs go to the rank whose range holds
+  /// it); the work of those it has is added to them.
   std::vector<uint64_t> newBricks(size_t i, const Pose& pose);
   /// Collective: scan i added to the sums.
   void integrate(size_t i, const std::vector<Pose>& poses);
@@ -65,8 +67,7 @@ class TrackingField : public RegistrationField {
   VoxelGrid grid_;
   std::unique_ptr<BrickStore> store_;
   std::unique_ptr<PrismIntegrator> integrator_;
-  size_t balancedBricks_ = 0;     ///< bricks when last split by work
-  std::vector<uint64_t> ranges_;  ///< first code each rank owns since then (ownedRanges)
+  uint64_t balancedBricks_ = 0;  ///< bricks of the whole field when last split by work
   uint64_t voxelUpdates_ = 0;
 };
 

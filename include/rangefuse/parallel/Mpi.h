@@ -14,7 +14,8 @@ int rank(MPI_Comm comm = MPI_COMM_WORLD);
 int size(MPI_Comm comm = MPI_COMM_WORLD);
 
 /// Collective: true when every rank passed ok. Otherwise the lowest failing rank prints
-/// its message to stderr (once for the whole job) and every rank gets false.
+/// its message to stderr (once for the whole job; none when it is empty) and every rank gets
+/// false.
 bool agree(bool ok, const std::string& message, MPI_Comm comm = MPI_COMM_WORLD);
 
 /// Thrown on every rank after a failure all ranks agreed on and one rank already printed:
@@ -28,12 +29,16 @@ struct Reported : std::exception {
 template <class Fn>
 bool collectively(MPI_Comm comm, Fn&& fn) {
   std::string error;
+  bool ok = true;
   try {
     fn();
+  } catch (const Reported&) {
+    ok = false;  // a nested stage failed on every rank and printed why
   } catch (const std::exception& e) {
+    ok = false;
     error = e.what();
   }
-  return agree(error.empty(), error, comm);
+  return agree(ok, error, comm);
 }
 
 /// Collective: as collectively, but a failure throws Reported on every rank, so that a stage in

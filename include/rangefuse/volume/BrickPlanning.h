@@ -40,15 +40,30 @@ void addBrickWork(const VoxelGrid& grid, const BrickCoord& lo, const BrickCoord&
 /// The bricks of `work`, Morton-sorted and split over `ranks` runs of near-equal work.
 BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ranks);
 
-/// Collective: the layout of every rank's work summed (a brick's work is an integer sum, so the
-/// layout does not depend on how the boxes were spread over ranks). No rank sees another's
-/// boxes: only (brick, work) pairs travel, first to the rank that sums each brick, then each
-/// brick's sum once to every rank. Throws InputError past maxVoxels on every rank.
+/// Collective: this rank's directory of every rank's work summed (a brick's work is an integer
+/// sum, so the layout does not depend on how the boxes were spread over ranks). No rank sees
+/// another's boxes nor every brick: the pairs are sorted across ranks by code (sample sort),
+/// summed where they land, cut into runs by the work before them, and sent to their owners,
+/// which then ask for the bricks bordering theirs. Throws InputError past maxVoxels on every
+/// rank.
 BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64_t maxVoxels,
                             MPI_Comm comm);
 
-/// Adds the 26 neighbours of every brick (with no work) and splits the bricks anew: room for
-/// scans that move by up to a brick. Throws InputError past maxVoxels.
-void dilateBricks(BrickLayout& layout, int ranks, uint64_t maxVoxels);
+/// Collective: this rank's directory of the (code, work) pairs every rank holds, given sorted
+/// and in rank order (every code of rank r below every code of rank r + 1, none twice): cut as
+/// partitionWork cuts the whole list, whatever the number of parts it came in.
+BrickLayout spreadSorted(std::vector<std::pair<uint64_t, uint64_t>> mine, const VoxelGrid& grid,
+                         MPI_Comm comm);
+
+/// Collective: rank me's directory from its own (code, work) pairs, sorted and inside its
+/// range of `firstCodes`: the bricks bordering them asked of their owners, every rank's bricks
+/// counted.
+BrickLayout directoryFromOwn(std::vector<std::pair<uint64_t, uint64_t>> own,
+                             const std::vector<uint64_t>& firstCodes, const VoxelGrid& grid,
+                             MPI_Comm comm);
+
+/// Collective: adds the 26 neighbours of every brick (with no work) and splits the bricks
+/// anew: room for scans that move by up to a brick. Throws InputError past maxVoxels.
+void dilateBricks(BrickLayout& layout, uint64_t maxVoxels, MPI_Comm comm);
 
 }  // namespace rangefuse

@@ -36,16 +36,13 @@ class BrickStore {
  public:
   using Sums = std::vector<VoxelSums>;
 
-  /// Keeps its own copy of the layout (codes and owners: small next to the voxels).
+  /// Keeps its own copy of the layout (a rank's directory: small next to the voxels).
   BrickStore(const BrickLayout& layout, int rank);
 
   const BrickLayout& layout() const { return layout_; }
   const VoxelGrid& grid() const { return layout_.grid; }
   size_t brickCount() const { return codes_.size(); }
   uint64_t code(size_t local) const { return codes_[local]; }
-  /// Position in layout().codes of local brick `local` (a rank owns one contiguous run); only
-  /// while ordered().
-  size_t globalIndex(size_t local) const { return first_ + local; }
   /// Whether local bricks follow code order (always, until grow(); again after sortBricks()).
   bool ordered() const { return ordered_; }
   size_t voxelsPerBrick() const { return perBrick_; }
@@ -95,7 +92,6 @@ class BrickStore {
   std::vector<uint64_t> codes_;
   std::unordered_map<uint64_t, int64_t> index_;
   int rank_;
-  size_t first_;  ///< layout position of local brick 0
   size_t perBrick_;
   bool ordered_ = true;
   ColourKind colourKind_ = ColourKind::none;
