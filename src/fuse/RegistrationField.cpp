@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "GrowingBricks.h"
 #include "PlacedScans.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/RegisterStage.h"
@@ -22,10 +23,11 @@ using namespace internal;
 
 /// Prism fields on one lattice for the whole registration. Algorithm 1 adds each registered
 /// scan in place — one rasterisation per scan, not one per fused scan for every new scan.
-/// Bricks are planned around every scan with a brick of room and planned anew only when a
-/// scan leaves them. A voxel's value depends on the lattice and the order of the scans, not
-/// on the bricks planned, so a resumed run that rebuilds the field gets the same values. Each
-/// rank holds only the scans it read: it places them and routes their triangles to the brick
+/// Bricks are planned for the fused scans; a scan added later brings the bricks its prisms
+/// reach and no others (GrowingBricks), and the field is planned anew only when a scan leaves
+/// the lattice. A voxel's value depends on the lattice and the order of the scans, not on the
+/// bricks planned, so a resumed run that rebuilds the field gets the same values. Each rank
+/// holds only the scans it read: it places them and routes their triangles to the brick
 /// owners whenever the field is built or grows.
 class GrowingPrismField : public RegistrationField {
  public:
@@ -47,7 +49,7 @@ class GrowingPrismField : public RegistrationField {
 
   const BrickStore& build(const std::vector<size_t>& which,
                           const std::vector<Pose>& poses) override {
-    if (store_ && holdsExactly(which, poses)) return *store_;  // e.g. Algorithm 1's last field
+    if (bricks_ && holdsExactly(which, poses)) return bricks_->store();  // Algorithm 1's last
     poses_ = poses;
     placed_.clear();
     for (size_t i : which) placed_.emplace_back(i, poses[i]);
@@ -57,9 +59,23 @@ class GrowingPrismField : public RegistrationField {
   const BrickStore& add(size_t i, const std::vector<Pose>& poses) override {
     poses_ = poses;
     placed_.emplace_back(i, poses[i]);
-    if (!fieldHolds(i, poses[i])) return rebuild();
-    addRouted(scans_, {i}, poses_, *integrator_, store_->layout(), comm_);
-    return *store_;
+    std::vector<PrismScan> one;
+    int holds = 1;
+    collectivelyOrThrow(comm_, [&] {
+      if (!scans_.holds(i)) return;
+      one.push_back(placeScan(*scans_.held->get(i), poses[i]));
+      holds = gridHolds(grid_, one, eps_);
+    });
+    MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
+    if (!holds) return rebuild();
+    bool moved = false;
+    collectivelyOrThrow(comm_, [&] { moved = bricks_->grow(one.empty() ? nullptr : &one[0]); });
+    if (moved)
+      integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), o_.threads);
+    else
+      integrator_->storeGrew();
+    addRouted(scans_, {i}, poses_, *integrator_, bricks_->store().layout(), comm_);
+    return bricks_->store();
   }
 
   std::vector<double> latticeOrigin() const override {
@@ -77,47 +93,24 @@ class GrowingPrismField : public RegistrationField {
     return true;
   }
 
-  /// Collective: true when scan i at `pose` lies in the lattice and every brick its prisms
-  /// touch is planned (each brick asked of the rank whose range holds it).
-  bool fieldHolds(size_t i, const Pose& pose) const {
-    int holds = 1;
-    std::vector<std::vector<char>> out(mpi::size(comm_));
-    collectivelyOrThrow(comm_, [&] {
-      if (!scans_.holds(i)) return;
-      const std::vector<PrismScan> one{placeScan(*scans_.held->get(i), pose)};
-      holds = gridHolds(grid_, one, eps_);
-      if (!holds) return;
-      const BrickLayout needed = planBricks(one, grid_, 1, o_.limits.maxVoxels);
-      for (uint64_t code : needed.codes)
-        mpi::pack(out[store_->layout().ownerOfCode(code)], &code, 1);
-    });
-    for (const auto& part : mpi::exchangeBytes(std::move(out), comm_))
-      for (size_t pos = 0; pos < part.size();) {
-        uint64_t code;
-        mpi::unpack(part, pos, &code, 1);
-        if (store_->localBrick(code) < 0) holds = 0;
-      }
-    MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
-    return holds != 0;
-  }
-
-  /// New bricks around every scan at poses_, then the fused scans added in order.
+  /// The bricks of the fused scans at poses_ planned anew (the lattice anew if a scan left
+  /// it), then the scans added in order.
   const BrickStore& rebuild() {
-    const std::vector<size_t> every = allScans(scans_);
-    const Eigen::AlignedBox3d box = placedBounds(scans_, every, poses_, comm_);
+    std::vector<size_t> order;
+    for (const auto& [i, pose] : placed_) order.push_back(i);
+    const Eigen::AlignedBox3d box = placedBounds(scans_, allScans(scans_), poses_, comm_);
     collectivelyOrThrow(comm_, [&] {
       if (!gridHoldsBox(grid_, box, eps_))
         grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
     });
-    BrickLayout layout =
-        planPlacedOn(scans_, every, poses_, grid_, o_.limits.maxVoxels, o_.threads, comm_);
-    collectivelyOrThrow(comm_, [&] { dilateBricks(layout, o_.limits.maxVoxels, comm_); });
-    store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
-    integrator_ = std::make_unique<PrismIntegrator>(*store_, o_.threads);
-    std::vector<size_t> order;
-    for (const auto& [i, pose] : placed_) order.push_back(i);
-    addRouted(scans_, order, poses_, *integrator_, store_->layout(), comm_);
-    return *store_;
+    integrator_.reset();
+    bricks_.reset();  // the old field's memory goes before the new one's comes
+    bricks_ = std::make_unique<GrowingBricks>(grid_, o_.limits.maxVoxels, o_.threads, comm_);
+    bricks_->start(
+        planPlacedOn(scans_, order, poses_, grid_, o_.limits.maxVoxels, o_.threads, comm_));
+    integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), o_.threads);
+    addRouted(scans_, order, poses_, *integrator_, bricks_->store().layout(), comm_);
+    return bricks_->store();
   }
 
   const FuseOptions& o_;
@@ -127,7 +120,7 @@ class GrowingPrismField : public RegistrationField {
   VoxelGrid grid_;
   std::vector<Pose> poses_;
   std::vector<std::pair<size_t, Pose>> placed_;  ///< the fused scans and their poses, in order
-  std::unique_ptr<BrickStore> store_;
+  std::unique_ptr<GrowingBricks> bricks_;
   std::unique_ptr<PrismIntegrator> integrator_;
 };
 

@@ -151,16 +151,27 @@ void ControlRouting::route(const std::vector<size_t>& which, const std::vector<P
         if (scans_.holds(which[k]))
           packControlPoints(which[k], poses[which[k]], layout, me, owners, out);
     });
-    receive(mpi::exchangeBytes(std::move(out), comm_));
+    receive(mpi::exchangeBytes(std::move(out), comm_), store);
   }
 }
 
-void ControlRouting::receive(const std::vector<std::vector<char>>& in) {
+void ControlRouting::receive(const std::vector<std::vector<char>>& in, const BrickStore& store) {
+  const VoxelGrid& g = store.grid();
+  std::unordered_map<uint64_t, bool> near;  // per brick: an own brick is it or a neighbour
+  auto nearOwn = [&](uint64_t code) {
+    auto it = near.find(code);
+    if (it != near.end()) return it->second;
+    bool found = store.localBrick(code) >= 0;
+    for (uint64_t n : neighbourCodes(code)) found = found || store.localBrick(n) >= 0;
+    return near.emplace(code, found).first->second;
+  };
   // Each scan comes from the one rank holding it, in its order.
   for (const auto& buf : in) {
     for (size_t at = 0; at < buf.size();) {
       RoutedPoint p;
       mpi::unpack(buf, at, &p, 1);
+      const Pose& pose = held_[p.scan].routedAt;
+      if (!nearOwn(mortonEncode(brickOf(g.nearest(pose.apply(p.p)), g.brick)))) continue;
       Held& h = held_[p.scan];
       h.pointVertices.push_back(static_cast<uint32_t>(p.vertex));
       h.points.push_back(p.p);

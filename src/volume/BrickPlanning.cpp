@@ -76,11 +76,12 @@ std::vector<uint64_t> splittersOf(const std::vector<Pair>& sorted, MPI_Comm comm
 }
 
 /// Collective: where each rank's run starts in the whole sorted list (ranks + 1 entries), the
-/// cuts partitionWork would make on the whole list, found from each rank's part of it.
-std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, MPI_Comm comm) {
+/// cuts partitionWork would make on the whole list (each brick's work plus brickCost), found
+/// from each rank's part of it.
+std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, uint64_t brickCost, MPI_Comm comm) {
   const int ranks = mpi::size(comm);
   uint64_t local[2] = {mine.size(), 0}, before[2] = {0, 0}, total[2] = {0, 0};
-  for (const Pair& p : mine) local[1] += p.second;
+  for (const Pair& p : mine) local[1] += p.second + brickCost;
   MPI_Exscan(local, before, 2, MPI_UINT64_T, MPI_SUM, comm);
   if (mpi::rank(comm) == 0) before[0] = before[1] = 0;  // MPI leaves rank 0's undefined
   MPI_Allreduce(local, total, 2, MPI_UINT64_T, MPI_SUM, comm);
@@ -91,7 +92,7 @@ std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, MPI_Comm comm) {
   int r = 1;
   for (size_t i = 0; i < mine.size() && r < ranks; ++i) {
     while (r < ranks && prefix * ranks >= total[1] * r) start[r++] = before[0] + i;
-    prefix += mine[i].second;
+    prefix += mine[i].second + brickCost;
   }
   start[0] = 0;
   MPI_Allreduce(MPI_IN_PLACE, start.data(), ranks + 1, MPI_UINT64_T, MPI_MIN, comm);
@@ -270,40 +271,9 @@ BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64
   return spreadSorted(std::move(pairs), grid, comm);
 }
 
-void dilateBricks(BrickLayout& layout, uint64_t maxVoxels, MPI_Comm comm) {
-  // Each brick's neighbours go to the rank whose range holds them: ranges stay in rank order.
-  const int me = mpi::rank(comm);
-  std::vector<std::vector<char>> out(mpi::size(comm));
-  std::vector<Pair> mine;
-  for (size_t i = layout.rankStart[me]; i < layout.rankStart[me + 1]; ++i) {
-    mine.emplace_back(layout.codes[i], layout.work[i]);
-    for (uint64_t n : neighbourCodes(layout.codes[i])) {
-      const int owner = layout.ownerOfCode(n);
-      if (owner == me) {
-        mine.emplace_back(n, 0);
-      } else {
-        const Pair p(n, 0);
-        mpi::pack(out[owner], &p, 1);
-      }
-    }
-  }
-  for (const auto& part : mpi::exchangeBytes(std::move(out), comm))
-    for (size_t pos = 0; pos < part.size();) {
-      Pair p;
-      mpi::unpack(part, pos, &p, 1);
-      mine.push_back(p);
-    }
-  std::sort(mine.begin(), mine.end());
-  mine = summedPairs(mine);
-  checkVoxels(layout.grid, "voxels near the surface, registration room included:",
-              static_cast<double>(totalOf(mine.size(), comm)) * std::pow(layout.grid.brick, 3),
-              maxVoxels);
-  layout = spreadSorted(std::move(mine), layout.grid, comm);
-}
-
 BrickLayout spreadSorted(std::vector<std::pair<uint64_t, uint64_t>> mine, const VoxelGrid& grid,
-                         MPI_Comm comm) {
-  const std::vector<uint64_t> start = cutsOf(mine, comm);
+                         MPI_Comm comm, uint64_t brickCost) {
+  const std::vector<uint64_t> start = cutsOf(mine, brickCost, comm);
   const std::vector<uint64_t> firstCodes = firstCodesOf(mine, start, comm);
   return directoryFromOwn(sendToOwners(std::move(mine), start, comm), firstCodes, grid, comm);
 }

@@ -45,8 +45,13 @@ void BrickStore::grow(const BrickLayout& layout, const std::vector<uint64_t>& fr
     index_[code] = static_cast<int64_t>(codes_.size());
     codes_.push_back(code);
   }
-  sums_.resize(codes_.size() * perBrick_);
-  if (hasColour()) colours_.resize(sums_.size());
+  // A quarter of room, not the vector's doubling: a growing field on many ranks holds at most
+  // a quarter more than its bricks, and a copy moves each brick about five times in all.
+  const size_t voxels = codes_.size() * perBrick_;
+  if (voxels > sums_.capacity()) sums_.reserve(voxels + voxels / 4);
+  sums_.resize(voxels);
+  if (hasColour() && voxels > colours_.capacity()) colours_.reserve(voxels + voxels / 4);
+  if (hasColour()) colours_.resize(voxels);
 }
 
 void BrickStore::enableColour(ColourKind kind) {

@@ -105,21 +105,6 @@ TEST(BrickDirectory, OwnersOfCodesItDoesNotHoldComeFromTheRanges) {
   }
 }
 
-TEST(BrickDirectory, DilationAddsEveryNeighbourAsOnOneRank) {
-  const int ranks = mpi::size(), me = mpi::rank();
-  const std::vector<BrickWork> parts = workOfRanks(ranks, 3, false);
-  const BrickLayout whole = wholeList(parts, ranks);
-  BrickWork grown;
-  for (size_t i = 0; i < whole.codes.size(); ++i) {
-    grown[whole.codes[i]] += whole.work[i];
-    for (uint64_t n : neighbourCodes(whole.codes[i])) grown[n] += 0;
-  }
-  const BrickLayout wholeGrown = layoutFromWork(grown, testGrid(), ranks);
-  BrickLayout got = reduceBrickWork(parts[me], testGrid(), UINT64_MAX, MPI_COMM_WORLD);
-  dilateBricks(got, UINT64_MAX, MPI_COMM_WORLD);
-  expectDirectory(got, wholeGrown, me);
-}
-
 TEST(BrickDirectory, TooManyVoxelsAreRefusedOnEveryRank) {
   const int ranks = mpi::size(), me = mpi::rank();
   const std::vector<BrickWork> parts = workOfRanks(ranks, 5, false);

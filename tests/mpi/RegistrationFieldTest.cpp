@@ -1,5 +1,6 @@
 // The growing field of Algorithm 1 against a fresh build of the same scans, voxel by voxel:
-// the fast path (scans added in place, bricks planned once) must give the simple one's values.
+// the fast path (scans added in place, each bringing its new bricks) must give the simple
+// one's values and bricks.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -83,11 +84,11 @@ TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
   auto grown = makeRegistrationField(o, scans, MPI_COMM_WORLD);
   grown->fixLattice({}, poses);
   grown->build({0}, poses);
-  grown->add(1, poses);  // where the bricks were planned
+  grown->add(1, poses);  // the bricks it reaches join the field
   poses[3] = moved(poses[3], Eigen::Vector3d(3, -2, 1) * kVoxel, 1);
-  grown->add(3, poses);  // within the brick of room
+  grown->add(3, poses);
   poses[5] = moved(poses[5], Eigen::Vector3d(0, 20, 0) * kVoxel, 2);
-  const BrickStore& fast = grown->add(5, poses);  // out of the planned bricks: planned anew
+  const BrickStore& fast = grown->add(5, poses);  // far from the others: many new bricks
 
   auto fresh = makeRegistrationField(o, scans, MPI_COMM_WORLD);
   fresh->fixLattice(grown->latticeOrigin(), poses);
@@ -95,6 +96,8 @@ TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
   const VoxelValues a = observedVoxels(fast), b = observedVoxels(simple);
   EXPECT_GT(a.size(), 10000u);
   expectIdentical(a, b);
+  // Bricks on demand: the grown field holds the bricks the scans reach and no room around them.
+  EXPECT_EQ(fast.layout().totalBricks(), simple.layout().totalBricks());
 }
 
 TEST(RegistrationField, LatticeMovesWhenAScanLeavesIt) {

@@ -11,6 +11,9 @@
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse {
+namespace internal {
+class GrowingBricks;
+}
 
 /// What the tracking field needs of the job.
 struct TrackingFieldSettings {
@@ -25,8 +28,9 @@ struct TrackingFieldSettings {
 /// A RegistrationField whose add() never rebuilds: the bricks a new frame's prisms reach join
 /// the field, each on the rank whose range of codes holds it (a rank's directory knows its own
 /// bricks and, once released, those bordering them), and the sums already held stay
-/// where they are; when the field has grown by half, the bricks are split over the ranks by
-/// work anew and the sums move to their new owners unchanged. A voxel's sums are therefore
+/// where they are; when a rank has gained half a fair share of bricks, the bricks are split
+/// over the ranks by work anew and the sums move to their new owners unchanged
+/// (internal::GrowingBricks). A voxel's sums are therefore
 /// those of adding the frames in order, on any number of ranks. The lattice is fixed by the
 /// first call and reaches kRoom voxels beyond the first frame in every direction; a frame
 /// outside it is an error.
@@ -45,7 +49,7 @@ class TrackingField : public RegistrationField {
   std::vector<double> latticeOrigin() const override;
 
   /// The field as it stands (valid until the next add).
-  const BrickStore& store() const { return *store_; }
+  const BrickStore& store() const;
   /// The field as it stands, for meshing; the tracking field is empty afterwards.
   std::unique_ptr<BrickStore> release();
   /// Voxel updates made so far on this rank.
@@ -54,10 +58,6 @@ class TrackingField : public RegistrationField {
  private:
   /// Collective: the layout grown by the bricks scan i's prisms touch at `pose`.
   void grow(size_t i, const Pose& pose);
-  /// Collective: the (code, work) pairs, flat and sorted, of the bricks scan i reaches at
-  /// `pose` that this rank's range lacks (each brick's pairs go to the rank whose range holds
-  /// it); the work of those it has is added to them.
-  std::vector<uint64_t> newBricks(size_t i, const Pose& pose);
   /// Collective: scan i added to the sums.
   void integrate(size_t i, const std::vector<Pose>& poses);
 
@@ -65,9 +65,8 @@ class TrackingField : public RegistrationField {
   const LoadedScans& scans_;
   MPI_Comm comm_;
   VoxelGrid grid_;
-  std::unique_ptr<BrickStore> store_;
+  std::unique_ptr<internal::GrowingBricks> bricks_;
   std::unique_ptr<PrismIntegrator> integrator_;
-  uint64_t balancedBricks_ = 0;  ///< bricks of the whole field when last split by work
   uint64_t voxelUpdates_ = 0;
 };
 

@@ -81,8 +81,10 @@ class ControlRouting {
                          std::unordered_map<uint64_t, std::vector<int>>& owners,
                          std::vector<std::vector<char>>& out);
 
-  /// Adds the control points other ranks sent (and those this rank sent itself) to held_.
-  void receive(const std::vector<std::vector<char>>& in);
+  /// Adds the control points other ranks sent (and those this rank sent itself) to held_,
+  /// those near a brick of `store`: a sender that does not know the bricks far from its own
+  /// sends a point to the owner of its brick's range, which may have no brick there.
+  void receive(const std::vector<std::vector<char>>& in, const BrickStore& store);
 
   /// An upper bound on how far any control point of scan i moves from `from` to `to`.
   double motionBound(size_t i, const Pose& from, const Pose& to) const;

@@ -51,9 +51,10 @@ BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64
 
 /// Collective: this rank's directory of the (code, work) pairs every rank holds, given sorted
 /// and in rank order (every code of rank r below every code of rank r + 1, none twice): cut as
-/// partitionWork cuts the whole list, whatever the number of parts it came in.
+/// partitionWork cuts the whole list, whatever the number of parts it came in. `brickCost` is
+/// added to every brick's work for the cut only (the layout keeps the work as given).
 BrickLayout spreadSorted(std::vector<std::pair<uint64_t, uint64_t>> mine, const VoxelGrid& grid,
-                         MPI_Comm comm);
+                         MPI_Comm comm, uint64_t brickCost = 0);
 
 /// Collective: rank me's directory from its own (code, work) pairs, sorted and inside its
 /// range of `firstCodes`: the bricks bordering them asked of their owners, every rank's bricks
@@ -61,9 +62,5 @@ BrickLayout spreadSorted(std::vector<std::pair<uint64_t, uint64_t>> mine, const 
 BrickLayout directoryFromOwn(std::vector<std::pair<uint64_t, uint64_t>> own,
                              const std::vector<uint64_t>& firstCodes, const VoxelGrid& grid,
                              MPI_Comm comm);
-
-/// Collective: adds the 26 neighbours of every brick (with no work) and splits the bricks
-/// anew: room for scans that move by up to a brick. Throws InputError past maxVoxels.
-void dilateBricks(BrickLayout& layout, uint64_t maxVoxels, MPI_Comm comm);
 
 }  // namespace rangefuse

@@ -1,0 +1,212 @@
+#include "GrowingBricks.h"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "rangefuse/core/Error.h"
+#include "rangefuse/core/Limits.h"
+#include "rangefuse/core/MemoryLedger.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/volume/BrickPlanning.h"
+
+namespace rangefuse::internal {
+namespace {
+
+using Pair = std::pair<uint64_t, uint64_t>;
+
+/// The (code, work) pairs of `work`, sorted by code.
+std::vector<Pair> sortedPairs(const BrickWork& work) {
+  std::vector<Pair> pairs(work.begin(), work.end());
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+/// Rank me's own bricks of `layout` and the (code, work) pairs `more` (flat, sorted, none of
+/// them held), sorted.
+std::vector<Pair> ownJoined(const BrickLayout& layout, int me, const std::vector<uint64_t>& more) {
+  std::vector<Pair> own;
+  own.reserve(layout.rankStart[me + 1] - layout.rankStart[me] + more.size() / 2);
+  for (size_t i = layout.rankStart[me]; i < layout.rankStart[me + 1]; ++i)
+    own.emplace_back(layout.codes[i], layout.work[i]);
+  for (size_t k = 0; k < more.size(); k += 2) own.emplace_back(more[k], more[k + 1]);
+  std::inplace_merge(own.begin(), own.end() - static_cast<std::ptrdiff_t>(more.size() / 2),
+                     own.end());
+  return own;
+}
+
+/// Collective: `layout` with this rank's `fresh` (code, work) pairs joined, the owners' ranges
+/// kept and every rank's bricks counted; the bricks bordering other ranks' new bricks are not
+/// learnt (borderKnown false).
+BrickLayout grownBy(const BrickLayout& layout, const std::vector<uint64_t>& fresh, MPI_Comm comm) {
+  BrickLayout out;
+  out.grid = layout.grid;
+  out.firstCodes = layout.firstCodes;
+  size_t a = 0, b = 0;
+  while (a < layout.codes.size() || b < fresh.size()) {
+    const uint64_t ca = a < layout.codes.size() ? layout.codes[a] : ~uint64_t{0};
+    const uint64_t cb = b < fresh.size() ? fresh[b] : ~uint64_t{0};
+    out.codes.push_back(std::min(ca, cb));
+    out.work.push_back(ca < cb ? layout.work[a++] : (b += 2, fresh[b - 1]));
+  }
+  out.rankStart = runsOf(out.codes, out.firstCodes);
+  const int ranks = mpi::size(comm), me = mpi::rank(comm);
+  uint64_t count = out.rankStart[me + 1] - out.rankStart[me];
+  std::vector<uint64_t> counts(ranks);
+  MPI_Allgather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
+  out.globalStart.assign(ranks + 1, 0);
+  for (int r = 0; r < ranks; ++r) out.globalStart[r + 1] = out.globalStart[r] + counts[r];
+  out.borderKnown = false;
+  return out;
+}
+
+/// Collective: a store on `layout` holding the sums of `from` (on another layout of the same
+/// lattice), each brick sent by its old owner to its new one.
+std::unique_ptr<BrickStore> moveSums(const BrickStore& from, const BrickLayout& layout,
+                                     MPI_Comm comm) {
+  const int me = mpi::rank(comm);
+  auto to = std::make_unique<BrickStore>(layout, me);
+  to->enableColour(from.colourKind());
+  const bool coloured = from.hasColour();
+  const size_t per = from.voxelsPerBrick();
+  std::vector<std::vector<char>> out(mpi::size(comm));
+  for (size_t b = 0; b < from.brickCount(); ++b) {
+    const uint64_t code = from.code(b);
+    const VoxelSums* sums = &from.sums()[b * per];
+    const int owner = layout.ownerOfCode(code);
+    const VoxelColour* colours = coloured ? &from.colours()[b * per] : nullptr;
+    if (owner == me) {
+      const size_t at = to->localBrick(code) * per;
+      std::copy(sums, sums + per, &to->sums()[at]);
+      if (coloured) std::copy(colours, colours + per, &to->colours()[at]);
+      continue;
+    }
+    mpi::pack(out[owner], &code, 1);
+    mpi::pack(out[owner], sums, per);
+    if (coloured) mpi::pack(out[owner], colours, per);
+  }
+  for (const auto& in : mpi::exchangeBytes(std::move(out), comm))
+    for (size_t at = 0; at < in.size();) {
+      uint64_t code;
+      mpi::unpack(in, at, &code, 1);
+      const size_t local = to->localBrick(code) * per;
+      mpi::unpack(in, at, &to->sums()[local], per);
+      if (coloured) mpi::unpack(in, at, &to->colours()[local], per);
+    }
+  return to;
+}
+
+/// Collective: the mean work of a brick (total bricks given), as a cost every brick adds to
+/// the cut. A growing field's old bricks have taken the work of many scans and its new ones
+/// of few, so a cut by work alone gives the rank holding the new ones far more bricks, and
+/// memory; with the mean added, ranks share the bricks and the work about alike.
+uint64_t meanWork(const std::vector<Pair>& own, uint64_t bricks, MPI_Comm comm) {
+  uint64_t work = 0;
+  for (const Pair& p : own) work += p.second;
+  MPI_Allreduce(MPI_IN_PLACE, &work, 1, MPI_UINT64_T, MPI_SUM, comm);
+  return bricks ? work / bricks : 0;
+}
+
+}  // namespace
+
+GrowingBricks::GrowingBricks(const VoxelGrid& grid, uint64_t maxVoxels, int threads, MPI_Comm comm)
+    : grid_(grid), maxVoxels_(maxVoxels), threads_(threads), comm_(comm) {}
+
+void GrowingBricks::startEmpty(ColourKind colour) {
+  const int ranks = mpi::size(comm_);
+  BrickLayout empty;
+  empty.grid = grid_;
+  empty.rankStart.assign(ranks + 1, 0);
+  empty.globalStart.assign(ranks + 1, 0);
+  empty.firstCodes.assign(ranks + 1, ~uint64_t{0});
+  empty.firstCodes[0] = 0;
+  store_ = std::make_unique<BrickStore>(empty, mpi::rank(comm_));
+  store_->enableColour(colour);
+  balancedAt_ = empty.globalStart;
+}
+
+void GrowingBricks::start(const BrickLayout& layout) {
+  store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
+  balancedAt_ = layout.globalStart;
+  memoryLedger().set(Held::field, store_->bytes());
+}
+
+bool GrowingBricks::grow(const PrismScan* scan) {
+  const std::vector<uint64_t> fresh = newBricks(scan);
+  const uint64_t before = store_->layout().totalBricks();
+  BrickLayout next = grownBy(store_->layout(), fresh, comm_);
+  const uint64_t total = next.totalBricks();
+  if (total == before) return false;
+  const double voxels = static_cast<double>(total) * std::pow(grid_.brick, 3);
+  if (voxels > static_cast<double>(maxVoxels_))  // the same total on every rank
+    throw InputError("--voxel " + formatNumber(grid_.voxel) + ": the field needs " +
+                     std::to_string(static_cast<uint64_t>(voxels)) +
+                     " voxels, more than --max-voxels " + std::to_string(maxVoxels_));
+  if (needsSplit(next.globalStart)) {
+    std::vector<Pair> own = ownJoined(store_->layout(), mpi::rank(comm_), fresh);
+    const uint64_t brickCost = meanWork(own, total, comm_);
+    next = spreadSorted(std::move(own), grid_, comm_, brickCost);
+    store_ = moveSums(*store_, next, comm_);
+    malloc_trim(0);  // the old store's pages go back to the system, not to a fragmented heap
+    balancedAt_ = store_->layout().globalStart;
+    memoryLedger().set(Held::field, store_->bytes());
+    return true;
+  }
+  std::vector<uint64_t> mine;
+  for (size_t k = 0; k < fresh.size(); k += 2) mine.push_back(fresh[k]);
+  store_->grow(next, mine);
+  memoryLedger().set(Held::field, store_->bytes());
+  return false;
+}
+
+bool GrowingBricks::needsSplit(const std::vector<uint64_t>& start) const {
+  // Split by work anew (the sums move) once a rank has gained half a fair share of bricks
+  // since the last split: moving every brick at every scan costs more than the scan, and
+  // new surface tends to land in one or two ranks' ranges, which would otherwise take all
+  // of the growth. A rank then holds at most its share and half again.
+  const uint64_t ranks = start.size() - 1, before = balancedAt_.back();
+  for (size_t r = 0; r < ranks; ++r) {
+    const uint64_t gained = (start[r + 1] - start[r]) - (balancedAt_[r + 1] - balancedAt_[r]);
+    if (2 * ranks * gained > before) return true;
+  }
+  return false;
+}
+
+std::vector<uint64_t> GrowingBricks::newBricks(const PrismScan* scan) {
+  // The reader plans the scan's bricks; each (brick, work) pair goes to the rank whose range
+  // holds the brick.
+  const BrickLayout& layout = store_->layout();
+  std::vector<std::vector<char>> out(mpi::size(comm_));
+  mpi::collectivelyOrThrow(comm_, [&] {
+    if (!scan) return;
+    BrickWork work;
+    addPrismWork(*scan, grid_, maxVoxels_, work, threads_);
+    for (const Pair& p : sortedPairs(work)) mpi::pack(out[layout.ownerOfCode(p.first)], &p, 1);
+  });
+  std::vector<uint64_t> fresh;
+  for (const auto& part : mpi::exchangeBytes(std::move(out), comm_))
+    for (size_t at = 0; at < part.size();) {
+      uint64_t v[2];
+      mpi::unpack(part, at, v, 2);
+      const int64_t known = layout.find(v[0]);
+      if (known >= 0)
+        store_->addWork(static_cast<size_t>(known), v[1]);
+      else
+        fresh.insert(fresh.end(), v, v + 2);
+    }
+  return fresh;
+}
+
+std::unique_ptr<BrickStore> GrowingBricks::release() {
+  store_->sortBricks();
+  // The bricks of other ranks that joined beside this rank's since the last split: the mesh's
+  // halo needs them.
+  const BrickLayout& layout = store_->layout();
+  store_->grow(
+      directoryFromOwn(ownJoined(layout, mpi::rank(comm_), {}), layout.firstCodes, grid_, comm_),
+      {});
+  return std::move(store_);
+}
+
+}  // namespace rangefuse::internal

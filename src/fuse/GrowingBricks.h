@@ -1,0 +1,57 @@
+// Bricks that grow as placed scans join a field (private to the fuse stage): the tracking
+// field and registration's growing field both add each scan's new bricks where they are
+// owned, without moving the sums already held.
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+#include <vector>
+
+#include "rangefuse/prism/PrismField.h"
+#include "rangefuse/volume/BrickStore.h"
+
+namespace rangefuse::internal {
+
+/// A field's store, grown a scan at a time. A brick new to the field joins the rank whose range
+/// of codes holds it, and every sum stays where it is, so a voxel's sums are those of adding
+/// the scans in order on any number of ranks. When a rank has gained half a fair share of
+/// bricks since the field was last split, its bricks are split by work anew and the sums move
+/// to their new owners.
+class GrowingBricks {
+ public:
+  /// Bricks on `grid`, at most maxVoxels voxels; planning uses `threads`.
+  GrowingBricks(const VoxelGrid& grid, uint64_t maxVoxels, int threads, MPI_Comm comm);
+
+  /// Starts with no bricks, every code in rank 0's range until the first split.
+  void startEmpty(ColourKind colour);
+  /// Starts with the bricks of a planned layout (already split).
+  void start(const BrickLayout& layout);
+  /// Collective: adds the bricks `scan`'s prisms reach (the placed scan on the rank holding
+  /// it, null on the others). Returns true when the bricks moved: an integrator on the store
+  /// must then be made anew, otherwise told that the store grew. Throws InputError on every
+  /// rank past maxVoxels.
+  bool grow(const PrismScan* scan);
+  BrickStore& store() { return *store_; }
+  const BrickStore& store() const { return *store_; }
+  bool empty() const { return !store_; }
+  /// Collective: the store in code order, its directory knowing the bricks that border its
+  /// own; the growth is empty afterwards.
+  std::unique_ptr<BrickStore> release();
+
+ private:
+  /// Collective: the sorted (code, work) pairs, flat, of the scan's bricks that this rank's
+  /// range lacks; the work of those it has is added to them.
+  std::vector<uint64_t> newBricks(const PrismScan* scan);
+  /// True when the bricks, as `start` splits them, should be split by work anew.
+  bool needsSplit(const std::vector<uint64_t>& start) const;
+
+  VoxelGrid grid_;
+  uint64_t maxVoxels_;
+  int threads_;
+  MPI_Comm comm_;
+  std::unique_ptr<BrickStore> store_;
+  std::vector<uint64_t> balancedAt_;  ///< every rank's first brick when last split by work
+};
+
+}  // namespace rangefuse::internal
