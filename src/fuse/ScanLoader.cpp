@@ -276,16 +276,18 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
     mine.emplace_back(index, subScan(world, triangles[me], remap));
 }
 
+void unpackRoutedInto(std::vector<char>&& bytes, IndexedScans& into) {
+  for (size_t pos = 0; pos < bytes.size();) {
+    PrismScan s;
+    const uint64_t i = unpackScan(bytes, pos, s);
+    into.emplace_back(i, std::move(s));
+  }
+  std::vector<char>().swap(bytes);  // unpacked: the next rank's part may take its place
+}
+
 IndexedScans unpackRouted(std::vector<std::vector<char>>&& in) {
   IndexedScans scans;
-  for (auto& part : in) {
-    for (size_t pos = 0; pos < part.size();) {
-      PrismScan s;
-      const uint64_t i = unpackScan(part, pos, s);
-      scans.emplace_back(i, std::move(s));
-    }
-    std::vector<char>().swap(part);  // unpacked: the next rank's part may take its place
-  }
+  for (auto& part : in) unpackRoutedInto(std::move(part), scans);
   // One reader per scan, so a scan arrives once: scan order is all the field needs.
   std::sort(scans.begin(), scans.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });

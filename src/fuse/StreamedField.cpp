@@ -310,12 +310,32 @@ class Trimmer {
   uint64_t pending_ = 0;
 };
 
+/// This rank's entries of `mine` by round, `rounds` of them: each entry goes in the round
+/// where the bytes before it reach the same fraction of the rank's bytes as the round of all
+/// rounds, so that every reader gives its scans away at the same rate in bytes. A reader of
+/// many small scans then does not still hold half of them while the others' parts arrive.
+std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_t rounds,
+                                          const std::vector<uint64_t>& bytes) {
+  uint64_t total = 0;
+  for (size_t i : mine) total += bytes[i];
+  std::vector<std::vector<size_t>> byRound(rounds);
+  uint64_t before = 0;
+  for (size_t j = 0; j < mine.size(); ++j) {
+    const size_t k = total ? std::min<size_t>(rounds - 1, before * rounds / total) : j;
+    byRound[k].push_back(mine[j]);
+    before += bytes[mine[j]];
+  }
+  return byRound;
+}
+
 /// Collective: routes this rank's scans of entries [first, end) to the brick owners and
-/// appends what this rank is sent, and its own part, to `parts`. Round k sends the k-th entry
-/// of every reader: what is in flight is a scan's copies, not a window's, and each rank gives
-/// away a scan as it receives about one (the window is added in scan order whatever the order
-/// it arrived in).
-bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, double reach,
+/// appends what this rank is sent, and its own part, to `parts`. There are as many rounds as
+/// the busiest reader has entries, and every reader sends its entries spread over them by
+/// bytes (roundsOf): what is in flight is about a scan's copies, not a window's, and each rank
+/// gives away about what it receives (the window is added in scan order whatever the order it
+/// arrived in).
+bool routeEntries(size_t first, size_t end, ScanShare& share,
+                  const std::vector<uint64_t>& preparedBytes, bool colour, double reach,
                   const BrickLayout& layout, MPI_Comm comm, IndexedScans& parts,
                   RoutingStats& routing) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
@@ -323,21 +343,24 @@ bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, doubl
   for (size_t i = first; i < end; ++i) byReader[share.reader(i)].push_back(i);
   size_t rounds = 0;
   for (const auto& entries : byReader) rounds = std::max(rounds, entries.size());
+  const std::vector<std::vector<size_t>> mine = roundsOf(byReader[me], rounds, preparedBytes);
   Trimmer trim;
   for (size_t k = 0; k < rounds; ++k) {
     std::vector<std::vector<char>> out(ranks);
     uint64_t given = 0;
     if (!collectively(comm, [&] {
-          if (k >= byReader[me].size()) return;
-          const size_t i = byReader[me][k];
-          PrismScan s = share.take(i);
-          given = scanBytes(s);
-          if (!colour) dropColour(s.surface);  // nothing to route or keep
-          routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
+          for (size_t i : mine[k]) {
+            PrismScan s = share.take(i);
+            given += scanBytes(s);
+            if (!colour) dropColour(s.surface);  // nothing to route or keep
+            routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
+          }
         }))
       return false;
-    IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
-    std::move(received.begin(), received.end(), std::back_inserter(parts));
+    // Each rank's bytes unpacked as they arrive: one incoming part in hand at a time.
+    mpi::exchangeBytes(std::move(out), comm, [&](int, std::vector<char>&& bytes) {
+      unpackRoutedInto(std::move(bytes), parts);
+    });
     memoryLedger().set(Held::routedScans, partsBytes(parts));
     trim.freed(given);
   }
@@ -347,9 +370,10 @@ bool routeEntries(size_t first, size_t end, ScanShare& share, bool colour, doubl
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
 bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf, ScanShare& share,
-                    const std::vector<size_t>& windows, double reach, int threads,
-                    SurfaceHypotheses* hypotheses, MPI_Comm comm, Progress& progress,
-                    FusedField& field, RankCounters& counters, RoutingStats& routing) {
+                    const std::vector<size_t>& windows, const std::vector<uint64_t>& preparedBytes,
+                    double reach, int threads, SurfaceHypotheses* hypotheses, MPI_Comm comm,
+                    Progress& progress, FusedField& field, RankCounters& counters,
+                    RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(field.scanCount);
   const int ranks = mpi::size(comm);
@@ -373,8 +397,8 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
             memoryLedger().set(Held::routedScans, partsBytes(parts));
           }))
         return false;
-    } else if (!routeEntries(first, end, share, store.hasColour(), reach, store.layout(), comm,
-                             parts, routing)) {
+    } else if (!routeEntries(first, end, share, preparedBytes, store.hasColour(), reach,
+                             store.layout(), comm, parts, routing)) {
       return false;
     }
     // One reader per entry, so each index comes once: scan order is all the field needs.
@@ -520,7 +544,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   // scans they came from, so a window adds to its memory only the scans read again.
   const std::vector<size_t> windows =
       wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4 * ranks), scanOf);
-  if (!integrateShare(conf, scanOf, share, windows, o.routeReach, o.threads,
+  if (!integrateShare(conf, scanOf, share, windows, bytes, o.routeReach, o.threads,
                       hypotheses ? &*hypotheses : nullptr, comm, progress, field, counters,
                       routing))
     return false;

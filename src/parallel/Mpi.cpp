@@ -74,21 +74,27 @@ bool agree(bool ok, const std::string& message, MPI_Comm comm) {
 }
 
 std::vector<std::vector<char>> exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm) {
+  std::vector<std::vector<char>> in(size(comm));
+  exchangeBytes(std::move(out), comm,
+                [&](int from, std::vector<char>&& bytes) { in[from] = std::move(bytes); });
+  return in;
+}
+
+void exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm,
+                   const std::function<void(int, std::vector<char>&&)>& received) {
   const int n = size(comm), me = rank(comm);
   std::vector<uint64_t> sizes(n);
   for (int r = 0; r < n; ++r) sizes[r] = out[r].size();
   const std::vector<uint64_t> incoming = exchangeSizes(sizes, comm);
-  std::vector<std::vector<char>> in(n);
-  in[me] = std::move(out[me]);  // this rank's own part stays, uncopied
+  received(me, std::move(out[me]));  // this rank's own part, uncopied
   // Round k pairs every rank with the ranks k ahead and k behind: no rank waits on another.
   for (int k = 1; k < n; ++k) {
     const int to = (me + k) % n, from = (me - k + n) % n;
-    in[from].resize(incoming[from]);
-    sendrecvChunked(out[to].data(), out[to].size(), to, in[from].data(), incoming[from], from,
-                    comm);
+    std::vector<char> in(incoming[from]);
+    sendrecvChunked(out[to].data(), out[to].size(), to, in.data(), incoming[from], from, comm);
     std::vector<char>().swap(out[to]);  // sent: what arrives may take its place
+    received(from, std::move(in));
   }
-  return in;
 }
 
 std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm) {

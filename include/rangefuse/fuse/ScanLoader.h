@@ -53,6 +53,9 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
 /// The scan parts received from every rank, in scan order.
 IndexedScans unpackRouted(std::vector<std::vector<char>>&& in);
 
+/// Appends the scans packed in one rank's `bytes` to `into`, unsorted, and frees the bytes.
+void unpackRoutedInto(std::vector<char>&& bytes, IndexedScans& into);
+
 /// Parts of one scan as one: their vertices and triangles in turn (the first one's sensor).
 PrismScan joinScans(std::vector<PrismScan>&& parts);
 

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI
 /// Sends bytes out[r] to each rank r; returns what each rank sent to this one. Taken by value:
 /// move it in, and this rank's own part is handed back without a copy.
 std::vector<std::vector<char>> exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm);
+
+/// As exchangeBytes, but hands each rank's bytes to received(from, bytes) as soon as they
+/// arrive (this rank's own first), so that only one incoming part is held at a time.
+void exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm,
+                   const std::function<void(int, std::vector<char>&&)>& received);
 
 /// Broadcasts a string from root.
 std::string broadcastString(const std::string& s, int root, MPI_Comm comm);
