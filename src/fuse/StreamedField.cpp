@@ -345,6 +345,8 @@ bool routeEntries(size_t first, size_t end, ScanShare& share,
   for (const auto& entries : byReader) rounds = std::max(rounds, entries.size());
   const std::vector<std::vector<size_t>> mine = roundsOf(byReader[me], rounds, preparedBytes);
   Trimmer trim;
+  size_t counted = parts.size();  // parts whose bytes `held` has
+  uint64_t held = partsBytes(parts);
   for (size_t k = 0; k < rounds; ++k) {
     std::vector<std::vector<char>> out(ranks);
     uint64_t given = 0;
@@ -361,7 +363,8 @@ bool routeEntries(size_t first, size_t end, ScanShare& share,
     mpi::exchangeBytes(std::move(out), comm, [&](int, std::vector<char>&& bytes) {
       unpackRoutedInto(std::move(bytes), parts);
     });
-    memoryLedger().set(Held::routedScans, partsBytes(parts));
+    for (; counted < parts.size(); ++counted) held += scanBytes(parts[counted].second);
+    memoryLedger().set(Held::routedScans, held);
     trim.freed(given);
   }
   return true;
