@@ -44,6 +44,19 @@ std::vector<Pair> summedPairs(const std::vector<Pair>& sorted) {
   return out;
 }
 
+/// Collective: sends out[r] (packed pairs) to each rank r; returns the pairs received, in the
+/// senders' rank order, each part freed as it is copied.
+std::vector<Pair> exchangePairs(std::vector<std::vector<char>> out, MPI_Comm comm) {
+  std::vector<Pair> in;
+  for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
+    const size_t at = in.size();
+    in.resize(at + part.size() / sizeof(Pair));
+    std::memcpy(static_cast<void*>(in.data() + at), part.data(), part.size());
+    std::vector<char>().swap(part);
+  }
+  return in;
+}
+
 /// Sum over ranks.
 uint64_t totalOf(uint64_t mine, MPI_Comm comm) {
   uint64_t total = 0;
@@ -130,13 +143,7 @@ std::vector<Pair> sendToOwners(std::vector<Pair> mine, const std::vector<uint64_
     mpi::pack(out[at - start.begin() - 1], &mine[i], 1);
   }
   std::vector<Pair>().swap(mine);
-  for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
-    const size_t k = part.size() / sizeof(Pair), at = mine.size();
-    mine.resize(at + k);
-    std::memcpy(static_cast<void*>(mine.data() + at), part.data(), part.size());
-    std::vector<char>().swap(part);
-  }
-  return mine;  // senders' parts arrive in rank order, each sorted
+  return exchangePairs(std::move(out), comm);  // senders' parts in rank order, each sorted
 }
 
 /// Collective: this rank's run and the bricks of other ranks bordering it (asked of their
@@ -257,12 +264,7 @@ BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64
     mpi::pack(out[to], &p, 1);
   }
   std::vector<Pair>().swap(pairs);
-  for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
-    const size_t n = part.size() / sizeof(Pair), at = pairs.size();
-    pairs.resize(at + n);
-    std::memcpy(static_cast<void*>(pairs.data() + at), part.data(), part.size());
-    std::vector<char>().swap(part);
-  }
+  pairs = exchangePairs(std::move(out), comm);
   std::sort(pairs.begin(), pairs.end());
   pairs = summedPairs(pairs);
   checkVoxels(grid, "voxels needed near the surface:",

@@ -5,11 +5,13 @@
 
 #include <random>
 
+#include "DirectoryExpectations.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/volume/BrickPlanning.h"
 
 using namespace rangefuse;
+using test::expectDirectory;
 
 namespace {
 
@@ -55,16 +57,6 @@ bool ownsOrBorders(const BrickLayout& whole, uint64_t code, int me) {
     if (nb >= 0 && whole.ownerOf(static_cast<size_t>(nb)) == me) return true;
   }
   return false;
-}
-
-void expectDirectory(const BrickLayout& got, const BrickLayout& whole, int me) {
-  const BrickLayout want = directoryOf(whole, me);
-  EXPECT_EQ(got.codes, want.codes);
-  EXPECT_EQ(got.work, want.work);
-  EXPECT_EQ(got.rankStart, want.rankStart);
-  EXPECT_EQ(got.firstCodes, whole.firstCodes);
-  EXPECT_EQ(got.globalStart, whole.globalStart);
-  EXPECT_EQ(got.totalBricks(), whole.codes.size());
 }
 
 }  // namespace

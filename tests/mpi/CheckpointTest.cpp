@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "../fuzz/FuzzEntries.h"
+#include "DirectoryExpectations.h"
 #include "SharedTemp.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Checkpoint.h"
@@ -75,13 +76,7 @@ TEST(Checkpoint, EveryVoxelAndPoseRoundTripsBitForBit) {
   BrickLayout readLayout;
   const auto read = io::readCheckpointField(path, back, readLayout, MPI_COMM_WORLD);
   // Each rank reads back its own part: its bricks, those bordering them, every rank's range.
-  const BrickLayout want = directoryOf(layout, mpi::rank());
-  EXPECT_EQ(readLayout.codes, want.codes);
-  EXPECT_EQ(readLayout.work, want.work);
-  EXPECT_EQ(readLayout.rankStart, want.rankStart);
-  EXPECT_EQ(readLayout.firstCodes, want.firstCodes);
-  EXPECT_EQ(readLayout.globalStart, want.globalStart);
-  EXPECT_EQ(readLayout.totalBricks(), layout.codes.size());
+  test::expectDirectory(readLayout, layout, mpi::rank());
   for (size_t b = 0; b < read->brickCount(); ++b)
     for (size_t v = 0; v < read->voxelsPerBrick(); ++v) {
       const float* f =
