@@ -455,8 +455,9 @@ void readColours(hid_t file, const std::string& path, const BrickLayout& layout,
             "damaged: the colours of brick " + std::to_string(first + b) +
                 " (field_colours) do not match their checksum");
     store.enableColour(parseColourKind(kind, ColourKind::none));
-    std::memcpy(static_cast<void*>(store.colours().data()), colours.data(),
-                colours.size() * sizeof(uint16_t));
+    if (!colours.empty())
+      std::memcpy(static_cast<void*>(store.colours().data()), colours.data(),
+                  colours.size() * sizeof(uint16_t));
   });
 }
 
@@ -487,7 +488,9 @@ std::unique_ptr<BrickStore> readCheckpointField(const std::string& path, const C
             "damaged: the voxel sums of brick " + std::to_string(first + b) +
                 " (field_sums) do not match their checksum; resume from an earlier checkpoint or "
                 "run again from the scans");
-    std::memcpy(static_cast<void*>(store->sums().data()), sums.data(), sums.size() * sizeof(float));
+    if (!sums.empty())  // a rank may own no brick
+      std::memcpy(static_cast<void*>(store->sums().data()), sums.data(),
+                  sums.size() * sizeof(float));
   });
   readColours(file, path, layout, *store, comm);
   return store;

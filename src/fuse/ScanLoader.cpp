@@ -1,6 +1,7 @@
 #include "rangefuse/fuse/ScanLoader.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
@@ -57,8 +58,12 @@ void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vect
                 size_t per = 1) {
   const uint64_t n = v.empty() ? 0 : pick.size() * per;
   mpi::pack(buf, &n, 1);
-  if (n > 0)
-    for (uint32_t i : pick) mpi::pack(buf, v.data() + size_t(i) * per, per);
+  if (n == 0) return;
+  // Grown once and written in place: an insert a value costs more than the copy.
+  const size_t at = buf.size(), bytes = per * sizeof(T);
+  buf.resize(at + n * sizeof(T));
+  char* out = buf.data() + at;
+  for (uint32_t i : pick) std::memcpy(out, v.data() + size_t(i) * per, bytes), out += bytes;
 }
 
 /// Appends the part of `scan` made of the listed triangles, as subScan would make it, to buf:
@@ -83,10 +88,13 @@ void packSubScan(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
   packPicked(buf, s.confidence, used);
   const uint64_t nt = t;
   mpi::pack(buf, &nt, 1);
+  const size_t at = buf.size();
+  buf.resize(at + t * sizeof(Triangle));
+  char* out = buf.data() + at;
   for (uint32_t k : triangles) {
     const Triangle& tri = s.triangles[k];
     const Triangle local{remap[tri[0]], remap[tri[1]], remap[tri[2]]};
-    mpi::pack(buf, &local, 1);
+    std::memcpy(out, &local, sizeof(Triangle)), out += sizeof(Triangle);
   }
   packPicked(buf, s.colours, used);
   mpi::pack(buf, &s.texelSide, 1);
@@ -216,9 +224,17 @@ uint64_t scanBytes(const PrismScan& s) {
 namespace {
 
 Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
-  if (reach == 0) return prismBounds(scanPrism(world, t));
+  const ScanSurface& s = world.surface;
   Eigen::AlignedBox3d box;
-  for (const int32_t v : world.surface.triangles[t]) box.extend(world.surface.points[v]);
+  if (reach == 0) {  // prismBounds(scanPrism(world, t)), without copying the prism out
+    const auto& limits = world.limits[t];
+    for (const int32_t v : s.triangles[t]) {
+      box.extend(s.points[v] + limits[0] * s.normals[v]);
+      box.extend(s.points[v] + limits[1] * s.normals[v]);
+    }
+    return box;
+  }
+  for (const int32_t v : s.triangles[t]) box.extend(s.points[v]);
   box.min().array() -= reach;
   box.max().array() += reach;
   return box;

@@ -49,6 +49,7 @@ std::vector<Pair> summedPairs(const std::vector<Pair>& sorted) {
 std::vector<Pair> exchangePairs(std::vector<std::vector<char>> out, MPI_Comm comm) {
   std::vector<Pair> in;
   for (auto& part : mpi::exchangeBytes(std::move(out), comm)) {
+    if (part.empty()) continue;  // memcpy may not be given an empty vector's null data
     const size_t at = in.size();
     in.resize(at + part.size() / sizeof(Pair));
     std::memcpy(static_cast<void*>(in.data() + at), part.data(), part.size());
