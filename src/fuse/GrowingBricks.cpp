@@ -16,13 +16,6 @@ namespace {
 
 using Pair = std::pair<uint64_t, uint64_t>;
 
-/// The (code, work) pairs of `work`, sorted by code.
-std::vector<Pair> sortedPairs(const BrickWork& work) {
-  std::vector<Pair> pairs(work.begin(), work.end());
-  std::sort(pairs.begin(), pairs.end());
-  return pairs;
-}
-
 /// Rank me's own bricks of `layout` and the (code, work) pairs `more` (flat, sorted, none of
 /// them held), sorted.
 std::vector<Pair> ownJoined(const BrickLayout& layout, int me, const std::vector<uint64_t>& more) {
@@ -51,12 +44,8 @@ BrickLayout grownBy(const BrickLayout& layout, const std::vector<uint64_t>& fres
     out.work.push_back(ca < cb ? layout.work[a++] : (b += 2, fresh[b - 1]));
   }
   out.rankStart = runsOf(out.codes, out.firstCodes);
-  const int ranks = mpi::size(comm), me = mpi::rank(comm);
-  uint64_t count = out.rankStart[me + 1] - out.rankStart[me];
-  std::vector<uint64_t> counts(ranks);
-  MPI_Allgather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
-  out.globalStart.assign(ranks + 1, 0);
-  for (int r = 0; r < ranks; ++r) out.globalStart[r + 1] = out.globalStart[r] + counts[r];
+  const int me = mpi::rank(comm);
+  out.globalStart = globalStartOf(out.rankStart[me + 1] - out.rankStart[me], comm);
   out.borderKnown = false;
   return out;
 }

@@ -25,13 +25,6 @@ void checkVoxels(const VoxelGrid& grid, const char* what, double voxels, uint64_
   checkLimit("--voxel " + formatNumber(grid.voxel), what, voxels, maxVoxels, "max-voxels");
 }
 
-/// Sorted (code, work) pairs of a work map, flattened.
-std::vector<Pair> sortedPairs(const BrickWork& work) {
-  std::vector<Pair> pairs(work.begin(), work.end());
-  std::sort(pairs.begin(), pairs.end());
-  return pairs;
-}
-
 /// Pairs sorted by code with the work of equal codes summed.
 std::vector<Pair> summedPairs(const std::vector<Pair>& sorted) {
   std::vector<Pair> out;
@@ -91,8 +84,9 @@ std::vector<uint64_t> splittersOf(const std::vector<Pair>& sorted, MPI_Comm comm
 
 /// Collective: where each rank's run starts in the whole sorted list (ranks + 1 entries), the
 /// cuts partitionWork would make on the whole list (each brick's work plus brickCost), found
-/// from each rank's part of it.
-std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, uint64_t brickCost, MPI_Comm comm) {
+/// from each rank's part of it. `first` is set to the position of mine[0] in the whole list.
+std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, uint64_t brickCost, MPI_Comm comm,
+                             uint64_t& first) {
   const int ranks = mpi::size(comm);
   uint64_t local[2] = {mine.size(), 0}, before[2] = {0, 0}, total[2] = {0, 0};
   for (const Pair& p : mine) local[1] += p.second + brickCost;
@@ -110,17 +104,16 @@ std::vector<uint64_t> cutsOf(const std::vector<Pair>& mine, uint64_t brickCost, 
   }
   start[0] = 0;
   MPI_Allreduce(MPI_IN_PLACE, start.data(), ranks + 1, MPI_UINT64_T, MPI_MIN, comm);
+  first = before[0];
   return start;
 }
 
 /// Collective: the code at each cut (the first code of each rank's range); past every code
-/// for ranks with nothing after them.
+/// for ranks with nothing after them. mine[0] is at `first` in the whole list.
 std::vector<uint64_t> firstCodesOf(const std::vector<Pair>& mine,
-                                   const std::vector<uint64_t>& start, MPI_Comm comm) {
-  uint64_t first = 0;
+                                   const std::vector<uint64_t>& start, uint64_t first,
+                                   MPI_Comm comm) {
   const uint64_t n = mine.size();
-  MPI_Exscan(&n, &first, 1, MPI_UINT64_T, MPI_SUM, comm);
-  if (mpi::rank(comm) == 0) first = 0;
   std::vector<uint64_t> codes(start.size(), ~uint64_t{0});
   for (size_t r = 0; r + 1 < start.size(); ++r)
     if (start[r] >= first && start[r] < first + n) codes[r] = mine[start[r] - first].first;
@@ -131,13 +124,9 @@ std::vector<uint64_t> firstCodesOf(const std::vector<Pair>& mine,
 }
 
 /// Collective: each rank's part of the whole sorted list sent to the ranks owning it by the
-/// cuts; returns this rank's run, sorted.
+/// cuts (mine[0] at `first` in it); returns this rank's run, sorted.
 std::vector<Pair> sendToOwners(std::vector<Pair> mine, const std::vector<uint64_t>& start,
-                               MPI_Comm comm) {
-  uint64_t first = 0;
-  const uint64_t n = mine.size();
-  MPI_Exscan(&n, &first, 1, MPI_UINT64_T, MPI_SUM, comm);
-  if (mpi::rank(comm) == 0) first = 0;
+                               uint64_t first, MPI_Comm comm) {
   std::vector<std::vector<char>> out(mpi::size(comm));
   for (size_t i = 0; i < mine.size(); ++i) {
     const auto at = std::upper_bound(start.begin(), start.end() - 1, first + i);
@@ -185,6 +174,20 @@ std::vector<Pair> withBorder(std::vector<Pair> own, const std::vector<uint64_t>&
   return own;
 }
 }  // namespace
+
+std::vector<Pair> sortedPairs(const BrickWork& work) {
+  std::vector<Pair> pairs(work.begin(), work.end());
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+std::vector<uint64_t> globalStartOf(uint64_t ownBricks, MPI_Comm comm) {
+  const int ranks = mpi::size(comm);
+  std::vector<uint64_t> counts(ranks), start(ranks + 1, 0);
+  MPI_Allgather(&ownBricks, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
+  for (int r = 0; r < ranks; ++r) start[r + 1] = start[r] + counts[r];
+  return start;
+}
 
 VoxelGrid gridAround(const Eigen::AlignedBox3d& box, double voxel, int brick, double eps,
                      int margin) {
@@ -276,18 +279,17 @@ BrickLayout reduceBrickWork(const BrickWork& mine, const VoxelGrid& grid, uint64
 
 BrickLayout spreadSorted(std::vector<std::pair<uint64_t, uint64_t>> mine, const VoxelGrid& grid,
                          MPI_Comm comm, uint64_t brickCost) {
-  const std::vector<uint64_t> start = cutsOf(mine, brickCost, comm);
-  const std::vector<uint64_t> firstCodes = firstCodesOf(mine, start, comm);
-  return directoryFromOwn(sendToOwners(std::move(mine), start, comm), firstCodes, grid, comm);
+  uint64_t first = 0;
+  const std::vector<uint64_t> start = cutsOf(mine, brickCost, comm, first);
+  const std::vector<uint64_t> firstCodes = firstCodesOf(mine, start, first, comm);
+  return directoryFromOwn(sendToOwners(std::move(mine), start, first, comm), firstCodes, grid,
+                          comm);
 }
 
 BrickLayout directoryFromOwn(std::vector<std::pair<uint64_t, uint64_t>> own,
                              const std::vector<uint64_t>& firstCodes, const VoxelGrid& grid,
                              MPI_Comm comm) {
-  const int ranks = mpi::size(comm);
-  uint64_t count = own.size();
-  std::vector<uint64_t> counts(ranks);
-  MPI_Allgather(&count, 1, MPI_UINT64_T, counts.data(), 1, MPI_UINT64_T, comm);
+  std::vector<uint64_t> globalStart = globalStartOf(own.size(), comm);
   const std::vector<Pair> held = withBorder(std::move(own), firstCodes, mpi::rank(comm), comm);
   BrickLayout layout;
   layout.grid = grid;
@@ -295,8 +297,7 @@ BrickLayout directoryFromOwn(std::vector<std::pair<uint64_t, uint64_t>> own,
   layout.work.reserve(held.size());
   for (const auto& [code, w] : held) layout.codes.push_back(code), layout.work.push_back(w);
   layout.firstCodes = firstCodes;
-  layout.globalStart.assign(ranks + 1, 0);
-  for (int r = 0; r < ranks; ++r) layout.globalStart[r + 1] = layout.globalStart[r] + counts[r];
+  layout.globalStart = std::move(globalStart);
   layout.rankStart = runsOf(layout.codes, firstCodes);
   memoryLedger().set(Held::brickList, layout.bytes());
   return layout;

@@ -37,6 +37,13 @@ void addWork(const BrickWork& part, const VoxelGrid& grid, uint64_t maxVoxels, B
 void addBrickWork(const VoxelGrid& grid, const BrickCoord& lo, const BrickCoord& hi, uint64_t count,
                   uint64_t maxVoxels, BrickWork& work);
 
+/// The (code, work) pairs of `work`, sorted by code.
+std::vector<std::pair<uint64_t, uint64_t>> sortedPairs(const BrickWork& work);
+
+/// Collective: where each rank's rows start in the whole Morton-sorted brick list (ranks + 1
+/// entries), from the number of bricks each rank owns.
+std::vector<uint64_t> globalStartOf(uint64_t ownBricks, MPI_Comm comm);
+
 /// The bricks of `work`, Morton-sorted and split over `ranks` runs of near-equal work.
 BrickLayout layoutFromWork(const BrickWork& work, const VoxelGrid& grid, int ranks);
 
