@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Colour beside Open3D 0.16's RGB8 ScalableTSDFVolume (issue 35): the bunny scaled to 1.5 m and
+# Colour beside Open3D 0.16's RGB8 ScalableTSDFVolume: the bunny scaled to 1.5 m and
 # painted with checks (sides not a multiple of the voxel, so no edge lies on the lattice),
 # filmed along one orbit by a 640x480 depth camera with colour images (depth noise 0.5 voxel,
 # 0.5 % outliers), as a TUM folder. Both read the same PNG frames, colour images and poses.

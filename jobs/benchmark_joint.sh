@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Registration accuracy (issue 17), 2 ranks: the joint solve of Algorithm 2 (the default)
+# Registration accuracy, 2 ranks: the joint solve of Algorithm 2 (the default)
 # against per-scan fits and against Open3D 0.16's multiway registration (pairwise
 # point-to-plane ICP over every pair, then a pose graph: jobs/open3d_multiway.py) on the same
 # perturbed synthetic sets, several seeds; then the real bunny, where only the published poses

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Terrestrial laser scans (issue 18): the synthetic room scanned from STATIONS tripods, each a
+# Terrestrial laser scans: the synthetic room scanned from STATIONS tripods, each a
 # full turn of COLS x ROWS points (noise 0.3 voxel), written as one ASCII Leica PTX file. Times
 # `rangefuse perturb` (it indexes the file and reads every scan's grid, nothing else of note:
 # the PTX reading speed), then fuses on 2 ranks at VOXEL and measures the mesh against the room.

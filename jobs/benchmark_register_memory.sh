@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Peak memory per rank of a registering run (issue 13): synthetic bunny scans perturbed by up to
+# Peak memory per rank of a registering run: synthetic bunny scans perturbed by up to
 # 5 deg / 5 voxels, `fuse --register both` on 1, 2, 4 ... ranks. Prints a Markdown table.
 # Usage: bash jobs/benchmark_register_memory.sh [VIEWS] [WIDTH] [HEIGHT] [RANKS...]
 #        (defaults: 24 320 240 1 2 4)

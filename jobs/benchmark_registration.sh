@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Registration benchmark (issue 5), 2 ranks: accuracy on the synthetic bunny (24 views,
+# Registration benchmark, 2 ranks: accuracy on the synthetic bunny (24 views,
 # 320x240, noise 0.5 and 1 voxel, perturbation 0-5 deg / 0-5 voxels) and the real bunny
 # (bun.conf perturbed the same way), then how the cost grows with the number of scans and
 # of control points, with the simple method (a new field for every scan) beside it.

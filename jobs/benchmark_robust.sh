@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Robust fusion (issue 16): outliers, one-scan patches and noise, on synthetic sets with known
+# Robust fusion: outliers, one-scan patches and noise, on synthetic sets with known
 # truth. For each set: the prism field, robust fusion, robust with free space off (agreement
 # alone) and with agreement off (free space alone), all on 2 ranks, beside Open3D 0.16's TSDF
 # on the same scans in the same run. Whole-process wall time (Open3D's includes its Python

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A depth-camera sequence against Open3D 0.16's ScalableTSDFVolume (issue 18): the bunny scaled
+# A depth-camera sequence against Open3D 0.16's ScalableTSDFVolume: the bunny scaled
 # to 1.5 m, filmed along one orbit by a 640x480 depth camera (noise 0.5 voxel at the orbit's
 # distance, growing with the square of the range, 0.5 % outliers), written as a TUM folder
 # (16-bit PNG frames, groundtruth.txt). Both read the same PNG frames and poses; rangefuse on

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed on dense scans (issue 15): one rank, compute by stage (read / field / mesh) and the cost
+# Speed on dense scans: one rank, compute by stage (read / field / mesh) and the cost
 # of a voxel update, beside Open3D 0.16's ScalableTSDFVolume on the same scans in the same run
 # (depth conversion / integrate / extract; its Python loading left out), with the Chamfer
 # distance of both meshes to bun_zipper.ply. Sets: the bunny mesh re-scanned, 24 x 320x240 at

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Depth streams without poses (issue 34): rangefuse tracks every frame against its field and
+# Depth streams without poses: rangefuse tracks every frame against its field and
 # fuses it; Open3D 0.16 tracks frame to frame (point-to-plane ICP, coarse to fine) and fuses
 # with ScalableTSDFVolume, in the same run. Sequences: the bunny scaled to 1.5 m along an orbit
 # and along a hand-held path with fast turns, 640 x 480, Kinect-like noise (0.5 voxel at the
