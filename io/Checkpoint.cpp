@@ -12,6 +12,7 @@
 #include "Hdf5Writing.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Digest.h"
+#include "rangefuse/io/Json.h"
 #include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -33,11 +34,7 @@ constexpr const char* kDigest = "fnv1a64";  // checksum attribute of each datase
 
 nlohmann::json metaJson(const CheckpointMeta& m) {
   nlohmann::json poses = nlohmann::json::array();
-  for (const Pose& p : m.poses) {
-    std::vector<double> v(p.R.data(), p.R.data() + 9);
-    v.insert(v.end(), p.t.data(), p.t.data() + 3);
-    poses.push_back(v);
-  }
+  for (const Pose& p : m.poses) poses.push_back(poseNumbers(p));
   nlohmann::json j = {{"parameters", m.parameters},  {"scans", m.scanNames},
                       {"scan_hashes", m.scanHashes}, {"poses", poses},
                       {"progress", m.progress},      {"has_field", m.hasField}};
@@ -56,17 +53,7 @@ CheckpointMeta metaFrom(const nlohmann::json& j, int version) {
   m.scanHashes = j.at("scan_hashes").get<std::vector<std::string>>();
   m.progress = j.at("progress");
   m.hasField = j.at("has_field").get<bool>();
-  for (const auto& v : j.at("poses")) {
-    const std::vector<double> d = v.get<std::vector<double>>();
-    if (d.size() != 12)
-      throw std::runtime_error("a pose has " + std::to_string(d.size()) + " numbers");
-    Pose p;
-    p.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
-    p.t = Eigen::Vector3d(d[9], d[10], d[11]);
-    if (!p.R.allFinite() || !p.t.allFinite() || !(p.R.transpose() * p.R).isIdentity(1e-6))
-      throw std::runtime_error("a pose is not a rigid transform");
-    m.poses.push_back(p);
-  }
+  for (const auto& v : j.at("poses")) m.poses.push_back(poseFromNumbers(v));
   if (m.hasField) {
     const auto& g = j.at("grid");
     const auto o = g.at("origin").get<std::vector<double>>();

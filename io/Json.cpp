@@ -27,4 +27,22 @@ nlohmann::json poseToJson(const Pose& pose) {
   return {{"rotation", rows}, {"translation", {pose.t.x(), pose.t.y(), pose.t.z()}}};
 }
 
+nlohmann::json poseNumbers(const Pose& pose) {
+  std::vector<double> v(pose.R.data(), pose.R.data() + 9);
+  v.insert(v.end(), pose.t.data(), pose.t.data() + 3);
+  return v;
+}
+
+Pose poseFromNumbers(const nlohmann::json& numbers) {
+  const auto d = numbers.get<std::vector<double>>();
+  if (d.size() != 12)
+    throw std::runtime_error("a pose has " + std::to_string(d.size()) + " numbers, not 12");
+  Pose p;
+  p.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
+  p.t = Eigen::Vector3d(d[9], d[10], d[11]);
+  if (!p.R.allFinite() || !p.t.allFinite() || !(p.R.transpose() * p.R).isIdentity(1e-6))
+    throw std::runtime_error("a pose is not a rigid transform");
+  return p;
+}
+
 }  // namespace rangefuse::io

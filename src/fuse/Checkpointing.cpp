@@ -26,24 +26,16 @@ std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Co
   for (const auto& p : paths)
     if (fileOf.emplace(p, files.size()).second) files.push_back(p);
   const int me = mpi::rank(comm), n = mpi::size(comm);
-  std::string mine;
+  std::map<size_t, std::string> mine;
   for (size_t i = me; i < files.size(); i += n) {
-    std::string h;
     try {
-      h = io::fileHash(files[i]);
+      mine[i] = io::fileHash(files[i]);
     } catch (const std::exception& e) {
-      h = std::string("!") + e.what();
+      mine[i] = std::string("!") + e.what();
     }
-    mine += std::to_string(i) + " " + h + "\n";
   }
   std::vector<std::string> hashes(files.size());
-  for (const auto& part : mpi::allgatherBytes(std::vector<char>(mine.begin(), mine.end()), comm)) {
-    const std::string text(part.begin(), part.end());
-    for (size_t pos = 0, end; (end = text.find('\n', pos)) != std::string::npos; pos = end + 1) {
-      const size_t space = text.find(' ', pos);
-      hashes[std::stoul(text.substr(pos, space - pos))] = text.substr(space + 1, end - space - 1);
-    }
-  }
+  for (auto& [i, h] : mpi::gatherIndexed(mine, -1, comm)) hashes[i] = std::move(h);
   for (const auto& h : hashes)
     if (!h.empty() && h[0] == '!') throw InputError(h.substr(1));
   std::vector<std::string> out;

@@ -5,6 +5,7 @@
 
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/volume/BrickPlanning.h"
 
 namespace rangefuse::internal {
@@ -22,29 +23,22 @@ Eigen::AlignedBox3d placedBounds(const LoadedScans& scans, const std::vector<siz
       for (const Eigen::Vector3d& p : scan->surface.points) box.extend(poses[i].apply(p));
     }
   });
-  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
-  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
-  return box;
+  return mpi::unitedBox(box, comm);
 }
 
 IndexedScans routeWindow(const LoadedScans& scans, const std::vector<size_t>& order, size_t first,
                          size_t end, const std::vector<Pose>& poses, const BrickLayout& layout,
                          double reach, MPI_Comm comm) {
-  const int me = mpi::rank(comm);
-  std::vector<std::vector<char>> out(mpi::size(comm));
+  std::vector<size_t> mine;  // one round: a window holds as many entries as ranks
+  for (size_t k = first; k < end; ++k)
+    if (scans.holds(order[k])) mine.push_back(k);
+  const auto take = [&](size_t k) {
+    return placeScan(*scans.held->get(order[k]), poses[order[k]]);
+  };
   IndexedScans parts;
   RoutingStats stats;
-  stats.bytes.assign(out.size(), 0);
-  collectivelyOrThrow(comm, [&] {
-    for (size_t k = first; k < end; ++k)
-      if (scans.holds(order[k]))
-        routeScan(k, placeScan(*scans.held->get(order[k]), poses[order[k]]), layout, reach, me, out,
-                  parts, stats);
-  });
-  IndexedScans received = unpackRouted(mpi::exchangeBytes(std::move(out), comm));
-  std::move(received.begin(), received.end(), std::back_inserter(parts));
-  std::sort(parts.begin(), parts.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (!routeRounds({mine}, take, layout, reach, comm, parts, stats)) throw mpi::Reported();
+  sortByEntry(parts);
   return parts;
 }
 

@@ -11,6 +11,7 @@
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse::internal {

@@ -13,12 +13,6 @@ namespace rangefuse {
 
 using mpi::collectively;
 
-std::vector<size_t> allScans(const LoadedScans& scans) {
-  std::vector<size_t> all(scans.names.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  return all;
-}
-
 namespace {
 
 RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans& scans) {

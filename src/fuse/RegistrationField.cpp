@@ -36,7 +36,8 @@ class GrowingPrismField : public RegistrationField {
 
   std::vector<double> fixLattice(const std::vector<double>& origin,
                                  const std::vector<Pose>& poses) override {
-    const Eigen::AlignedBox3d box = placedBounds(scans_, allScans(scans_), poses, comm_);
+    const Eigen::AlignedBox3d box =
+        placedBounds(scans_, everyScan(scans_.names.size()), poses, comm_);
     collectivelyOrThrow(comm_, [&] {
       grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
       if (origin.empty()) return;
@@ -98,7 +99,8 @@ class GrowingPrismField : public RegistrationField {
   const BrickStore& rebuild() {
     std::vector<size_t> order;
     for (const auto& [i, pose] : placed_) order.push_back(i);
-    const Eigen::AlignedBox3d box = placedBounds(scans_, allScans(scans_), poses_, comm_);
+    const Eigen::AlignedBox3d box =
+        placedBounds(scans_, everyScan(scans_.names.size()), poses_, comm_);
     collectivelyOrThrow(comm_, [&] {
       if (!gridHoldsBox(grid_, box, eps_))
         grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);

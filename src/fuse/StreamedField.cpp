@@ -17,6 +17,8 @@
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/route/RoutingPlan.h"
+#include "rangefuse/route/ScanRouting.h"
 
 namespace rangefuse {
 namespace {
@@ -101,24 +103,10 @@ std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
   return bytes;
 }
 
-Eigen::AlignedBox3d allreduceBox(Eigen::AlignedBox3d box, MPI_Comm comm) {
-  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
-  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
-  return box;
-}
-
 /// Warnings of this rank's scans, printed by rank 0 in scan order.
 void printWarnings(const std::map<size_t, std::string>& mine, MPI_Comm comm) {
-  std::string text;
-  for (const auto& [i, w] : mine) text += std::to_string(i) + " " + w + "\n";
-  const std::vector<char> all = mpi::gatherBytes({text.begin(), text.end()}, 0, comm);
-  std::map<size_t, std::string> sorted;
-  const std::string joined(all.begin(), all.end());
-  for (size_t pos = 0, end; (end = joined.find('\n', pos)) != std::string::npos; pos = end + 1) {
-    const size_t space = joined.find(' ', pos);
-    sorted[std::stoul(joined.substr(pos, space - pos))] = joined.substr(space + 1, end - space - 1);
-  }
-  for (const auto& [i, w] : sorted) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+  for (const auto& [i, w] : mpi::gatherIndexed(mine, 0, comm))
+    std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
 }
 
 /// The sight maps of robust fusion: this rank's, then those of every scan that may see this
@@ -224,7 +212,7 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
       }))
     return false;
   printWarnings(warnings, comm);
-  box = allreduceBox(box, comm);
+  box = mpi::unitedBox(box, comm);
   MPI_Allreduce(MPI_IN_PLACE, &triangles, 1, MPI_UINT64_T, MPI_SUM, comm);
   MPI_Allreduce(MPI_IN_PLACE, bytes.data(), static_cast<int>(bytes.size()), MPI_UINT64_T, MPI_SUM,
                 comm);
@@ -293,41 +281,6 @@ uint64_t partsBytes(const IndexedScans& parts) {
   return bytes;
 }
 
-/// Gives the pages of freed scans back to the system once enough have been freed: the parts a
-/// rank receives are allocated apart from the scans it gave away, which would otherwise stay
-/// resident beside them (48-view set on 4 ranks: 189 -> 179 MiB; a trim costs a few ms).
-class Trimmer {
- public:
-  void freed(uint64_t bytes) {
-    pending_ += bytes;
-    if (pending_ < kBytes) return;
-    malloc_trim(0);
-    pending_ = 0;
-  }
-
- private:
-  static constexpr uint64_t kBytes = 16 << 20;
-  uint64_t pending_ = 0;
-};
-
-/// This rank's entries of `mine` by round, `rounds` of them: each entry goes in the round
-/// where the bytes before it reach the same fraction of the rank's bytes as the round of all
-/// rounds, so that every reader gives its scans away at the same rate in bytes. A reader of
-/// many small scans then does not still hold half of them while the others' parts arrive.
-std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_t rounds,
-                                          const std::vector<uint64_t>& bytes) {
-  uint64_t total = 0;
-  for (size_t i : mine) total += bytes[i];
-  std::vector<std::vector<size_t>> byRound(rounds);
-  uint64_t before = 0;
-  for (size_t j = 0; j < mine.size(); ++j) {
-    const size_t k = total ? std::min<size_t>(rounds - 1, before * rounds / total) : j;
-    byRound[k].push_back(mine[j]);
-    before += bytes[mine[j]];
-  }
-  return byRound;
-}
-
 /// Collective: routes this rank's scans of entries [first, end) to the brick owners and
 /// appends what this rank is sent, and its own part, to `parts`. There are as many rounds as
 /// the busiest reader has entries, and every reader sends its entries spread over them by
@@ -343,31 +296,13 @@ bool routeEntries(size_t first, size_t end, ScanShare& share,
   for (size_t i = first; i < end; ++i) byReader[share.reader(i)].push_back(i);
   size_t rounds = 0;
   for (const auto& entries : byReader) rounds = std::max(rounds, entries.size());
-  const std::vector<std::vector<size_t>> mine = roundsOf(byReader[me], rounds, preparedBytes);
-  Trimmer trim;
-  size_t counted = parts.size();  // parts whose bytes `held` has
-  uint64_t held = partsBytes(parts);
-  for (size_t k = 0; k < rounds; ++k) {
-    std::vector<std::vector<char>> out(ranks);
-    uint64_t given = 0;
-    if (!collectively(comm, [&] {
-          for (size_t i : mine[k]) {
-            PrismScan s = share.take(i);
-            given += scanBytes(s);
-            if (!colour) dropColour(s.surface);  // nothing to route or keep
-            routeScan(i, std::move(s), layout, reach, me, out, parts, routing);
-          }
-        }))
-      return false;
-    // Each rank's bytes unpacked as they arrive: one incoming part in hand at a time.
-    mpi::exchangeBytes(std::move(out), comm, [&](int, std::vector<char>&& bytes) {
-      unpackRoutedInto(std::move(bytes), parts);
-    });
-    for (; counted < parts.size(); ++counted) held += scanBytes(parts[counted].second);
-    memoryLedger().set(Held::routedScans, held);
-    trim.freed(given);
-  }
-  return true;
+  const auto take = [&](size_t i) {
+    PrismScan s = share.take(i);
+    if (!colour) dropColour(s.surface);  // nothing to route or keep
+    return s;
+  };
+  return routeRounds(roundsOf(byReader[me], rounds, preparedBytes), take, layout, reach, comm,
+                     parts, routing);
 }
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
@@ -404,9 +339,7 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
                              store.layout(), comm, parts, routing)) {
       return false;
     }
-    // One reader per entry, so each index comes once: scan order is all the field needs.
-    std::sort(parts.begin(), parts.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
+    sortByEntry(parts);
     // The window's images go to the integrator together: its threads need not wait for each
     // other between images.
     std::vector<PrismIntegrator::Image> images;
@@ -440,54 +373,6 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
 }
 
 }  // namespace
-
-std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
-                                   uint64_t budget) {
-  std::vector<size_t> ends;
-  const size_t n = scanBytes.size(), step = static_cast<size_t>(std::max(1, ranks));
-  uint64_t held = 0;  // bytes of the window open so far (none at the start)
-  for (size_t first = 0; first < n; first += step) {
-    uint64_t round = 0;
-    for (size_t i = first; i < std::min(n, first + step); ++i) round += scanBytes[i];
-    if (first > 0 && held + round > budget) ends.push_back(first), held = 0;
-    held += round;
-  }
-  if (n > 0) ends.push_back(n);
-  return ends;
-}
-
-std::vector<size_t> wholeScanWindows(std::vector<size_t> ends, const std::vector<size_t>& scanOf) {
-  for (size_t& e : ends)
-    while (e < scanOf.size() && e > 0 && scanOf[e] == scanOf[e - 1]) ++e;
-  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-  return ends;
-}
-
-std::vector<int> assignReadersNearby(const std::vector<Eigen::Vector3d>& positions,
-                                     const std::vector<uint64_t>& fileBytes, int ranks) {
-  const size_t n = positions.size();
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& p : positions) box.extend(p);
-  // Positions on a lattice of 2^20 steps an axis (a coarser one for one spread thinner).
-  const double span = n == 0 ? 1 : std::max(box.sizes().maxCoeff(), 1e-300);
-  std::vector<std::pair<uint64_t, size_t>> order;
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d q = (positions[i] - box.min()) / span * double((1 << 20) - 1);
-    order.emplace_back(mortonEncode(q.array().round().cast<int>().matrix()), i);
-  }
-  std::sort(order.begin(), order.end());
-  uint64_t total = 0;
-  for (uint64_t b : fileBytes) total += b + 1;  // + 1: empty files count as scans too
-  std::vector<int> reader(n, 0);
-  uint64_t before = 0;
-  for (const auto& [code, i] : order) {
-    // The rank whose share of the bytes holds the middle of this scan's.
-    const double middle = before + 0.5 * double(fileBytes[i] + 1);
-    reader[i] = std::min(ranks - 1, static_cast<int>(middle * ranks / double(total)));
-    before += fileBytes[i] + 1;
-  }
-  return reader;
-}
 
 bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_Comm comm,
                         Progress& progress, FusedField& field, RankCounters& counters) {

@@ -97,6 +97,39 @@ void exchangeBytes(std::vector<std::vector<char>> out, MPI_Comm comm,
   }
 }
 
+Eigen::AlignedBox3d unitedBox(const Eigen::AlignedBox3d& mine, MPI_Comm comm) {
+  // One reduction: the corners' minimum and the negated maximum (negation is exact).
+  double v[6] = {mine.min().x(),  mine.min().y(),  mine.min().z(),
+                 -mine.max().x(), -mine.max().y(), -mine.max().z()};
+  MPI_Allreduce(MPI_IN_PLACE, v, 6, MPI_DOUBLE, MPI_MIN, comm);
+  return Eigen::AlignedBox3d(Eigen::Vector3d(v[0], v[1], v[2]),
+                             Eigen::Vector3d(-v[3], -v[4], -v[5]));
+}
+
+std::map<size_t, std::string> gatherIndexed(const std::map<size_t, std::string>& mine, int root,
+                                            MPI_Comm comm) {
+  std::vector<char> bytes;
+  for (const auto& [i, text] : mine) {
+    const uint64_t head[2] = {i, text.size()};
+    pack(bytes, head, 2);
+    pack(bytes, text.data(), text.size());
+  }
+  std::vector<std::vector<char>> parts;
+  if (root < 0)
+    parts = allgatherBytes(bytes, comm);
+  else
+    parts.push_back(gatherBytes(bytes, root, comm));
+  std::map<size_t, std::string> all;
+  for (const std::vector<char>& part : parts)
+    for (size_t pos = 0; pos < part.size();) {
+      uint64_t head[2];
+      unpack(part, pos, head, 2);
+      all[head[0]].assign(part.data() + pos, head[1]);
+      pos += head[1];
+    }
+  return all;
+}
+
 std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm) {
   const int n = size(comm), me = rank(comm);
   uint64_t count = mine.size();

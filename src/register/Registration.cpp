@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ControlRouting.h"
 #include "rangefuse/register/JointRegistration.h"
@@ -83,12 +84,6 @@ bool converged(const RegistrationStep& s, const RegistrationOptions& o) {
   if (s.algorithm == "joint")  // Gauss-Newton: later steps only follow the noise
     return s.rotationDeg < o.jointRotationTolDeg && s.translation < o.jointTranslationTol;
   return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
-}
-
-std::vector<size_t> allOf(size_t n) {
-  std::vector<size_t> all(n);
-  for (size_t i = 0; i < n; ++i) all[i] = i;
-  return all;
 }
 
 void incremental(const ScanSource& scans, std::vector<Pose>& poses, const RegistrationOptions& o,
@@ -201,7 +196,7 @@ void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, Registratio
   // the noise-free known-motion case past 0.05 voxel: docs/registration.md).
   o.correspondences.minImages = 2;
   o.correspondences.weightByImages = true;
-  const std::vector<size_t> all = allOf(scans.size());
+  const std::vector<size_t> all = everyScan(scans.size());
   while (p.phase == "simultaneous") {
     if (p.iteration < o.maxIterations && p.lastMoved) {
       const BrickStore& store = field.build(all, p.roundPoses);
@@ -266,11 +261,7 @@ void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const Regi
 nlohmann::json RegistrationProgress::toJson() const {
   auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
   nlohmann::json poses = nlohmann::json::array(), hist = nlohmann::json::array();
-  for (const Pose& q : roundPoses) {
-    std::vector<double> v(q.R.data(), q.R.data() + 9);
-    v.insert(v.end(), q.t.data(), q.t.data() + 3);
-    poses.push_back(v);
-  }
+  for (const Pose& q : roundPoses) poses.push_back(io::poseNumbers(q));
   for (const FitHistory& h : history)
     hist.push_back({{"have", h.have},
                     {"rotation", vec(h.last.rotation)},
@@ -294,14 +285,7 @@ RegistrationProgress RegistrationProgress::fromJson(const nlohmann::json& j) {
   p.iteration = j.at("iteration").get<int>();
   p.roundMoved = j.at("round_moved").get<bool>();
   p.lastMoved = j.at("last_moved").get<bool>();
-  for (const auto& v : j.at("round_poses")) {
-    const auto d = v.get<std::vector<double>>();
-    if (d.size() != 12) throw std::runtime_error("a pose needs 12 numbers");
-    Pose q;
-    q.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
-    q.t = Eigen::Vector3d(d[9], d[10], d[11]);
-    p.roundPoses.push_back(q);
-  }
+  for (const auto& v : j.at("round_poses")) p.roundPoses.push_back(io::poseFromNumbers(v));
   p.latticeOrigin = j.value("lattice_origin", std::vector<double>{});
   if (!p.latticeOrigin.empty() && p.latticeOrigin.size() != 3)
     throw std::runtime_error("a lattice origin needs 3 numbers");

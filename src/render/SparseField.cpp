@@ -60,10 +60,7 @@ namespace {
 Eigen::AlignedBox3d allBrickBounds(const BrickStore& store, MPI_Comm comm) {
   std::vector<uint64_t> codes(store.brickCount());
   for (size_t b = 0; b < codes.size(); ++b) codes[b] = store.code(b);
-  Eigen::AlignedBox3d box = brickBounds(store.grid(), codes);
-  MPI_Allreduce(MPI_IN_PLACE, box.min().data(), 3, MPI_DOUBLE, MPI_MIN, comm);
-  MPI_Allreduce(MPI_IN_PLACE, box.max().data(), 3, MPI_DOUBLE, MPI_MAX, comm);
-  return box;
+  return mpi::unitedBox(brickBounds(store.grid(), codes), comm);
 }
 
 }  // namespace

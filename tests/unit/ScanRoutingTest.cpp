@@ -7,6 +7,8 @@
 
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/fuse/StreamedField.h"
+#include "rangefuse/route/RoutingPlan.h"
+#include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 using namespace rangefuse;
@@ -255,6 +257,32 @@ TEST(ScanRouting, ASingleRankKeepsTheWholeScanUncopied) {
   EXPECT_EQ(mine[0].second.surface.triangles, scan.surface.triangles);
   EXPECT_TRUE(out[0].empty());
   EXPECT_EQ(stats.copies, scan.surface.triangles.size());
+}
+
+TEST(RoutingRounds, EachReaderGivesItsBytesAwayAtTheSameRate) {
+  // Entry j goes in the round where the bytes before it reach round/rounds of the rank's bytes.
+  const std::vector<uint64_t> bytes{30, 10, 10, 10, 5, 5};
+  using Rounds = std::vector<std::vector<size_t>>;
+  EXPECT_EQ(roundsOf({0, 1, 2, 3}, 2, bytes), (Rounds{{0}, {1, 2, 3}}));
+  EXPECT_EQ(roundsOf({1, 2, 3}, 3, bytes), (Rounds{{1}, {2}, {3}}));
+  // Fewer entries than rounds: the later rounds are empty, and every rank runs them all.
+  EXPECT_EQ(roundsOf({4, 5}, 4, bytes), (Rounds{{4}, {}, {5}, {}}));
+  EXPECT_EQ(roundsOf({}, 2, bytes), (Rounds{{}, {}}));
+  // Empty scans: one a round, in order.
+  EXPECT_EQ(roundsOf({0, 1}, 3, {0, 0}), (Rounds{{0}, {1}, {}}));
+}
+
+TEST(RoutingRounds, SortByEntryKeepsTheOrderOfEqualEntries) {
+  IndexedScans parts(4);
+  const size_t entries[] = {3, 1, 3, 0};
+  for (size_t k = 0; k < 4; ++k) {
+    parts[k].first = entries[k];
+    parts[k].second.surface.points.assign(k + 1, Eigen::Vector3d::Zero());
+  }
+  sortByEntry(parts);
+  std::vector<std::pair<size_t, size_t>> got;
+  for (const auto& [i, s] : parts) got.emplace_back(i, s.surface.points.size());
+  EXPECT_EQ(got, (std::vector<std::pair<size_t, size_t>>{{0, 4}, {1, 2}, {3, 1}, {3, 3}}));
 }
 
 TEST(RoutingWindows, GrowByWholeRoundsOfScansWithinTheBudget) {

@@ -11,9 +11,6 @@
 
 namespace rangefuse {
 
-/// 0, 1, ..., number of scans - 1.
-std::vector<size_t> allScans(const LoadedScans& scans);
-
 /// Collective: refines scans.poses as --register asks, continuing from `state`, writing
 /// checkpoints at boundaries when --checkpoint is set; rank 0 prints a line per fit. False
 /// when any rank failed (reported once).

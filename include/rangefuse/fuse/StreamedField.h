@@ -21,7 +21,7 @@ struct StreamOptions {
   SurfaceOptions surface;
   InputLimits limits;
   /// Prepared scans a rank keeps between passes (the rest are re-read); a quarter of it, a
-  /// rank, bounds the scans of one routing window (see routingWindows).
+  /// rank, bounds the scans of one routing window (route/RoutingPlan.h).
   uint64_t keepBytes = 0;
   int threads = 1;  ///< threads of this rank (reading scans, adding them to the field)
   /// PTX scans of more cells than this (0: none) are read in bands of columns, each by its own
@@ -38,25 +38,6 @@ struct StreamOptions {
   /// Called on every rank once the bricks are planned, before the field pass (may be null).
   std::function<void(const BrickLayout&)> planned;
 };
-
-/// Where the field pass's windows end: each window is routed round by round (one scan a rank)
-/// and added before the next. A window takes `ranks` consecutive scans, and `ranks` more while
-/// its prepared scans stay within `budget` bytes in all (each rank holds about its share):
-/// ranks wait for one another once a window, and a view that falls mostly on one rank's bricks
-/// is evened out by the other views of its window.
-std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
-                                   uint64_t budget);
-
-/// The windows moved on so that none ends between two bands of one scan (`scanOf`: the scan of
-/// each entry), whose parts a brick owner joins into one image before adding it.
-std::vector<size_t> wholeScanWindows(std::vector<size_t> ends, const std::vector<size_t>& scanOf);
-
-/// The reader rank of each scan, by where it was taken: the scans sorted along the Morton curve
-/// of their sensors' positions (ties in list order) and cut into `ranks` runs of near-equal
-/// file bytes. Bricks are owned along the same curve, so a scan is mostly read by a rank that
-/// owns the surface near its sensor: its parts stay on that rank instead of crossing to it.
-std::vector<int> assignReadersNearby(const std::vector<Eigen::Vector3d>& positions,
-                                     const std::vector<uint64_t>& fileBytes, int ranks);
 
 /// Collective: the prism field of the .conf's scans at the .conf's poses. Contributions reach
 /// every voxel in scan order (a large scan's bands in turn), then triangle order, so the field

@@ -17,4 +17,11 @@ nlohmann::json readJson(const std::string& path);
 /// A pose as {"rotation": 3x3 rows, "translation": [x, y, z]}.
 nlohmann::json poseToJson(const Pose& pose);
 
+/// A pose as the 12 numbers checkpoints keep: R column by column, then t (bit-exact).
+nlohmann::json poseNumbers(const Pose& pose);
+
+/// The pose of poseNumbers; throws std::runtime_error when there are not 12 numbers or they
+/// are not a rigid transform.
+Pose poseFromNumbers(const nlohmann::json& numbers);
+
 }  // namespace rangefuse::io

@@ -3,9 +3,11 @@
 
 #include <mpi.h>
 
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,14 @@ uint64_t chunkBytes();
 
 /// Gathers every rank's bytes to `root`, concatenated in rank order (empty elsewhere).
 std::vector<char> gatherBytes(const std::vector<char>& mine, int root, MPI_Comm comm);
+
+/// Collective: the box holding every rank's `mine` (empty boxes add nothing).
+Eigen::AlignedBox3d unitedBox(const Eigen::AlignedBox3d& mine, MPI_Comm comm);
+
+/// Collective: every rank's (index, text) entries joined, on `root` (empty elsewhere), or on
+/// every rank when root is -1. An index given by several ranks keeps the highest rank's text.
+std::map<size_t, std::string> gatherIndexed(const std::map<size_t, std::string>& mine, int root,
+                                            MPI_Comm comm);
 
 /// Every rank's bytes, on every rank, indexed by rank.
 std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm);

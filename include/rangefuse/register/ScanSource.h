@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <numeric>
 #include <vector>
 
 #include "rangefuse/prism/PrismField.h"
@@ -40,5 +41,12 @@ class ScansInMemory : public ScanSource {
  private:
   std::vector<std::shared_ptr<const PrismScan>> scans_;
 };
+
+/// 0, 1, ..., n - 1: every entry of a list of n scans.
+inline std::vector<size_t> everyScan(size_t n) {
+  std::vector<size_t> all(n);
+  std::iota(all.begin(), all.end(), size_t{0});
+  return all;
+}
 
 }  // namespace rangefuse

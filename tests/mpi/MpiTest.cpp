@@ -1,8 +1,10 @@
-// The byte collectives give the same bytes whatever the chunk size, including chunk sizes that
-// do not divide the messages and messages of zero bytes (RANGEFUSE_MPI_CHUNK_BYTES).
+// parallel/Mpi.h and MpiTraffic.h: the byte collectives give the same bytes whatever the chunk
+// size, including chunk sizes that do not divide the messages and messages of zero bytes
+// (RANGEFUSE_MPI_CHUNK_BYTES); boxes and indexed texts joined across ranks; traffic counted.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <map>
 #include <string>
 
 #include "rangefuse/parallel/Mpi.h"
@@ -66,6 +68,43 @@ TEST(ChunkedCollectives, ChunkSizeComesFromTheEnvironment) {
   EXPECT_EQ(mpi::chunkBytes(), uint64_t{1} << 30);
   unsetenv("RANGEFUSE_MPI_CHUNK_BYTES");
   EXPECT_EQ(mpi::chunkBytes(), uint64_t{1} << 30);
+}
+
+TEST(Mpi, UnitedBoxHoldsEveryRanksBoxAndNoMore) {
+  const int me = mpi::rank(), n = mpi::size();
+  // Rank r: a box around (r, -2r, 0.5) of half-size 1, except rank 1's, which is empty.
+  Eigen::AlignedBox3d mine;
+  const Eigen::Vector3d centre(me, -2.0 * me, 0.5);
+  if (me != 1)
+    mine.extend(centre - Eigen::Vector3d::Ones()).extend(centre + Eigen::Vector3d::Ones());
+  Eigen::AlignedBox3d expected;
+  for (int r = 0; r < n; ++r) {
+    if (r == 1) continue;
+    const Eigen::Vector3d c(r, -2.0 * r, 0.5);
+    expected.extend(c - Eigen::Vector3d::Ones()).extend(c + Eigen::Vector3d::Ones());
+  }
+  const Eigen::AlignedBox3d got = mpi::unitedBox(mine, MPI_COMM_WORLD);
+  EXPECT_EQ(got.min(), expected.min());
+  EXPECT_EQ(got.max(), expected.max());
+  EXPECT_TRUE(mpi::unitedBox(Eigen::AlignedBox3d(), MPI_COMM_WORLD).isEmpty());
+}
+
+TEST(Mpi, GatherIndexedJoinsEveryRanksEntries) {
+  const int me = mpi::rank(), n = mpi::size();
+  // Rank r gives entries r, r + n, r + 2n; texts hold newlines, spaces, or nothing at all.
+  const auto text = [](size_t i) {
+    return i % 3 == 0 ? std::string() : "entry " + std::to_string(i) + "\nline two";
+  };
+  std::map<size_t, std::string> mine, expected;
+  for (size_t i = me; i < static_cast<size_t>(3 * n); i += n) mine[i] = text(i);
+  for (size_t i = 0; i < static_cast<size_t>(3 * n); ++i) expected[i] = text(i);
+  EXPECT_EQ(mpi::gatherIndexed(mine, -1, MPI_COMM_WORLD), expected);
+  const int root = n - 1;
+  const auto onRoot = mpi::gatherIndexed(mine, root, MPI_COMM_WORLD);
+  if (me == root)
+    EXPECT_EQ(onRoot, expected);
+  else
+    EXPECT_TRUE(onRoot.empty());
 }
 
 TEST(MpiTraffic, CountsEveryByteAnExchangeMoves) {

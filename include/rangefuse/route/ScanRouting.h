@@ -1,0 +1,65 @@
+// Routing prepared scans to the ranks that own the bricks their prisms reach: each triangle is
+// copied to every rank that may own one of its bricks, packed with the vertices it uses, and
+// unpacked there as a part of its scan. Streamed fields, registration and tracking route
+// through these functions; which rank reads which scan is in route/RoutingPlan.h.
+#pragma once
+
+#include <mpi.h>
+
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "rangefuse/prism/PrismField.h"
+#include "rangefuse/volume/BrickLayout.h"
+
+namespace rangefuse {
+
+/// Scans (or parts of them) with the position of their entry in the scan list.
+using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
+
+/// What routing sent: input triangles, triangle copies made, bytes per destination rank.
+struct RoutingStats {
+  uint64_t triangles = 0, copies = 0;
+  std::vector<uint64_t> bytes;
+};
+
+/// Appends to out[r], for every rank r owning a brick some triangle of the placed scan must
+/// reach, the part of the scan made of those triangles (in order) and their vertices. With
+/// reach 0 a triangle reaches the bricks its prism touches (prism fields); with reach > 0, the
+/// bricks with a voxel centre within reach of its bounding box (closest-surface methods). A
+/// triangle that reaches no existing brick goes nowhere. The part for rank `me` (none when -1)
+/// is appended to `mine` instead, unserialised (the whole scan when it all goes there).
+void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
+               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats);
+
+/// The scan parts received from every rank, in entry order.
+IndexedScans unpackRouted(std::vector<std::vector<char>>&& in);
+
+/// Appends the scans packed in one rank's `bytes` to `into`, unsorted, and frees the bytes.
+void unpackRoutedInto(std::vector<char>&& bytes, IndexedScans& into);
+
+/// Sorts parts by entry. Each entry has one reader, so it arrives once from each rank that
+/// sent a part of it: entry order is all a field needs (parts of one entry keep rank order).
+void sortByEntry(IndexedScans& parts);
+
+/// Parts of one scan as one: their vertices and triangles in turn (the first one's sensor).
+PrismScan joinScans(std::vector<PrismScan>&& parts);
+
+/// This rank's entries `mine` by round, `rounds` of them: each entry goes in the round where
+/// the bytes before it reach the same fraction of the rank's bytes as the round of all
+/// rounds, so that every reader gives its scans away at the same rate in bytes. A reader of
+/// many small scans then does not still hold half of them while the others' parts arrive.
+std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_t rounds,
+                                          const std::vector<uint64_t>& bytes);
+
+/// Collective: routes this rank's entries, round by round (`byRound`, the same number of
+/// rounds on every rank), each taken placed in the world by `take`, and appends what this rank
+/// is sent, and its own part, to `parts` (unsorted). Each rank's bytes are unpacked as they
+/// arrive, so one incoming part is in hand at a time, and freed scans' pages are given back to
+/// the system as they add up. False when `take` threw on some rank (printed once).
+bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
+                 const std::function<PrismScan(size_t)>& take, const BrickLayout& layout,
+                 double reach, MPI_Comm comm, IndexedScans& parts, RoutingStats& stats);
+
+}  // namespace rangefuse
