@@ -1,6 +1,9 @@
 #include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FieldBuild.h"
+#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -63,7 +66,9 @@ int run(const RenderOptions& o, MPI_Comm comm) {
   } else {
     Progress progress(comm);
     RankCounters counters;
-    if (!buildField(o.field, comm, progress, field, counters)) return 1;
+    if (!mpi::collectively(comm, [&] { validateFuseOptions(o.field); })) return 1;
+    const RunSettings s = runSettings(o.field);
+    if (!buildField(s.read, s.field, comm, progress, field, counters)) return 1;
   }
   Image img;
   if (pic.slice) {

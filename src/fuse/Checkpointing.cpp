@@ -43,13 +43,12 @@ std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Co
   return out;
 }
 
-io::CheckpointMeta checkpointMeta(const FuseOptions& o, const LoadedScans& scans,
+io::CheckpointMeta checkpointMeta(const RecordedParameters& recorded, const LoadedScans& scans,
                                   const std::vector<std::string>& hashes,
                                   const nlohmann::json& progress, const FusedField* field) {
   io::CheckpointMeta m;
-  m.parameters = resultParameters(o);
-  for (const FuseParameter& p : fuseParameters())
-    if (p.recorded == Recorded::CheckpointOnly) m.parameters[p.key] = parameterJson(p, o);
+  m.parameters = recorded.result;
+  for (const auto& [key, value] : recorded.checkpointOnly.items()) m.parameters[key] = value;
   m.scanNames = scans.names;
   m.scanHashes = hashes;
   m.poses = scans.poses;

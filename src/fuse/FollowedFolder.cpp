@@ -18,7 +18,7 @@ constexpr const char* kStopFile = "STOP";
 
 /// Frames the list of `scans` holds now, or 0 while it cannot be read (a folder still empty, a
 /// list being written).
-size_t listed(const FuseOptions& o) {
+size_t listed(const ReadSettings& o) {
   try {
     return io::readScanList(o.scans, o.limits, o.source).scans.size();
   } catch (const std::exception&) {
@@ -28,8 +28,8 @@ size_t listed(const FuseOptions& o) {
 
 }  // namespace
 
-FollowedFolder::FollowedFolder(const FuseOptions& options, MPI_Comm comm)
-    : o_(options), comm_(comm), seenAt_(MPI_Wtime()) {}
+FollowedFolder::FollowedFolder(const ReadSettings& read, double timeout, MPI_Comm comm)
+    : o_(read), timeout_(timeout), comm_(comm), seenAt_(MPI_Wtime()) {}
 
 size_t FollowedFolder::waitForFrames(size_t have) {
   uint64_t take[2] = {0, 0};  // frames to take, recording stopped
@@ -39,7 +39,7 @@ size_t FollowedFolder::waitForFrames(size_t have) {
       const size_t n = listed(o_);
       if (n > seen_) seen_ = n, seenAt_ = MPI_Wtime();  // the recording goes on
       const bool stopping =
-          stopped_ || std::filesystem::exists(stop) || MPI_Wtime() - seenAt_ > o_.followTimeout;
+          stopped_ || std::filesystem::exists(stop) || MPI_Wtime() - seenAt_ > timeout_;
       if (stopping) {
         take[0] = n, take[1] = 1;
         break;
@@ -62,7 +62,7 @@ io::ConfFile FollowedFolder::first() {
   mpi::collectivelyOrThrow(comm_, [&] {
     if (take == 0)
       throw InputError(o_.scans + ": --follow: no frames appeared within --follow-timeout " +
-                       std::to_string(o_.followTimeout) + " s");
+                       std::to_string(timeout_) + " s");
     conf = io::readScanList(o_.scans, o_.limits, o_.source);
     if (conf.posed)
       throw InputError(o_.scans +

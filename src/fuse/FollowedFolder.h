@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 
 namespace rangefuse::internal {
 
@@ -16,7 +17,8 @@ namespace rangefuse::internal {
 /// look (it may still be being written).
 class FollowedFolder {
  public:
-  FollowedFolder(const FuseOptions& options, MPI_Comm comm);
+  /// The list `read` names, ending when nothing new appears for `timeout` seconds.
+  FollowedFolder(const ReadSettings& read, double timeout, MPI_Comm comm);
 
   /// Collective: the list's first frames (at least two, or all once recording stopped),
   /// waiting for them; throws InputError when none came within --follow-timeout.
@@ -32,7 +34,8 @@ class FollowedFolder {
   /// stopped; every rank gets the count to take (0 on failure to read it at all).
   size_t waitForFrames(size_t have);
 
-  const FuseOptions& o_;
+  ReadSettings o_;
+  double timeout_;
   MPI_Comm comm_;
   size_t seen_ = 0;  ///< rank 0: the most frames the list has held
   double seenAt_;    ///< rank 0: when it first held that many

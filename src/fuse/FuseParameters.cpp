@@ -406,4 +406,18 @@ std::string parameterText(const FuseParameter& p, const FuseOptions& o) {
   return shortest(j.get<double>());
 }
 
+void validateFuseOptions(const FuseOptions& o) {
+  for (const FuseParameter& p : fuseParameters()) {
+    const std::string wrong = p.check ? p.check(o) : "";
+    if (!wrong.empty()) throw InputError("--" + p.option + " " + wrong);
+  }
+}
+
+nlohmann::json resultParameters(const FuseOptions& o) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const FuseParameter& p : fuseParameters())
+    if (p.recorded == Recorded::Result) out[p.key] = parameterJson(p, o);
+  return out;
+}
+
 }  // namespace rangefuse

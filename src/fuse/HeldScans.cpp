@@ -69,4 +69,12 @@ size_t HeldScans::keptCount() const {
       std::count_if(kept_.begin(), kept_.end(), [](const auto& s) { return s != nullptr; }));
 }
 
+std::shared_ptr<HeldScans> heldScans(std::vector<io::ConfScan> scans, std::vector<int> readers,
+                                     int rank, const ReadSettings& read) {
+  ScanPreparation preparation{read.surface, read.limits, read.eps};
+  preparation.surface.sightMap = false;
+  return std::make_shared<HeldScans>(std::move(scans), std::move(readers), rank, preparation,
+                                     read.keepBytes);
+}
+
 }  // namespace rangefuse

@@ -9,7 +9,7 @@
 
 namespace rangefuse {
 
-void checkOutputs(const FuseOptions& o, int rank) {
+void checkOutputs(const OutputSettings& o, int rank) {
   const std::string meshData = io::isXdmfPath(o.out) ? io::xdmfDataPath(o.out) : "";
   const std::vector<std::pair<std::string, std::string>> outputs = {
       {"mesh", o.out},
@@ -31,11 +31,12 @@ void checkOutputs(const FuseOptions& o, int rank) {
   }
 }
 
-std::vector<std::string> storageWarnings(const FuseOptions& o, const BrickLayout& layout) {
+std::vector<std::string> storageWarnings(const OutputSettings& o, bool normals,
+                                         const BrickLayout& layout) {
   const uint64_t B = layout.grid.brick, bricks = layout.totalBricks();
   const uint64_t checkpoint = bricks * B * B * B * 24;
   const uint64_t faces = 2 * B * B * bricks;
-  const uint64_t mesh = faces * 13 + faces / 2 * (o.normals ? 24 : 12);
+  const uint64_t mesh = faces * 13 + faces / 2 * (normals ? 24 : 12);
   std::vector<std::string> warnings;
   for (const auto& w :
        {o.checkpoint.empty() ? "" : io::spaceWarning(o.checkpoint, checkpoint, "checkpoint"),

@@ -64,12 +64,11 @@ BrickLayout planPlacedOn(const LoadedScans& scans, const std::vector<size_t>& wh
 }
 
 BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& which,
-                       const std::vector<Pose>& poses, const FuseOptions& o, MPI_Comm comm) {
+                       const std::vector<Pose>& poses, const FieldSettings& f, MPI_Comm comm) {
   const Eigen::AlignedBox3d box = placedBounds(scans, which, poses, comm);
   VoxelGrid grid;
-  collectivelyOrThrow(comm,
-                      [&] { grid = gridAround(box, o.voxel, o.brick, o.envelope * o.voxel); });
-  return planPlacedOn(scans, which, poses, grid, o.limits.maxVoxels, o.threads, comm);
+  collectivelyOrThrow(comm, [&] { grid = gridAround(box, f.voxel, f.brick, f.eps()); });
+  return planPlacedOn(scans, which, poses, grid, f.maxVoxels, f.threads, comm);
 }
 
 }  // namespace rangefuse::internal

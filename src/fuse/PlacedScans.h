@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/route/ScanRouting.h"
@@ -55,6 +56,6 @@ BrickLayout planPlacedOn(const LoadedScans& scans, const std::vector<size_t>& wh
 
 /// Collective: planPlacedOn the lattice a build of the listed scans in one place would use.
 BrickLayout planPlaced(const LoadedScans& scans, const std::vector<size_t>& which,
-                       const std::vector<Pose>& poses, const FuseOptions& o, MPI_Comm comm);
+                       const std::vector<Pose>& poses, const FieldSettings& field, MPI_Comm comm);
 
 }  // namespace rangefuse::internal

@@ -15,18 +15,19 @@ using mpi::collectively;
 
 namespace {
 
-RegistrationOptions registrationOptions(const FuseOptions& o, const LoadedScans& scans) {
+RegistrationOptions registrationOptions(const RegisterSettings& o, double voxel, double eps,
+                                        const LoadedScans& scans) {
   RegistrationOptions r;
-  r.mode = o.registration;
+  r.mode = o.mode;
   r.controlStride = o.controlStride;
   r.maxIterations = o.maxIterations;
   r.maxRounds = o.maxRounds;
-  r.solve = o.registerSolve;
-  r.translationTol = 1e-3 * o.voxel;
-  r.jointTranslationTol = 0.01 * o.voxel;
-  r.correspondences.maxDistance = o.envelope * o.voxel;
-  r.roundTolerance = o.roundTolerance * o.voxel;
-  r.maxExtrapolation = o.voxel;  // well inside the envelope the correspondences come from
+  r.solve = o.solve;
+  r.translationTol = 1e-3 * voxel;
+  r.jointTranslationTol = 0.01 * voxel;
+  r.correspondences.maxDistance = eps;
+  r.roundTolerance = o.roundTolerance * voxel;
+  r.maxExtrapolation = voxel;  // well inside the envelope the correspondences come from
   if (!o.anchor.empty()) {
     auto it = std::find(scans.names.begin(), scans.names.end(), o.anchor);
     if (it == scans.names.end())
@@ -46,11 +47,11 @@ void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel
   std::fflush(stdout);
 }
 
-void printRoundEnd(const RegistrationProgress& p, const FuseOptions& o) {
+void printRoundEnd(const RegistrationProgress& p, double voxel) {
   std::printf(
       "[register] simultaneous round %d done: scans moved up to %.4f vox (mean over "
       "vertices); %s\n",
-      p.ended->round, p.ended->motion / o.voxel,
+      p.ended->round, p.ended->motion / voxel,
       p.phase == "done" ? "registration done" : "rebuilding the field");
   std::fflush(stdout);
 }
@@ -92,32 +93,32 @@ class TimedField : public RegistrationField {
 /// Writes registration checkpoints at boundaries, at most one per `every` seconds.
 class RegistrationCheckpointer {
  public:
-  RegistrationCheckpointer(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
-      : o_(o), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
+  RegistrationCheckpointer(const CheckpointWriting& c, const LoadedScans& scans, MPI_Comm comm)
+      : c_(c), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
     MPI_Bcast(&last_, 1, MPI_DOUBLE, 0, comm_);  // every rank decides alike
   }
 
   bool ok() const { return ok_; }
 
   void operator()(const RegistrationProgress& p, const std::vector<Pose>& poses) {
-    if (o_.checkpoint.empty() || !ok_) return;
+    if (c_.path.empty() || !ok_) return;
     double now = MPI_Wtime();
     MPI_Bcast(&now, 1, MPI_DOUBLE, 0, comm_);  // one decision for all ranks
-    if (p.phase != "done" && now - last_ < o_.checkpointEvery) return;
+    if (p.phase != "done" && now - last_ < c_.every) return;
     last_ = now;
     LoadedScans current = scans_;
     current.poses = poses;
     ok_ = collectively(comm_, [&] {
       if (hashes_.empty()) hashes_ = hashScans(scans_.paths, comm_);
       const nlohmann::json progress = {{"stage", "registration"}, {"registration", p.toJson()}};
-      io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, current, hashes_, progress, nullptr),
+      io::writeCheckpoint(c_.path, checkpointMeta(c_.recorded, current, hashes_, progress, nullptr),
                           nullptr, comm_);
     });
     if (ok_) faultPoint("checkpoint");  // tests stop a run right after a given checkpoint
   }
 
  private:
-  const FuseOptions& o_;
+  const CheckpointWriting& c_;
   const LoadedScans& scans_;
   MPI_Comm comm_;
   double last_;
@@ -127,25 +128,29 @@ class RegistrationCheckpointer {
 
 }  // namespace
 
-bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-                   RegistrationProgress& state, std::vector<RegistrationStep>& steps) {
-  if (o.registration == RegistrationMode::None) return true;
+bool registerPoses(const RegisterSettings& o, const FieldSettings& f,
+                   const CheckpointWriting& checkpoints, const std::string& resumed, MPI_Comm comm,
+                   Progress& progress, LoadedScans& scans, RegistrationProgress& state,
+                   std::vector<RegistrationStep>& steps) {
+  if (o.mode == RegistrationMode::None) return true;
   RegistrationOptions r;
-  if (!collectively(comm, [&] { r = registrationOptions(o, scans); })) return false;
-  const std::unique_ptr<RegistrationField> grown = makeRegistrationField(o, scans, comm);
+  if (!collectively(comm, [&] { r = registrationOptions(o, f.voxel, f.eps(), scans); }))
+    return false;
+  const std::unique_ptr<RegistrationField> grown =
+      makeRegistrationField(f, o.field, resumed, scans, comm);
   TimedField field(*grown);
   const double start = MPI_Wtime();
-  RegistrationCheckpointer checkpointer(o, scans, comm);
+  RegistrationCheckpointer checkpointer(checkpoints, scans, comm);
   try {
     registerScans(
         *scans.held, scans.poses, r, field, comm,
         [&](const RegistrationStep& s) {
           steps.push_back(s);
-          if (progress.isRoot()) printStep(s, scans, o.voxel);
+          if (progress.isRoot()) printStep(s, scans, f.voxel);
         },
         state,
         [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
-          if (p.ended && progress.isRoot()) printRoundEnd(p, o);
+          if (p.ended && progress.isRoot()) printRoundEnd(p, f.voxel);
           checkpointer(p, poses);
         });
   } catch (const mpi::Reported&) {
@@ -155,8 +160,8 @@ bool registerPoses(const FuseOptions& o, MPI_Comm comm, Progress& progress, Load
   char times[96];
   std::snprintf(times, sizeof times, "; fields %.2f s, fits %.2f s (%.2f ms a fit)", fields, fits,
                 steps.empty() ? 0.0 : 1e3 * fits / static_cast<double>(steps.size()));
-  progress.stage("register", std::string(toString(o.registration)) + ": " +
-                                 std::to_string(steps.size()) + " fits" + times);
+  progress.stage("register", std::string(toString(o.mode)) + ": " + std::to_string(steps.size()) +
+                                 " fits" + times);
   return checkpointer.ok();
 }
 

@@ -7,6 +7,7 @@
 #include "GrowingBricks.h"
 #include "PlacedScans.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -31,18 +32,19 @@ using namespace internal;
 /// owners whenever the field is built or grows.
 class GrowingPrismField : public RegistrationField {
  public:
-  GrowingPrismField(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
-      : o_(o), scans_(scans), comm_(comm), eps_(o.envelope * o.voxel) {}
+  GrowingPrismField(const FieldSettings& f, std::string resumed, const LoadedScans& scans,
+                    MPI_Comm comm)
+      : f_(f), resumed_(std::move(resumed)), scans_(scans), comm_(comm), eps_(f.eps()) {}
 
   std::vector<double> fixLattice(const std::vector<double>& origin,
                                  const std::vector<Pose>& poses) override {
     const Eigen::AlignedBox3d box =
         placedBounds(scans_, everyScan(scans_.names.size()), poses, comm_);
     collectivelyOrThrow(comm_, [&] {
-      grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
+      grid_ = gridAround(box, f_.voxel, f_.brick, eps_, kLatticeMargin);
       if (origin.empty()) return;
       if (!(std::isfinite(origin[0]) && std::isfinite(origin[1]) && std::isfinite(origin[2])))
-        throw InputError(o_.resume + ": registration lattice origin is not finite");
+        throw InputError(resumed_ + ": registration lattice origin is not finite");
       grid_.origin = Eigen::Vector3d(origin[0], origin[1], origin[2]);
     });
     return latticeOrigin();
@@ -72,7 +74,7 @@ class GrowingPrismField : public RegistrationField {
     bool moved = false;
     collectivelyOrThrow(comm_, [&] { moved = bricks_->grow(one.empty() ? nullptr : &one[0]); });
     if (moved)
-      integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), o_.threads);
+      integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), f_.threads);
     else
       integrator_->storeGrew();
     addRouted(scans_, {i}, poses_, *integrator_, bricks_->store().layout(), comm_);
@@ -103,19 +105,19 @@ class GrowingPrismField : public RegistrationField {
         placedBounds(scans_, everyScan(scans_.names.size()), poses_, comm_);
     collectivelyOrThrow(comm_, [&] {
       if (!gridHoldsBox(grid_, box, eps_))
-        grid_ = gridAround(box, o_.voxel, o_.brick, eps_, kLatticeMargin);
+        grid_ = gridAround(box, f_.voxel, f_.brick, eps_, kLatticeMargin);
     });
     integrator_.reset();
     bricks_.reset();  // the old field's memory goes before the new one's comes
-    bricks_ = std::make_unique<GrowingBricks>(grid_, o_.limits.maxVoxels, o_.threads, comm_);
-    bricks_->start(
-        planPlacedOn(scans_, order, poses_, grid_, o_.limits.maxVoxels, o_.threads, comm_));
-    integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), o_.threads);
+    bricks_ = std::make_unique<GrowingBricks>(grid_, f_.maxVoxels, f_.threads, comm_);
+    bricks_->start(planPlacedOn(scans_, order, poses_, grid_, f_.maxVoxels, f_.threads, comm_));
+    integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), f_.threads);
     addRouted(scans_, order, poses_, *integrator_, bricks_->store().layout(), comm_);
     return bricks_->store();
   }
 
-  const FuseOptions& o_;
+  const FieldSettings f_;
+  const std::string resumed_;  ///< the checkpoint the lattice origin came from
   const LoadedScans& scans_;
   MPI_Comm comm_;
   double eps_;
@@ -130,8 +132,8 @@ class GrowingPrismField : public RegistrationField {
 /// placed scans routed to the ranks whose bricks lie within the consensus margin of them.
 class RebuiltField : public RegistrationField {
  public:
-  RebuiltField(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
-      : o_(o), scans_(scans), comm_(comm) {}
+  RebuiltField(const FieldSettings& f, const LoadedScans& scans, MPI_Comm comm)
+      : f_(f), scans_(scans), comm_(comm) {}
 
   std::vector<double> fixLattice(const std::vector<double>&, const std::vector<Pose>&) override {
     return {};
@@ -141,20 +143,20 @@ class RebuiltField : public RegistrationField {
                           const std::vector<Pose>& poses) override {
     which_ = which;
     field_ = FusedField{};
-    field_.layout = planPlaced(scans_, which, poses, o_, comm_);
+    field_.layout = planPlaced(scans_, which, poses, f_, comm_);
     field_.store = std::make_unique<BrickStore>(field_.layout, mpi::rank(comm_));
-    if (!methodInfo(o_.method).closestSurface) {
-      PrismIntegrator integrator(*field_.store, o_.threads);
+    if (!methodInfo(f_.method).closestSurface) {
+      PrismIntegrator integrator(*field_.store, f_.threads);
       routePlaced(scans_, which, poses, field_.layout, 0, comm_,
                   [&](size_t, const PrismScan& part) { integrator.addScan(part); });
       return *field_.store;
     }
     field_.scans.resize(which.size());
     field_.scanCount = which.size();
-    routePlaced(scans_, which, poses, field_.layout, routeReach(o_), comm_,
+    routePlaced(scans_, which, poses, field_.layout, routeReach(f_), comm_,
                 [&](size_t k, PrismScan& part) { field_.scans[k] = std::move(part); });
     collectivelyOrThrow(comm_, [&] {
-      evaluateClosestSurfaceField(o_, field_, 1);
+      evaluateClosestSurfaceField(f_, field_, 1);
       field_.scans = {};
     });
     return *field_.store;
@@ -169,7 +171,7 @@ class RebuiltField : public RegistrationField {
   std::vector<double> latticeOrigin() const override { return {}; }
 
  private:
-  const FuseOptions& o_;
+  const FieldSettings f_;
   const LoadedScans& scans_;
   MPI_Comm comm_;
   std::vector<size_t> which_;
@@ -178,11 +180,13 @@ class RebuiltField : public RegistrationField {
 
 }  // namespace
 
-std::unique_ptr<RegistrationField> makeRegistrationField(const FuseOptions& o,
+std::unique_ptr<RegistrationField> makeRegistrationField(const FieldSettings& field,
+                                                         RegistrationFieldMode mode,
+                                                         const std::string& resumed,
                                                          const LoadedScans& scans, MPI_Comm comm) {
-  if (!methodInfo(o.method).closestSurface && o.registerField == RegistrationFieldMode::Grow)
-    return std::make_unique<GrowingPrismField>(o, scans, comm);
-  return std::make_unique<RebuiltField>(o, scans, comm);
+  if (!methodInfo(field.method).closestSurface && mode == RegistrationFieldMode::Grow)
+    return std::make_unique<GrowingPrismField>(field, resumed, scans, comm);
+  return std::make_unique<RebuiltField>(field, scans, comm);
 }
 
 }  // namespace rangefuse

@@ -1,6 +1,11 @@
 #include "rangefuse/fuse/RunReport.h"
 
+#include <sys/resource.h>
+
+#include <map>
+
 #include "rangefuse/core/MemoryLedger.h"
+#include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/MpiTraffic.h"
@@ -50,7 +55,7 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
       .dump();
 }
 
-json registrationJson(const FuseOptions& o, const std::vector<RegistrationStep>& steps) {
+json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>& steps) {
   json fits = json::array();
   for (const auto& s : steps)
     fits.push_back({{"algorithm", s.algorithm},
@@ -62,41 +67,44 @@ json registrationJson(const FuseOptions& o, const std::vector<RegistrationStep>&
                     {"rotation_deg", s.rotationDeg},
                     {"translation", s.translation},
                     {"applied", s.applied}});
-  return {{"mode", toString(o.registration)}, {"fits", fits}};
+  return {{"mode", toString(mode)}, {"fits", fits}};
 }
 
 }  // namespace
 
-void writeRunReport(const FuseOptions& o, MPI_Comm comm, const Progress& progress,
+uint64_t peakMemoryMiB() {
+  struct rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
+}
+
+void writeRunReport(const RunSettings& s, MPI_Comm comm, const Progress& progress,
                     const RankCounters& counters, const FusedField& field, const MeshPart& mesh,
                     const std::vector<RegistrationStep>& steps) {
-  const std::string mine = rankEntry(comm, progress, counters);
-  std::vector<char> bytes(mine.begin(), mine.end());
-  bytes.push_back('\n');
-  const std::vector<char> all = mpi::gatherBytes(bytes, 0, comm);
+  const std::map<size_t, std::string> all = mpi::gatherIndexed(
+      {{static_cast<size_t>(mpi::rank(comm)), rankEntry(comm, progress, counters)}}, 0, comm);
   if (mpi::rank(comm) != 0) return;
   json ranks = json::array();
-  std::string text(all.begin(), all.end());
-  for (size_t pos = 0, end; (end = text.find('\n', pos)) != std::string::npos; pos = end + 1)
-    ranks.push_back(json::parse(text.substr(pos, end - pos)));
-  json parameters = resultParameters(o);
+  for (const auto& [rank, entry] : all) ranks.push_back(json::parse(entry));
+  json parameters = s.recorded.result;
   // The option keeps -1 (so a checkpoint's parameters compare as given); show what was used.
-  if (o.quorum < 0) parameters["quorum_used"] = autoQuorum(field.scanCount);
+  if (s.field.quorum < 0) parameters["quorum_used"] = autoQuorum(field.scanCount);
   json report = {
       {"command", "fuse"},
       {"inputs",
-       {{"scans", o.scans},
+       {{"scans", s.read.scans},
         {"scan_count", field.scanCount},
         {"scan_triangles", field.scanTriangles}}},
       {"parameters", parameters},
       {"ranks", mpi::size(comm)},
-      {"threads_per_rank", o.threads},
+      {"threads_per_rank", s.field.threads},
       {"total_bricks", field.layout.totalBricks()},
       {"wall_seconds", progress.elapsed()},
       {"per_rank", ranks},
-      {"mesh", {{"file", o.out}, {"triangles", mesh.totalFaces}, {"vertices", mesh.totalVertices}}},
-      {"registration", registrationJson(o, steps)}};
-  io::writeJson(o.report, report);
+      {"mesh",
+       {{"file", s.outputs.out}, {"triangles", mesh.totalFaces}, {"vertices", mesh.totalVertices}}},
+      {"registration", registrationJson(s.registration.mode, steps)}};
+  io::writeJson(s.outputs.report, report);
 }
 
 }  // namespace rangefuse

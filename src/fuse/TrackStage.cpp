@@ -53,25 +53,26 @@ Pose parseCameraPose(const std::string& text) {
 
 namespace {
 
-TrackingSettings trackingSettings(const FuseOptions& o) {
+TrackingSettings trackingSettings(const TrackSettings& t, int controlStride, double voxel,
+                                  double eps) {
   TrackingSettings s;
   RegistrationOptions& f = s.fit;
-  f.controlStride = o.controlStride;
+  f.controlStride = controlStride;
   f.rotationTolDeg = 0.01;
-  f.translationTol = 0.01 * o.voxel;
-  f.correspondences.maxDistance = o.envelope * o.voxel;
-  f.correspondences.huber = o.voxel;
-  f.maxExtrapolation = o.voxel;
-  s.minInliers = o.minInliers;
-  s.maxStep = o.maxStep * o.voxel;
-  s.skipLost = o.skipLost;
+  f.translationTol = 0.01 * voxel;
+  f.correspondences.maxDistance = eps;
+  f.correspondences.huber = voxel;
+  f.maxExtrapolation = voxel;
+  s.minInliers = t.minInliers;
+  s.maxStep = t.maxStep * voxel;
+  s.skipLost = t.skipLost;
   return s;
 }
 
 /// Every frame at the first camera's pose, or (a trajectory guides the tracking) the given poses
 /// moved so that the first is there: the guide's relative motion is kept.
-std::vector<Pose> startingPoses(const FuseOptions& o, const LoadedScans& scans) {
-  const Pose first = io::scanPose(o.firstPose.empty() ? Pose{} : parseCameraPose(o.firstPose));
+std::vector<Pose> startingPoses(const std::string& firstPose, const LoadedScans& scans) {
+  const Pose first = io::scanPose(firstPose.empty() ? Pose{} : parseCameraPose(firstPose));
   std::vector<Pose> poses(scans.poses.size(), first);
   if (!scans.posed) return poses;
   const Pose shift{first.R * scans.poses[0].R.transpose(),
@@ -92,15 +93,15 @@ Pose flipped(const Pose& p) {
 /// frame is the earlier one of the next pair).
 class PixelMotion {
  public:
-  PixelMotion(const FuseOptions& o, MPI_Comm comm)
+  PixelMotion(const ReadSettings& read, double voxel, MPI_Comm comm)
       : comm_(comm),
-        maxPixels_(o.limits.maxGridCells),
-        scansPath_(o.scans),
-        limits_(o.limits),
-        source_(o.source) {
-    list_ = io::readScanList(o.scans, o.limits, o.source);
-    settings_.maxDistance = 10 * o.voxel;
-    settings_.huber = o.voxel;
+        maxPixels_(read.limits.maxGridCells),
+        scansPath_(read.scans),
+        limits_(read.limits),
+        source_(read.source) {
+    list_ = io::readScanList(read.scans, read.limits, read.source);
+    settings_.maxDistance = 10 * voxel;
+    settings_.huber = voxel;
   }
 
   Pose operator()(size_t last, size_t next, const Pose& guess) {
@@ -224,16 +225,17 @@ class FrameLines {
 };
 
 /// Collective: the partial model seen from `camera` (a 320 x 240 view with a 60-degree field
-/// of view, up to 1000 voxels deep), written to --preview by rank 0.
-void previewFrom(const BrickStore& store, const Pose& camera, const FuseOptions& o, MPI_Comm comm) {
+/// of view, up to 1000 voxels deep), written to `path` by rank 0.
+void previewFrom(const BrickStore& store, const Pose& camera, double voxel, float minWeight,
+                 const std::string& path, MPI_Comm comm) {
   ViewSettings view;
   view.width = 320, view.height = 240;
   view.camera = camera;
   view.focal = 0.5 * view.width / std::tan(M_PI / 6);
-  view.farthest = 1000 * o.voxel;
-  const Image picture = renderDistributed(store, o.minWeight, view, 0, comm);
+  view.farthest = 1000 * voxel;
+  const Image picture = renderDistributed(store, minWeight, view, 0, comm);
   mpi::collectivelyOrThrow(comm, [&] {
-    if (mpi::rank(comm) == 0) io::writePng(o.preview, picture);
+    if (mpi::rank(comm) == 0) io::writePng(path, picture);
   });
 }
 
@@ -270,17 +272,17 @@ TrackingState trackingState(const io::CheckpointMeta& meta, size_t frames,
 /// frames, every --checkpoint-every seconds; every rank decides alike.
 class StreamCheckpointer {
  public:
-  StreamCheckpointer(const FuseOptions& o, const LoadedScans& scans, MPI_Comm comm)
-      : o_(o), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
+  StreamCheckpointer(CheckpointWriting c, const LoadedScans& scans, MPI_Comm comm)
+      : c_(std::move(c)), scans_(scans), comm_(comm), last_(MPI_Wtime()) {
     MPI_Bcast(&last_, 1, MPI_DOUBLE, 0, comm_);
   }
 
   /// Collective; throws mpi::Reported when writing failed on any rank (printed once).
   void operator()(const TrackingState& state) {
-    if (o_.checkpoint.empty()) return;
+    if (c_.path.empty()) return;
     double now = MPI_Wtime();
     MPI_Bcast(&now, 1, MPI_DOUBLE, 0, comm_);
-    if (now - last_ < o_.checkpointEvery) return;
+    if (now - last_ < c_.every) return;
     last_ = now;
     mpi::collectivelyOrThrow(comm_, [&] {
       if (hashes_.size() < scans_.paths.size()) {  // a followed stream grew
@@ -290,14 +292,14 @@ class StreamCheckpointer {
         hashes_.insert(hashes_.end(), more.begin(), more.end());
       }
       const nlohmann::json progress = {{"stage", "tracking"}, {"tracking", toJson(state)}};
-      io::writeCheckpoint(o_.checkpoint, checkpointMeta(o_, scans_, hashes_, progress, nullptr),
+      io::writeCheckpoint(c_.path, checkpointMeta(c_.recorded, scans_, hashes_, progress, nullptr),
                           nullptr, comm_);
     });
     faultPoint("checkpoint");  // tests stop a run right after a given checkpoint
   }
 
  private:
-  const FuseOptions& o_;
+  const CheckpointWriting c_;
   const LoadedScans& scans_;
   MPI_Comm comm_;
   double last_;
@@ -308,14 +310,16 @@ class StreamCheckpointer {
 /// (auto), none when asked. A followed folder's frames arrive later, unseen: auto fuses depth
 /// alone there. When another field follows the tracking (other methods, or refined poses), that
 /// field reads the colour itself and the tracking field fuses none.
-ColourKind streamColour(const FuseOptions& o, const io::ConfFile& conf) {
-  if (o.colour == "none" || o.method != FieldMethod::Prism ||
-      o.registration == RegistrationMode::Simultaneous)
+ColourKind streamColour(const RunSettings& s, const io::ConfFile& conf) {
+  const std::string& colour = s.field.colour;
+  if (colour == "none" || s.field.method != FieldMethod::Prism ||
+      s.registration.mode == RegistrationMode::Simultaneous)
     return ColourKind::none;
-  if (o.colour == "intensity")
-    throw InputError(o.scans + ": --colour intensity: depth streams carry colour images (rgb)");
-  const bool explicitRgb = o.colour == "rgb";
-  if (o.follow && !explicitRgb) return ColourKind::none;
+  if (colour == "intensity")
+    throw InputError(s.read.scans +
+                     ": --colour intensity: depth streams carry colour images (rgb)");
+  const bool explicitRgb = colour == "rgb";
+  if (s.track.follow && !explicitRgb) return ColourKind::none;
   for (const io::ConfScan& s : conf.scans)
     if (s.colour.empty()) {
       if (explicitRgb)
@@ -327,13 +331,14 @@ ColourKind streamColour(const FuseOptions& o, const io::ConfFile& conf) {
 
 }  // namespace
 
-bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
+bool openStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
+  const ReadSettings& o = s.read;
   io::ConfFile conf;
-  if (o.follow) progress.stage("follow", o.scans + ": waiting for the first frames");
+  if (s.track.follow) progress.stage("follow", o.scans + ": waiting for the first frames");
   if (!collectively(comm, [&] {
-        conf = o.follow ? internal::FollowedFolder(o, comm).first()
-                        : io::readScanList(o.scans, o.limits, o.source);
-        scans.colour = streamColour(o, conf);
+        conf = s.track.follow ? internal::FollowedFolder(o, s.track.followTimeout, comm).first()
+                              : io::readScanList(o.scans, o.limits, o.source);
+        scans.colour = streamColour(s, conf);
         if (scans.colour == ColourKind::none)
           for (io::ConfScan& s : conf.scans) s.colour.clear();  // not read for nothing
       }))
@@ -349,43 +354,43 @@ bool openStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedS
     scans.poses.push_back(conf.scans[i].pose);
     scans.times.push_back(conf.scans[i].time);
   }
-  ScanPreparation preparation{surfaceOptions(o), o.limits, o.envelope * o.voxel};
-  preparation.surface.sightMap = false;
-  scans.held = std::make_shared<HeldScans>(conf.scans, scans.readers, scans.rank, preparation,
-                                           static_cast<uint64_t>(o.scanMemory * 1024 * 1024));
+  scans.held = heldScans(conf.scans, scans.readers, scans.rank, o);
   progress.stage("open", std::to_string(conf.scans.size()) + " frames, each read when it comes");
   return true;
 }
 
-bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedScans& scans,
                  std::vector<char>& lost, FusedField& field, RankCounters& counters,
                  const io::CheckpointMeta* resumed) {
+  const FieldSettings& f = s.field;
+  const TrackSettings& t = s.track;
   TrackingSettings settings;
   std::vector<Pose> guide;
   TrackingState state;
   if (!collectively(comm, [&] {
-        settings = trackingSettings(o);
+        settings = trackingSettings(t, s.registration.controlStride, f.voxel, f.eps());
         if (scans.posed) guide = scans.poses;
-        scans.poses = startingPoses(o, scans);
+        scans.poses = startingPoses(t.firstPose, scans);
         if (!resumed) return;
-        state = trackingState(*resumed, scans.names.size(), o.resume);
+        state = trackingState(*resumed, scans.names.size(), s.outputs.resume);
         checkScanHashes(*resumed, scans, hashScans(scans.paths, comm));
         scans.poses = resumed->poses;
       }))
     return false;
   if (resumed)
-    progress.stage("resume", o.resume + ": tracking from frame " +
+    progress.stage("resume", s.outputs.resume + ": tracking from frame " +
                                  std::to_string(state.nextFrame + 1) + " (the " +
                                  std::to_string(state.nextFrame) + " before fused again)");
-  const TrackingFieldSettings fieldSettings{
-      o.voxel, o.brick, o.envelope * o.voxel, o.limits.maxVoxels, o.threads, scans.colour};
+  const TrackingFieldSettings fieldSettings{f.voxel,     f.brick,   f.eps(),
+                                            f.maxVoxels, f.threads, scans.colour};
   TrackingField tracked(fieldSettings, scans, comm);
-  StreamCheckpointer checkpointer(o, scans, comm);
-  FrameLines lines(scans, o.voxel);
+  StreamCheckpointer checkpointer(s.checkpoints(), scans, comm);
+  FrameLines lines(scans, f.voxel);
   FrameReader reader(scans, comm);
-  internal::FollowedFolder folder(o, comm);
+  internal::FollowedFolder folder(s.read, t.followTimeout, comm);
   std::unique_ptr<PixelMotion> pixels;
-  if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(o, comm); })) return false;
+  if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(s.read, f.voxel, comm); }))
+    return false;
   size_t lostCount = 0, fused = 0;
   bool ok = false;
   try {
@@ -398,11 +403,12 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
       lostCount += !r.fused;
       if (progress.isRoot()) lines(r);
       fused += r.fused;
-      if (r.fused && o.previewEvery > 0 && fused % o.previewEvery == 0)
-        previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), o, comm);
+      if (r.fused && t.previewEvery > 0 && fused % t.previewEvery == 0)
+        previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), f.voxel,
+                    s.mesh.minWeight, s.outputs.preview, comm);
     };
     calls.onBoundary = [&](const TrackingState& now) { checkpointer(now); };
-    if (o.follow)
+    if (t.follow)
       calls.moreFrames = [&] {
         reader.settle();
         return folder.more(scans);
@@ -417,7 +423,7 @@ bool trackStream(const FuseOptions& o, MPI_Comm comm, Progress& progress, Loaded
     if (progress.isRoot())
       std::fprintf(stderr, "rangefuse: error: %s: %s%s\n", scans.paths[state.failedFrame].c_str(),
                    state.failure.c_str(),
-                   o.skipLost ? "" : " (--skip-lost leaves such frames out and goes on)");
+                   t.skipLost ? "" : " (--skip-lost leaves such frames out and goes on)");
     return false;
   }
   field.scanCount = scans.names.size() - lostCount;

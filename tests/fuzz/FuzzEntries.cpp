@@ -5,6 +5,7 @@
 #include "CliCommon.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"

@@ -7,7 +7,9 @@
 #include <cstring>
 #include <map>
 
+#include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/fuse/RegistrationField.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -57,13 +59,22 @@ void expectIdentical(const VoxelValues& a, const VoxelValues& b) {
   EXPECT_EQ(differing, 0u) << "of " << a.size() << " voxels";
 }
 
-LoadedScans bunnyScans(FuseOptions& o) {
+RunSettings bunnySettings() {
+  FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
   o.voxel = kVoxel;
+  return runSettings(o);
+}
+
+LoadedScans bunnyScans(const RunSettings& s) {
   Progress progress(MPI_COMM_WORLD);
   LoadedScans scans;
-  EXPECT_TRUE(loadScans(o, MPI_COMM_WORLD, progress, scans));
+  EXPECT_TRUE(loadScans(s.read, MPI_COMM_WORLD, progress, scans));
   return scans;
+}
+
+std::unique_ptr<RegistrationField> growingField(const RunSettings& s, const LoadedScans& scans) {
+  return makeRegistrationField(s.field, RegistrationFieldMode::Grow, "", scans, MPI_COMM_WORLD);
 }
 
 /// `pose` moved by `shift` and turned by `degrees` about the bunny's middle.
@@ -78,10 +89,10 @@ Pose moved(const Pose& pose, const Eigen::Vector3d& shift, double degrees) {
 }  // namespace
 
 TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
-  FuseOptions o;
+  const RunSettings o = bunnySettings();
   const LoadedScans scans = bunnyScans(o);
   std::vector<Pose> poses = scans.poses;
-  auto grown = makeRegistrationField(o, scans, MPI_COMM_WORLD);
+  auto grown = growingField(o, scans);
   grown->fixLattice({}, poses);
   grown->build({0}, poses);
   grown->add(1, poses);  // the bricks it reaches join the field
@@ -90,7 +101,7 @@ TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
   poses[5] = moved(poses[5], Eigen::Vector3d(0, 20, 0) * kVoxel, 2);
   const BrickStore& fast = grown->add(5, poses);  // far from the others: many new bricks
 
-  auto fresh = makeRegistrationField(o, scans, MPI_COMM_WORLD);
+  auto fresh = growingField(o, scans);
   fresh->fixLattice(grown->latticeOrigin(), poses);
   const BrickStore& simple = fresh->build({0, 1, 3, 5}, poses);
   const VoxelValues a = observedVoxels(fast), b = observedVoxels(simple);
@@ -101,10 +112,10 @@ TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
 }
 
 TEST(RegistrationField, LatticeMovesWhenAScanLeavesIt) {
-  FuseOptions o;
+  const RunSettings o = bunnySettings();
   const LoadedScans scans = bunnyScans(o);
   std::vector<Pose> poses = scans.poses;
-  auto grown = makeRegistrationField(o, scans, MPI_COMM_WORLD);
+  auto grown = growingField(o, scans);
   const std::vector<double> before = grown->fixLattice({}, poses);
   grown->build({0, 1}, poses);
   poses[2] = moved(poses[2], Eigen::Vector3d(-0.2, 0, 0), 0);  // 100 voxels: past the margin
@@ -113,7 +124,7 @@ TEST(RegistrationField, LatticeMovesWhenAScanLeavesIt) {
   EXPECT_LT(after[0], before[0] - 0.15);
   EXPECT_EQ(after[1], before[1]);
 
-  auto fresh = makeRegistrationField(o, scans, MPI_COMM_WORLD);
+  auto fresh = growingField(o, scans);
   EXPECT_EQ(fresh->fixLattice({}, poses), after);  // what a run started here would choose
   expectIdentical(observedVoxels(fast), observedVoxels(fresh->build({0, 1, 2}, poses)));
 }

@@ -10,6 +10,7 @@
 #include "ScanSetFiles.h"
 #include "SharedTemp.h"
 #include "rangefuse/eval/MeshDistance.h"
+#include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
@@ -51,7 +52,8 @@ FusedField field(const std::string& dir, const std::string& method) {
   Progress progress(MPI_COMM_WORLD);
   FusedField f;
   RankCounters counters;
-  EXPECT_TRUE(buildField(o, MPI_COMM_WORLD, progress, f, counters));
+  const RunSettings s = runSettings(o);
+  EXPECT_TRUE(buildField(s.read, s.field, MPI_COMM_WORLD, progress, f, counters));
   return f;
 }
 

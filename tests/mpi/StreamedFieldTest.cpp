@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "ReplicatedField.h"
+#include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/Conf.h"
@@ -24,18 +26,17 @@ FuseOptions bunnyOptions() {
 
 /// The simple method: every rank reads every scan and adds all of them.
 void replicatedField(const FuseOptions& o, FusedField& field) {
+  const RunSettings s = runSettings(o);
   std::vector<PrismScan> world;
   for (const auto& c : io::readConf(o.scans).scans)
-    world.push_back(
-        placeScan(loadScan(c, surfaceOptions(o), o.limits, o.envelope * o.voxel), c.pose));
-  RankCounters counters;
-  ASSERT_TRUE(buildFieldOf(o, std::move(world), MPI_COMM_WORLD, field, counters));
+    world.push_back(placeScan(loadScan(c, s.read.surface, s.read.limits, s.read.eps), c.pose));
+  test::replicatedFieldOf(s.field, std::move(world), MPI_COMM_WORLD, field);
 }
 
 void streamedField(const FuseOptions& o, FusedField& field, RankCounters& counters) {
-  ASSERT_TRUE(streams(o));
+  const RunSettings s = runSettings(o);
   Progress progress(MPI_COMM_WORLD);
-  ASSERT_TRUE(buildField(o, MPI_COMM_WORLD, progress, field, counters));
+  ASSERT_TRUE(buildField(s.read, s.field, MPI_COMM_WORLD, progress, field, counters));
   EXPECT_TRUE(field.scans.empty()) << "a streamed field keeps no scans";
 }
 

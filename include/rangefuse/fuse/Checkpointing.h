@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/Checkpoint.h"
 
 namespace rangefuse {
@@ -12,8 +13,8 @@ namespace rangefuse {
 /// once; the ranks share the files), every rank getting them all.
 std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm);
 
-/// The checkpoint meta of a run at `stage` with the scans' current poses.
-io::CheckpointMeta checkpointMeta(const FuseOptions& options, const LoadedScans& scans,
+/// The checkpoint meta of a run at `progress` with the scans' current poses.
+io::CheckpointMeta checkpointMeta(const RecordedParameters& recorded, const LoadedScans& scans,
                                   const std::vector<std::string>& hashes,
                                   const nlohmann::json& progress, const FusedField* field);
 

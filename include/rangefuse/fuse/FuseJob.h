@@ -1,4 +1,7 @@
-// The main job: scans + poses -> prism fields on distributed bricks -> stitched mesh.
+// The main job: scans + poses -> prism fields on distributed bricks -> stitched mesh. The
+// options are the table's (FuseParameters.h); runFuse turns them into each stage's settings
+// (RunSettings.h) once, then runs one of four paths: a streamed field at the given poses,
+// registration then a streamed field, a tracked depth stream, or a resumed checkpoint.
 #pragma once
 
 #include <mpi.h>
@@ -108,47 +111,6 @@ struct RankCounters {
   double addSeconds = 0;
   HypothesisStats robust;  ///< robust: how this rank's voxels were decided
 };
-
-/// Collective: reads the scans (each rank a share, then shared), at `poses` when given (one per
-/// scan of the list) and without those marked `lost` when given. False when any rank failed
-/// (the failure printed once).
-bool loadScans(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans,
-               const std::vector<Pose>* poses = nullptr, const std::vector<char>* lost = nullptr);
-
-/// Collective: the field of world-placed scans on new bricks. False on failure (printed once).
-bool buildFieldOf(const FuseOptions& options, std::vector<PrismScan> world, MPI_Comm comm,
-                  FusedField& field, RankCounters& counters);
-
-/// How far from a brick the triangles a consensus or naive field needs there may lie: the
-/// consensus margin plus the ball around the brick's voxel centres.
-double routeReach(const FuseOptions& options);
-
-/// Consensus or naive distances near the surface of every local brick, from field.scans (all
-/// scans, or the triangles routed to this rank within routeReach of its bricks). Registration
-/// fields pass minViews 1: a scan is registered against what any placed view saw.
-EvaluationStats evaluateClosestSurfaceField(const FuseOptions& options, FusedField& field,
-                                            int minViews);
-
-/// True when the field can be built from streamed scans (no rank holds them all): any method
-/// at the .conf poses.
-bool streams(const FuseOptions& options);
-
-/// Collective: reads the scans and builds the field at the .conf poses, with progress lines.
-bool buildField(const FuseOptions& options, MPI_Comm comm, Progress& progress, FusedField& field,
-                RankCounters& counters);
-
-/// The surface options scans are prepared with: o.surface, merging cells up to mergeCells voxels.
-SurfaceOptions surfaceOptions(const FuseOptions& options);
-
-/// Throws InputError naming the first option that is out of range.
-void validateFuseOptions(const FuseOptions& options);
-
-/// The options that decide the result, as JSON (run report, checkpoints).
-nlohmann::json resultParameters(const FuseOptions& options);
-
-/// The default quorum: Wheeler et al.'s 2.25 for 48 views, in proportion to the view count
-/// (the number of views that see a surface point grows with the number of views).
-double autoQuorum(size_t views);
 
 /// Runs the whole job on every rank of comm. Returns the process exit code: 0 on success, 1
 /// when any rank failed (the failure is printed once, by the lowest failing rank).

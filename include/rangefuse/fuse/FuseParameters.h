@@ -48,4 +48,10 @@ void parseParameter(const FuseParameter& p, FuseOptions& o, const std::string& t
 /// The value as the command line writes it (the shortest text that reads back the same).
 std::string parameterText(const FuseParameter& p, const FuseOptions& o);
 
+/// Throws InputError naming the first option that is out of range.
+void validateFuseOptions(const FuseOptions& options);
+
+/// The options that decide the result, as JSON (run report, checkpoints).
+nlohmann::json resultParameters(const FuseOptions& options);
+
 }  // namespace rangefuse

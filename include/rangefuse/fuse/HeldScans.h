@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "rangefuse/core/Limits.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/register/ScanSource.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -57,5 +58,11 @@ class HeldScans : public ScanSource {
   std::vector<std::shared_ptr<const PrismScan>> kept_;
   std::vector<uint64_t> keptBytes_;
 };
+
+/// The scans this rank reads for registration or tracking, prepared as `read` says without
+/// sight maps (registration fields are prism or closest-surface fields; robust fusion's maps
+/// are made when the final field streams the scans again), kept within read.keepBytes.
+std::shared_ptr<HeldScans> heldScans(std::vector<io::ConfScan> scans, std::vector<int> readers,
+                                     int rank, const ReadSettings& read);
 
 }  // namespace rangefuse

@@ -4,19 +4,20 @@
 #include <string>
 #include <vector>
 
-#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse {
 
-/// Throws InputError for the first output path of `o` that cannot be written, or that two
+/// Throws InputError for the first output path that cannot be written, or that two
 /// outputs share. Every rank writes the mesh and the checkpoint (parallel I/O), so every rank
 /// checks those; rank 0 alone the report, preview and poses.
-void checkOutputs(const FuseOptions& o, int rank);
+void checkOutputs(const OutputSettings& outputs, int rank);
 
 /// Warnings (empty when there is room) for the checkpoint and the mesh of a field of `layout`
 /// whose folders have less free space than their estimated size: the checkpoint holds 24 bytes
 /// a voxel; the mesh about 2 B^2 triangles a brick, B the brick size.
-std::vector<std::string> storageWarnings(const FuseOptions& o, const BrickLayout& layout);
+std::vector<std::string> storageWarnings(const OutputSettings& outputs, bool normals,
+                                         const BrickLayout& layout);
 
 }  // namespace rangefuse

@@ -7,15 +7,18 @@
 #include <vector>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse {
 
-/// Collective: refines scans.poses as --register asks, continuing from `state`, writing
-/// checkpoints at boundaries when --checkpoint is set; rank 0 prints a line per fit. False
-/// when any rank failed (reported once).
-bool registerPoses(const FuseOptions& options, MPI_Comm comm, Progress& progress,
-                   LoadedScans& scans, RegistrationProgress& state,
+/// Collective: refines scans.poses as `registration` asks, on fields of `field`'s lattice and
+/// method, continuing from `state` (a lattice origin in it came from `resumed`), writing
+/// checkpoints at boundaries when `checkpoints` has a path; rank 0 prints a line per fit.
+/// False when any rank failed (reported once).
+bool registerPoses(const RegisterSettings& registration, const FieldSettings& field,
+                   const CheckpointWriting& checkpoints, const std::string& resumed, MPI_Comm comm,
+                   Progress& progress, LoadedScans& scans, RegistrationProgress& state,
                    std::vector<RegistrationStep>& steps);
 
 }  // namespace rangefuse

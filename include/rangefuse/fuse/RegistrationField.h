@@ -5,15 +5,21 @@
 #include <mpi.h>
 
 #include <memory>
+#include <string>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse {
 
-/// The field for --register over `scans` (kept by reference). Its calls throw mpi::Reported
-/// on every rank when any rank failed (the message printed once).
-std::unique_ptr<RegistrationField> makeRegistrationField(const FuseOptions& options,
+/// The field for --register over `scans` (kept by reference): a growing prism field for
+/// prism methods in `mode` grow, else rebuilt. `resumed` names the checkpoint a lattice
+/// origin may come from. Its calls throw mpi::Reported on every rank when any rank failed (the
+/// message printed once).
+std::unique_ptr<RegistrationField> makeRegistrationField(const FieldSettings& field,
+                                                         RegistrationFieldMode mode,
+                                                         const std::string& resumed,
                                                          const LoadedScans& scans, MPI_Comm comm);
 
 }  // namespace rangefuse

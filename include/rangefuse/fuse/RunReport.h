@@ -5,6 +5,7 @@
 
 #include "rangefuse/core/MeshPart.h"
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse {
@@ -13,8 +14,8 @@ namespace rangefuse {
 uint64_t peakMemoryMiB();
 
 /// Collective: gathers every rank's stage times and counters; rank 0 writes the JSON report
-/// to options.report. Throws InputError on a write failure (on rank 0).
-void writeRunReport(const FuseOptions& options, MPI_Comm comm, const Progress& progress,
+/// to the report path of `settings`. Throws InputError on a write failure (on rank 0).
+void writeRunReport(const RunSettings& settings, MPI_Comm comm, const Progress& progress,
                     const RankCounters& counters, const FusedField& field, const MeshPart& mesh,
                     const std::vector<RegistrationStep>& steps);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/register/Tracking.h"
 
@@ -22,7 +23,7 @@ Pose parseCameraPose(const std::string& text);
 
 /// Collective: the frames of the stream listed in `scans` (names, paths, times, readers), none
 /// read yet: each is read by its reader when tracking comes to it. False on failure (printed).
-bool openStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans);
+bool openStream(const RunSettings& settings, MPI_Comm comm, Progress& progress, LoadedScans& scans);
 
 /// Collective: tracks the frames of `scans` (their poses updated; lost frames keep the last
 /// good pose and are marked in `lost`), printing a line per frame on rank 0, and leaves the
@@ -30,7 +31,7 @@ bool openStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, L
 /// frames (every --checkpoint-every seconds); `resumed`, a checkpoint at stage "tracking",
 /// continues a stream from its next frame. False when any rank failed or tracking was lost
 /// (printed once).
-bool trackStream(const FuseOptions& options, MPI_Comm comm, Progress& progress, LoadedScans& scans,
+bool trackStream(const RunSettings& settings, MPI_Comm comm, Progress& progress, LoadedScans& scans,
                  std::vector<char>& lost, FusedField& field, RankCounters& counters,
                  const io::CheckpointMeta* resumed = nullptr);
 

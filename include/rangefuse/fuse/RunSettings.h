@@ -1,0 +1,125 @@
+// The settings of one fuse run, by stage: the options table's values (FuseOptions) converted
+// once, at the top of runFuse, into the few values each stage takes. Stages never see the
+// options themselves.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "rangefuse/core/Limits.h"
+#include "rangefuse/fuse/FieldMethod.h"
+#include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+namespace rangefuse {
+
+struct FuseOptions;
+
+/// Reading: where the scans are and how each is prepared.
+struct ReadSettings {
+  std::string scans;             ///< .conf, .ptx or depth-sequence folder
+  io::ScanSourceOptions source;  ///< how to read it (format, depth cameras)
+  InputLimits limits;
+  SurfaceOptions surface;  ///< merge target in the scans' units; sight maps for robust fusion
+  double eps = 0;          ///< prism envelope, in the scans' units
+  uint64_t bandCells = 0;  ///< PTX scans of more cells are read in bands of columns
+  uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes
+  int threads = 1;         ///< threads of this rank
+};
+
+/// The field: its lattice, its method and the method's parameters.
+struct FieldSettings {
+  FieldMethod method = FieldMethod::Prism;
+  double voxel = 0;        ///< in the scans' units
+  double envelope = 3;     ///< prism half-thickness, in voxels
+  int brick = 8;           ///< voxels per brick edge
+  uint64_t maxVoxels = 0;  ///< refuse fields needing more
+  int threads = 1;
+  std::string colour = "auto";  ///< auto, rgb, intensity or none
+  double quorum = -1;           ///< consensus: summed confidence needed (-1: autoQuorum)
+  int minViews = 2;             ///< consensus and robust: views an agreement needs
+  double edgeAngle = 78;        ///< consensus: degrees from the normal beside an edge
+  double sameDistance = 2;      ///< consensus and robust: delta_d, voxels
+  double sameAngle = 45;        ///< consensus and robust: theta_n, degrees
+  double freeMargin = -1;       ///< robust: looked-through depth, voxels (-1: the envelope)
+
+  double eps() const { return envelope * voxel; }
+};
+
+/// Registration (--register) and its fits.
+struct RegisterSettings {
+  RegistrationMode mode = RegistrationMode::None;
+  std::string anchor;  ///< scan name that fixes the frame (empty: the first)
+  int controlStride = 1;
+  int maxIterations = 100;
+  int maxRounds = 8;
+  double roundTolerance = 0.1;  ///< voxels
+  RegistrationFieldMode field = RegistrationFieldMode::Grow;
+  RegistrationSolve solve = RegistrationSolve::Joint;
+};
+
+/// Depth streams tracked without poses.
+struct TrackSettings {
+  std::string track = "auto";  ///< on, off, auto (on when there is no trajectory)
+  std::string firstPose;       ///< "tx,ty,tz,qx,qy,qz,qw" (empty: the identity)
+  double minInliers = 0.25;
+  double maxStep = 10;  ///< voxels
+  bool skipLost = false;
+  bool follow = false;
+  double followTimeout = 10;  ///< seconds
+  int previewEvery = 0;       ///< frames between previews (0: none)
+};
+
+/// The mesh taken from the field.
+struct MeshSettings {
+  float minWeight = 0;  ///< voxels with summed weight not above this are unobserved
+  bool normals = true;
+  int threads = 1;
+};
+
+/// Where the run writes, and what it resumes from.
+struct OutputSettings {
+  std::string out, report, preview, posesOut, trajectoryOut;
+  std::string checkpoint;      ///< HDF5 checkpoint to write (empty: none)
+  double checkpointEvery = 0;  ///< seconds between registration checkpoints
+  std::string resume;          ///< checkpoint the run continues from (empty: none)
+};
+
+/// The options that decide the result, as reports and checkpoints record them.
+struct RecordedParameters {
+  nlohmann::json result;          ///< reports and checkpoints
+  nlohmann::json checkpointOnly;  ///< checkpoints alone (checked by hashes instead)
+};
+
+/// Where a stage writes its checkpoints, how often, and what they record.
+struct CheckpointWriting {
+  std::string path;  ///< empty: none
+  double every = 0;  ///< seconds between checkpoints of registration and tracking
+  RecordedParameters recorded;
+};
+
+struct RunSettings {
+  ReadSettings read;
+  FieldSettings field;
+  RegisterSettings registration;
+  TrackSettings track;
+  MeshSettings mesh;
+  OutputSettings outputs;
+  RecordedParameters recorded;
+
+  CheckpointWriting checkpoints() const {
+    return {outputs.checkpoint, outputs.checkpointEvery, recorded};
+  }
+};
+
+/// The settings of a run from checked options whose thread count is resolved.
+RunSettings runSettings(const FuseOptions& options);
+
+/// The surface options scans are prepared with: merging cells up to `mergeCells` voxels,
+/// sight maps when the method judges by free space.
+SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double voxel,
+                              FieldMethod method);
+
+}  // namespace rangefuse

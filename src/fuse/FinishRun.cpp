@@ -1,0 +1,91 @@
+#include "FinishRun.h"
+
+#include "RunLines.h"
+#include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/fuse/OutputChecks.h"
+#include "rangefuse/fuse/RunReport.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/io/MeshPartPly.h"
+#include "rangefuse/io/MeshPartXdmf.h"
+#include "rangefuse/io/Png.h"
+#include "rangefuse/mesh/DistributedMesh.h"
+#include "rangefuse/mesh/PartStitching.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/render/Render.h"
+
+namespace rangefuse::internal {
+namespace {
+
+using mpi::collectively;
+
+bool writeOutputs(const OutputSettings& o, const MeshSettings& m, MPI_Comm comm,
+                  const FusedField& field, MeshPart& mesh) {
+  if (m.normals) addPartNormals(mesh, comm);
+  const bool written = io::isXdmfPath(o.out) ? io::writeMeshPartXdmf(o.out, mesh, comm)
+                                             : io::writeMeshPartPly(o.out, mesh, comm);
+  if (!written) return false;
+  if (o.preview.empty()) return true;
+  const Image picture = renderDistributed(*field.store, m.minWeight, ViewSettings{}, 0, comm);
+  return collectively(comm, [&] {
+    if (mpi::rank(comm) == 0) io::writePng(o.preview, picture);
+  });
+}
+
+bool writePoses(const std::string& path, MPI_Comm comm, const LoadedScans& scans) {
+  if (path.empty()) return true;
+  return collectively(comm, [&] {
+    if (mpi::rank(comm) != 0) return;
+    std::vector<io::ConfScan> out;
+    for (size_t i = 0; i < scans.names.size(); ++i)
+      out.push_back({scans.names[i], "", scans.poses[i]});
+    io::writeConf(path, out);
+  });
+}
+
+}  // namespace
+
+std::function<void(const BrickLayout&)> storageWarner(const RunSettings& s, MPI_Comm comm) {
+  return [outputs = s.outputs, normals = s.mesh.normals, comm](const BrickLayout& layout) {
+    if (mpi::rank(comm) != 0) return;
+    for (const std::string& w : storageWarnings(outputs, normals, layout))
+      std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+  };
+}
+
+bool writeFieldCheckpoint(const CheckpointWriting& c, MPI_Comm comm, Progress& progress,
+                          const LoadedScans& scans, const FusedField& field) {
+  if (c.path.empty()) return true;
+  if (!collectively(comm, [&] {
+        const std::vector<std::string> hashes = hashScans(scans.paths, comm);
+        io::writeCheckpoint(c.path,
+                            checkpointMeta(c.recorded, scans, hashes, {{"stage", "field"}}, &field),
+                            field.store.get(), comm);
+      }))
+    return false;
+  progress.stage("checkpoint", c.path);
+  return true;
+}
+
+int finish(const RunSettings& s, MPI_Comm comm, Progress& progress, const LoadedScans& scans,
+           FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
+  const OutputSettings& o = s.outputs;
+  MeshStats ms;
+  MeshPart mesh = extractDistributedMesh(*field.store, s.mesh.minWeight, comm, &ms, s.mesh.threads);
+  counters.haloBricks = ms.haloBricksReceived;
+  counters.triangles = ms.localTriangles;
+  progress.stage("mesh", std::to_string(mesh.totalFaces) + " triangles, " +
+                             std::to_string(mesh.totalVertices) +
+                             " vertices, halo bricks per rank " +
+                             perRank(comm, ms.haloBricksReceived));
+  if (!writeOutputs(o, s.mesh, comm, field, mesh) || !writePoses(o.posesOut, comm, scans)) return 1;
+  progress.stage("write", o.out + (o.preview.empty() ? "" : ", " + o.preview) +
+                              (o.posesOut.empty() ? "" : ", " + o.posesOut));
+  progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));
+  if (o.report.empty()) return 0;
+  return collectively(comm,
+                      [&] { writeRunReport(s, comm, progress, counters, field, mesh, steps); })
+             ? 0
+             : 1;
+}
+
+}  // namespace rangefuse::internal
