@@ -10,7 +10,9 @@
 #   benchmark_sequence.sh     a depth-camera sequence at true poses beside ScalableTSDFVolume
 #   benchmark_tracking.sh     depth streams without poses beside Open3D's frame-to-frame ICP
 # Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md, the
-# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about an hour on two cores.
+# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about an hour on two cores;
+# SEQ_ROOT and SEQUENCES pass to benchmark_tracking.sh (SEQUENCES="orbit handheld desk" leaves
+# out the walk through the room, 40 of those minutes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-benchmarks-out}
