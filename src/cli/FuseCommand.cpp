@@ -25,21 +25,6 @@ void addParameter(po::options_description_easy_init& add, const FuseParameter& p
   add(p.option.c_str(), value, p.help.c_str());
 }
 
-/// Options of the field itself, shared with commands that build one (not outputs, not
-/// registration).
-bool fieldParameter(const FuseParameter& p) {
-  static const char* const others[] = {
-      "out",        "report",           "preview",        "normals",
-      "register",   "anchor",           "control-stride", "max-iterations",
-      "max-rounds", "round-tolerance",  "register-field", "poses-out",
-      "checkpoint", "checkpoint-every", "resume",         "register-solve",
-      "track",      "first-pose",       "min-inliers",    "max-step",
-      "skip-lost",  "trajectory-out"};
-  for (const char* name : others)
-    if (p.option == name) return false;
-  return true;
-}
-
 }  // namespace
 
 void addFieldOptions(po::options_description& d, FuseOptions& o) {
@@ -48,7 +33,7 @@ void addFieldOptions(po::options_description& d, FuseOptions& o) {
   add("config", po::value<std::string>(),
       "read options from an .ini file (key = value, same names)");
   for (const FuseParameter& p : fuseParameters())
-    if (fieldParameter(p)) addParameter(add, p, o);
+    if (buildsField(p.group)) addParameter(add, p, o);
   addLimitOptions(d, o.limits);
 }
 
@@ -81,10 +66,22 @@ void addSourceOptions(po::options_description& d, io::ScanSourceOptions& source)
 
 po::options_description fuseOptions(FuseOptions& o) {
   po::options_description d("rangefuse fuse: fuse range scans into one mesh");
-  auto add = d.add_options();
-  for (const FuseParameter& p : fuseParameters())
-    if (!fieldParameter(p)) addParameter(add, p, o);
-  addFieldOptions(d, o);
+  d.add_options()("help,h", "show this help")(
+      "config", po::value<std::string>(),
+      "read options from an .ini file (key = value, same names)");
+  // One section a group, in the table's group order.
+  for (OptionGroup g :
+       {OptionGroup::Input, OptionGroup::Field, OptionGroup::Output, OptionGroup::Registration,
+        OptionGroup::Tracking, OptionGroup::Checkpoint, OptionGroup::Resources}) {
+    po::options_description section(groupTitle(g));
+    auto add = section.add_options();
+    for (const FuseParameter& p : fuseParameters())
+      if (p.group == g) addParameter(add, p, o);
+    d.add(section);
+  }
+  po::options_description limits("Input limits");
+  addLimitOptions(limits, o.limits);
+  d.add(limits);
   return d;
 }
 

@@ -92,8 +92,8 @@ int registeredRun(const RunSettings& s, MPI_Comm comm, Progress& progress,
       }))
     return 1;
   if (resumed)
-    progress.stage("resume", s.outputs.resume + ": registration " + state.phase + ", scan " +
-                                 std::to_string(state.nextScan) + ", round " +
+    progress.stage("resume", s.outputs.resume + ": registration " + toString(state.phase) +
+                                 ", scan " + std::to_string(state.nextScan) + ", round " +
                                  std::to_string(state.round) + " iteration " +
                                  std::to_string(state.iteration));
   std::vector<RegistrationStep> steps;

@@ -79,15 +79,16 @@ std::string methodHelp() {
 
 std::vector<FuseParameter> makeTable() {
   using R = Recorded;
+  using G = OptionGroup;
   return {
-      {"scans", "scans", R::CheckpointOnly, true,
+      {"scans", "scans", R::CheckpointOnly, true, G::Input,
        "scan list: a .conf (Stanford bmesh lines; FILE.ptx#K names a PTX file's scan K), a Leica "
        ".ptx file, or a folder holding a TUM RGB-D or Redwood depth-image sequence",
        at(&FuseOptions::scans),
        [](const FuseOptions& o) {
          return o.scans.empty() ? "is required (a .conf, a .ptx file or a sequence folder)" : "";
        }},
-      {"scan-format", "scan_format", R::CheckpointOnly, false,
+      {"scan-format", "scan_format", R::CheckpointOnly, false, G::Input,
        "how to read --scans: auto (from the name: folder, .ptx, else .conf), conf, ptx, tum or "
        "redwood",
        [](FuseOptions& o) -> OptionValue { return &o.source.format; },
@@ -96,11 +97,11 @@ std::vector<FuseParameter> makeTable() {
            if (o.source.format == f) return "";
          return "must be auto, conf, ptx, tum or redwood";
        }},
-      {"intrinsics", "intrinsics", R::Result, false,
+      {"intrinsics", "intrinsics", R::Result, false, G::Input,
        "depth images: camera intrinsics 'fx,fy,cx,cy' in pixels or an Open3D "
        "camera_intrinsic.json (default: the sequence folder's camera_intrinsic.json)",
        [](FuseOptions& o) -> OptionValue { return &o.source.intrinsics; }, nullptr},
-      {"depth-max", "depth_max", R::Result, false,
+      {"depth-max", "depth_max", R::Result, false, G::Input,
        "depth images: measurements farther than this from the camera are dropped, in the scans' "
        "units (0: keep all)",
        [](FuseOptions& o) -> OptionValue { return &o.source.maxDepth; },
@@ -108,7 +109,7 @@ std::vector<FuseParameter> makeTable() {
          const double v = o.source.maxDepth;
          return v >= 0 && std::isfinite(v) ? "" : "must be a finite distance >= 0 (0: keep all)";
        }},
-      {"depth-scale", "depth_scale", R::Result, false,
+      {"depth-scale", "depth_scale", R::Result, false, G::Input,
        "depth images: counts per metre (0: the layout's own, 5000 for TUM, 1000 for Redwood and "
        "Open3D's recorder)",
        [](FuseOptions& o) -> OptionValue { return &o.source.depthScale; },
@@ -116,13 +117,14 @@ std::vector<FuseParameter> makeTable() {
          const double v = o.source.depthScale;
          return v >= 0 && std::isfinite(v) ? "" : "must be a finite number of counts >= 0";
        }},
-      {"voxel", "voxel", R::Result, true, "voxel size, in the scans' units",
+      {"voxel", "voxel", R::Result, true, G::Field, "voxel size, in the scans' units",
        at(&FuseOptions::voxel),
        must<double>(
            &FuseOptions::voxel, [](double v) { return v > 0 && std::isfinite(v); },
            "must be positive and finite (in the scans' units)")},
-      {"method", "method", R::Result, false, methodHelp(), at(&FuseOptions::method), nullptr},
-      {"colour", "colour", R::Result, false,
+      {"method", "method", R::Result, false, G::Field, methodHelp(), at(&FuseOptions::method),
+       nullptr},
+      {"colour", "colour", R::Result, false, G::Field,
        "colour of the mesh: auto (what every scan carries: red green blue, or intensity), rgb, "
        "intensity or none; fused by --method prism and robust",
        at(&FuseOptions::colour),
@@ -134,43 +136,43 @@ std::vector<FuseParameter> makeTable() {
            return "needs --method prism or robust (the others fuse depth only)";
          return "";
        }},
-      {"envelope", "envelope_voxels", R::Result, false, "prism half-thickness, voxels",
+      {"envelope", "envelope_voxels", R::Result, false, G::Field, "prism half-thickness, voxels",
        at(&FuseOptions::envelope),
        must<double>(
            &FuseOptions::envelope, [](double v) { return v > 0 && v <= 1000; },
            "must be in (0, 1000] voxels")},
-      {"quorum", "quorum", R::Result, false,
+      {"quorum", "quorum", R::Result, false, G::Field,
        "consensus: summed confidence a consensus surface needs (-1: 2.25 x views / 48)",
        at(&FuseOptions::quorum),
        must<double>(
            &FuseOptions::quorum, [](double v) { return std::isfinite(v) && (v >= 0 || v == -1); },
            "must not be negative (or -1: scaled to the number of views)")},
-      {"min-views", "min_views", R::Result, false,
+      {"min-views", "min_views", R::Result, false, G::Field,
        "consensus and robust: views a surface needs besides the quorum, so that one view alone "
        "never passes where few views make the quorum small (1: the quorum alone)",
        at(&FuseOptions::minViews),
        must<int>(
            &FuseOptions::minViews, [](int v) { return v >= 1; }, "must be at least 1")},
-      {"edge-angle", "edge_angle_deg", R::Result, false,
+      {"edge-angle", "edge_angle_deg", R::Result, false, G::Field,
        "consensus: a point whose offset from its surface point is more than this many degrees "
        "from the normal lies beside an open edge and stays unobserved (90: off)",
        at(&FuseOptions::edgeAngle),
        must<double>(
            &FuseOptions::edgeAngle, [](double v) { return v >= 0 && v <= 90; },
            "must be in [0, 90] degrees")},
-      {"same-distance", "same_distance_voxels", R::Result, false,
+      {"same-distance", "same_distance_voxels", R::Result, false, G::Field,
        "consensus and robust: observations within this many voxels may be the same surface",
        at(&FuseOptions::sameDistance),
        must<double>(
            &FuseOptions::sameDistance, [](double v) { return v > 0 && v <= 1000; },
            "must be in (0, 1000] voxels")},
-      {"same-angle", "same_angle_deg", R::Result, false,
+      {"same-angle", "same_angle_deg", R::Result, false, G::Field,
        "consensus and robust: ... if their normals differ by at most this many degrees",
        at(&FuseOptions::sameAngle),
        must<double>(
            &FuseOptions::sameAngle, [](double v) { return v > 0 && v <= 180; },
            "must be in (0, 180] degrees")},
-      {"free-margin", "free_margin_voxels", R::Result, false,
+      {"free-margin", "free_margin_voxels", R::Result, false, G::Field,
        "robust: an image looked through a point lying more than this many voxels before what it "
        "saw along its line of sight (-1: the envelope; inf: free space off, so a surface fewer "
        "than --min-views images saw never stands)",
@@ -178,107 +180,109 @@ std::vector<FuseParameter> makeTable() {
        must<double>(
            &FuseOptions::freeMargin, [](double v) { return v >= 0 || v == -1; },
            "must be a number of voxels >= 0 (-1: the envelope; inf: off)")},
-      {"brick", "brick", R::Result, false, "voxels per brick edge", at(&FuseOptions::brick),
+      {"brick", "brick", R::Result, false, G::Field, "voxels per brick edge",
+       at(&FuseOptions::brick),
        must<int>(
            &FuseOptions::brick, [](int v) { return v >= 2 && v <= 64; },
            "must be between 2 and 64")},
-      {"min-weight", "min_weight", R::Result, false,
+      {"min-weight", "min_weight", R::Result, false, G::Field,
        "voxels whose summed confidence is not above this are unobserved",
        at(&FuseOptions::minWeight),
        must<float>(
            &FuseOptions::minWeight, [](float v) { return std::isfinite(v); }, "must be finite")},
-      {"merge-cells", "merge_cells_voxels", R::Result, false,
+      {"merge-cells", "merge_cells_voxels", R::Result, false, G::Field,
        "merge blocks of k x k range-grid cells while k cells span at most this many voxels, so "
        "dense scans cost what the voxels need (0: never merge)",
        at(&FuseOptions::mergeCells),
        must<double>(
            &FuseOptions::mergeCells, [](double v) { return v >= 0 && finite(v); },
            "must be a number of voxels >= 0 (0: never merge)")},
-      {"band-cells", "band_cells", R::Result, false,
+      {"band-cells", "band_cells", R::Result, false, G::Field,
        "PTX scans of more cells than this are read and prepared in bands of columns, each by "
        "any rank, so no rank holds a whole station (0: never split)",
        at(&FuseOptions::bandCells),
        must<double>(
            &FuseOptions::bandCells, [](double v) { return v >= 0 && v < 9e18; },
            "must be a number of cells >= 0 (0: never split)")},
-      {"normal-passes", "normal_passes", R::Result, false,
+      {"normal-passes", "normal_passes", R::Result, false, G::Field,
        "neighbour-averaging passes over vertex normals",
        [](FuseOptions& o) -> OptionValue { return &o.surface.normalPasses; },
        [](const FuseOptions& o) { return o.surface.normalPasses >= 0 ? "" : "must be >= 0"; }},
-      {"max-edge", "max_edge", R::Result, false,
+      {"max-edge", "max_edge", R::Result, false, G::Field,
        "drop scan triangles with an edge longer than this x grid spacing",
        [](FuseOptions& o) -> OptionValue { return &o.surface.maxEdgeFactor; },
        [](const FuseOptions& o) {
          const double v = o.surface.maxEdgeFactor;
          return v > 0 && std::isfinite(v) ? "" : "must be positive and finite";
        }},
-      {"min-cosine", "min_cosine", R::Result, false,
+      {"min-cosine", "min_cosine", R::Result, false, G::Field,
        "drop scan triangles whose normal makes a cosine below this with the view ray",
        [](FuseOptions& o) -> OptionValue { return &o.surface.minCosine; },
        [](const FuseOptions& o) {
          const double v = o.surface.minCosine;
          return v >= -1 && v <= 1 ? "" : "must be in [-1, 1]";
        }},
-      {"scan-memory", "", R::No, false,
+      {"scan-memory", "", R::No, false, G::Resources,
        "MiB of prepared scans a rank keeps between reading and fusing; scans past it are read "
        "again (prism fields without registration stream their scans)",
        at(&FuseOptions::scanMemory),
        must<double>(
            &FuseOptions::scanMemory, [](double v) { return v >= 0 && finite(v); },
            "must be a finite number of MiB >= 0")},
-      {"threads", "", R::No, false,
+      {"threads", "", R::No, false, G::Resources,
        "threads per rank for reading scans and adding them to the field (0: the CPUs the rank "
        "may run on, shared among the ranks on its node); any count gives the same bits",
        at(&FuseOptions::threads),
        must<int>(
            &FuseOptions::threads, [](int v) { return v >= 0; },
            "must be >= 0 (0: the rank's share of its CPUs)")},
-      {"out", "", R::No, false,
+      {"out", "", R::No, false, G::Output,
        "output mesh: .ply (binary), or .xdmf (HDF5 data in the same name .h5, for ParaView)",
        at(&FuseOptions::out), nullptr},
-      {"report", "", R::No, false, "write a JSON run report (stage times, counts, memory)",
-       at(&FuseOptions::report), nullptr},
-      {"preview", "", R::No, false, "write a ray-cast PNG picture of the fused field",
+      {"report", "", R::No, false, G::Output,
+       "write a JSON run report (stage times, counts, memory)", at(&FuseOptions::report), nullptr},
+      {"preview", "", R::No, false, G::Output, "write a ray-cast PNG picture of the fused field",
        at(&FuseOptions::preview), nullptr},
-      {"normals", "", R::No, false, "write vertex normals", at(&FuseOptions::normals), nullptr},
-      {"register", "register", R::Result, false,
+      {"normals", "", R::No, false, G::Output, "write vertex normals", at(&FuseOptions::normals),
+       nullptr},
+      {"register", "register", R::Result, false, G::Registration,
        "refine poses against the field: none, incremental (Algorithm 1), simultaneous "
        "(Algorithm 2) or both (1 then 2)",
        at(&FuseOptions::registration), nullptr},
-      {"anchor", "anchor", R::Result, false,
+      {"anchor", "anchor", R::Result, false, G::Registration,
        "registration: scan name that stays fixed (default: first)", at(&FuseOptions::anchor),
        nullptr},
-      {"control-stride", "control_stride", R::Result, false,
+      {"control-stride", "control_stride", R::Result, false, G::Registration,
        "registration: every k-th scan vertex is a control point", at(&FuseOptions::controlStride),
        must<int>(
            &FuseOptions::controlStride, [](int v) { return v >= 1; }, "must be at least 1")},
-      {"max-iterations", "max_iterations", R::Result, false,
+      {"max-iterations", "max_iterations", R::Result, false, G::Registration,
        "registration: fits per scan (Algorithm 1) or per field rebuild (Algorithm 2)",
        at(&FuseOptions::maxIterations),
        must<int>(
            &FuseOptions::maxIterations, [](int v) { return v >= 1; }, "must be at least 1")},
-      {"max-rounds", "max_rounds", R::Result, false, "registration: field rebuilds in Algorithm 2",
-       at(&FuseOptions::maxRounds),
+      {"max-rounds", "max_rounds", R::Result, false, G::Registration,
+       "registration: field rebuilds in Algorithm 2", at(&FuseOptions::maxRounds),
        must<int>(
            &FuseOptions::maxRounds, [](int v) { return v >= 1; }, "must be at least 1")},
-      {"round-tolerance", "round_tolerance_voxels", R::Result, false,
+      {"round-tolerance", "round_tolerance_voxels", R::Result, false, G::Registration,
        "registration: Algorithm 2 ends after a round that moves no scan's vertices this far on "
        "average, voxels",
        at(&FuseOptions::roundTolerance),
        must<double>(
            &FuseOptions::roundTolerance, [](double v) { return v >= 0 && v <= 1000; },
            "must be in [0, 1000] voxels")},
-      {"register-field", "register_field", R::Result, false,
+      {"register-field", "register_field", R::Result, false, G::Registration,
        "registration: grow (Algorithm 1 adds each scan to one field; prism only) or rebuild (a "
        "new field for every scan: the simple method, for comparison)",
        at(&FuseOptions::registerField), nullptr},
-      {"register-solve", "register_solve", R::Result, false,
+      {"register-solve", "register_solve", R::Result, false, G::Registration,
        "registration: joint (Algorithm 2 solves all poses at once, the anchor fixing the frame) "
        "or per-scan (each scan fitted to the field on its own, as in the paper)",
        at(&FuseOptions::registerSolve), nullptr},
-      {"poses-out", "", R::No, false, "write the refined poses (.conf)", at(&FuseOptions::posesOut),
-       nullptr},
-      {"track", "track", R::Result, false,
+      {"poses-out", "", R::No, false, G::Output, "write the refined poses (.conf)",
+       at(&FuseOptions::posesOut), nullptr},
+      {"track", "track", R::Result, false, G::Tracking,
        "depth streams: track every frame against the field of the frames before it (on), use "
        "the given trajectory (off), or track only when there is none (auto); with a trajectory, "
        "tracking takes its motion as each frame's first guess",
@@ -289,27 +293,27 @@ std::vector<FuseParameter> makeTable() {
                     : "must be on, off or auto";
        },
        "on"},
-      {"first-pose", "first_pose", R::Result, false,
+      {"first-pose", "first_pose", R::Result, false, G::Tracking,
        "tracking: the first camera's pose in the world, 'tx,ty,tz,qx,qy,qz,qw' (camera to "
        "world, as TUM writes it; default: the identity)",
        at(&FuseOptions::firstPose), nullptr},
-      {"min-inliers", "min_inliers", R::Result, false,
+      {"min-inliers", "min_inliers", R::Result, false, G::Tracking,
        "tracking: a frame is lost when fewer of its points than this share find the field",
        at(&FuseOptions::minInliers),
        must<double>(
            &FuseOptions::minInliers, [](double v) { return v >= 0 && v <= 1; },
            "must be a share in [0, 1]")},
-      {"max-step", "max_step_voxels", R::Result, false,
+      {"max-step", "max_step_voxels", R::Result, false, G::Tracking,
        "tracking: a frame is lost when its fit puts the camera more than this many voxels from "
        "where its motion so far predicted (a slide along a wall, not a motion)",
        at(&FuseOptions::maxStep),
        must<double>(
            &FuseOptions::maxStep, [](double v) { return v > 0; }, "must be positive voxels")},
-      {"skip-lost", "skip_lost", R::Result, false,
+      {"skip-lost", "skip_lost", R::Result, false, G::Tracking,
        "tracking: leave frames that lost tracking out and go on (else the run stops at the first "
        "with an error)",
        at(&FuseOptions::skipLost), nullptr, "true"},
-      {"preview-every", "", R::No, false,
+      {"preview-every", "", R::No, false, G::Tracking,
        "tracking: every N frames, write --preview as the partial model seen from the current "
        "camera (the last picture is the finished field's)",
        at(&FuseOptions::previewEvery),
@@ -317,30 +321,30 @@ std::vector<FuseParameter> makeTable() {
          if (o.previewEvery < 0) return "must be a number of frames >= 0 (0: never)";
          return o.previewEvery > 0 && o.preview.empty() ? "needs --preview FILE.png" : "";
        }},
-      {"follow", "", R::No, false,
+      {"follow", "", R::No, false, G::Tracking,
        "tracking: the folder is still being recorded: frames that appear in it join the stream "
        "until a file named STOP appears there or --follow-timeout passes with no new frame",
        at(&FuseOptions::follow), nullptr, "true"},
-      {"follow-timeout", "", R::No, false,
+      {"follow-timeout", "", R::No, false, G::Tracking,
        "tracking: with --follow, seconds without a new frame after which the stream ends",
        at(&FuseOptions::followTimeout),
        must<double>(
            &FuseOptions::followTimeout, [](double v) { return v > 0 && finite(v); },
            "must be a positive number of seconds")},
-      {"trajectory-out", "", R::No, false,
+      {"trajectory-out", "", R::No, false, G::Output,
        "write the camera trajectory: TUM text (timestamp tx ty tz qx qy qz qw), or a Redwood "
        ".log by extension",
        at(&FuseOptions::trajectoryOut), nullptr},
-      {"checkpoint", "", R::No, false, "write an HDF5 checkpoint of the field (.h5)",
+      {"checkpoint", "", R::No, false, G::Checkpoint, "write an HDF5 checkpoint of the field (.h5)",
        at(&FuseOptions::checkpoint), nullptr},
-      {"checkpoint-every", "", R::No, false,
+      {"checkpoint-every", "", R::No, false, G::Checkpoint,
        "seconds between registration or tracking checkpoints (0: after every scan, iteration "
        "or frame)",
        at(&FuseOptions::checkpointEvery),
        must<double>(
            &FuseOptions::checkpointEvery, [](double v) { return v >= 0 && finite(v); },
            "must be a finite number of seconds >= 0")},
-      {"resume", "", R::No, false,
+      {"resume", "", R::No, false, G::Checkpoint,
        "continue from a checkpoint; options left out come from it, given ones must match",
        at(&FuseOptions::resume), nullptr}};
 }
@@ -418,6 +422,31 @@ nlohmann::json resultParameters(const FuseOptions& o) {
   for (const FuseParameter& p : fuseParameters())
     if (p.recorded == Recorded::Result) out[p.key] = parameterJson(p, o);
   return out;
+}
+
+const char* groupTitle(OptionGroup group) {
+  switch (group) {
+    case OptionGroup::Input:
+      return "Input";
+    case OptionGroup::Field:
+      return "Field";
+    case OptionGroup::Output:
+      return "Output";
+    case OptionGroup::Registration:
+      return "Registration (--register)";
+    case OptionGroup::Tracking:
+      return "Depth streams without poses (tracking)";
+    case OptionGroup::Checkpoint:
+      return "Checkpoints";
+    case OptionGroup::Resources:
+      return "Resources";
+  }
+  return "";
+}
+
+bool buildsField(OptionGroup group) {
+  return group == OptionGroup::Input || group == OptionGroup::Field ||
+         group == OptionGroup::Resources;
 }
 
 }  // namespace rangefuse

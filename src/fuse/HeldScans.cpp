@@ -2,31 +2,51 @@
 
 #include <algorithm>
 
+#include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/fuse/ScanLoader.h"
 
 namespace rangefuse {
 
 HeldScans::HeldScans(std::vector<io::ConfScan> scans, std::vector<int> readers, int rank,
-                     ScanPreparation preparation, uint64_t budgetBytes)
+                     ScanPreparation preparation, uint64_t budgetBytes, bool placed)
     : scans_(std::move(scans)),
       readers_(std::move(readers)),
       rank_(rank),
       preparation_(preparation),
+      placed_(placed),
       budgetLeft_(budgetBytes),
       kept_(scans_.size()),
-      keptBytes_(scans_.size(), 0) {}
+      keptBytes_(scans_.size(), 0),
+      movable_(scans_.size(), 0) {}
 
 void HeldScans::append(const std::vector<io::ConfScan>& more, const std::vector<int>& readers) {
   scans_.insert(scans_.end(), more.begin(), more.end());
   readers_.insert(readers_.end(), readers.begin(), readers.end());
   kept_.resize(scans_.size());
   keptBytes_.resize(scans_.size(), 0);
+  movable_.resize(scans_.size(), 0);
+}
+
+PrismScan HeldScans::load(size_t i) const {
+  const ScanPreparation& p = preparation_;
+  PrismScan s = loadScan(scans_[i], p.surface, p.limits, p.eps);
+  return placed_ ? placeScan(std::move(s), scans_[i].pose) : s;
 }
 
 std::shared_ptr<const PrismScan> HeldScans::get(size_t i) const {
   if (kept_[i]) return kept_[i];
+  return std::make_shared<const PrismScan>(load(i));
+}
+
+std::vector<PrismScan> HeldScans::read(const std::vector<size_t>& which, int threads) const {
+  std::vector<const io::ConfScan*> list;
+  for (size_t i : which) list.push_back(&scans_[i]);
   const ScanPreparation& p = preparation_;
-  return std::make_shared<const PrismScan>(loadScan(scans_[i], p.surface, p.limits, p.eps));
+  std::vector<PrismScan> out = loadScans(list, p.surface, p.limits, p.eps, threads);
+  if (placed_)
+    for (size_t k = 0; k < out.size(); ++k)
+      out[k] = placeScan(std::move(out[k]), scans_[which[k]].pose);
+  return out;
 }
 
 std::shared_ptr<const PrismScan> HeldScans::readAndOffer(size_t i) {
@@ -35,33 +55,56 @@ std::shared_ptr<const PrismScan> HeldScans::readAndOffer(size_t i) {
 
 std::vector<std::shared_ptr<const PrismScan>> HeldScans::readAndOffer(
     const std::vector<size_t>& which, int threads) {
-  std::vector<const io::ConfScan*> unread;
+  std::vector<size_t> unread;
   for (size_t i : which)
-    if (!kept_[i]) unread.push_back(&scans_[i]);
-  const ScanPreparation& p = preparation_;
-  std::vector<PrismScan> read = loadScans(unread, p.surface, p.limits, p.eps, threads);
+    if (!kept_[i]) unread.push_back(i);
+  std::vector<PrismScan> fresh = read(unread, threads);
   std::vector<std::shared_ptr<const PrismScan>> out;
   size_t next = 0;
-  for (size_t i : which)
-    out.push_back(kept_[i] ? kept_[i]
-                           : offer(i, std::make_shared<const PrismScan>(std::move(read[next++]))));
+  for (size_t i : which) out.push_back(kept_[i] ? kept_[i] : offer(i, std::move(fresh[next++])));
   return out;
+}
+
+void HeldScans::keep(size_t i, std::shared_ptr<const PrismScan> scan, uint64_t bytes) {
+  budgetLeft_ -= bytes;
+  keptTotal_ += bytes;
+  kept_[i] = std::move(scan);
+  keptBytes_[i] = bytes;
+  memoryLedger().set(Held::keptScans, keptTotal_);
 }
 
 std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, std::shared_ptr<const PrismScan> scan) {
   const uint64_t bytes = scanBytes(*scan);
-  if (!kept_[i] && bytes <= budgetLeft_) {
-    budgetLeft_ -= bytes;
-    kept_[i] = scan;
-    keptBytes_[i] = bytes;
-  }
+  if (!kept_[i] && bytes <= budgetLeft_) keep(i, scan, bytes);
   return scan;
+}
+
+std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, PrismScan&& scan) {
+  // Made here, not const: take() may move it out again.
+  std::shared_ptr<const PrismScan> made = std::make_shared<PrismScan>(std::move(scan));
+  offer(i, made);
+  if (kept_[i] == made) movable_[i] = 1;
+  return made;
+}
+
+PrismScan HeldScans::take(size_t i) {
+  if (!kept_[i]) return load(i);
+  std::shared_ptr<const PrismScan> scan = kept_[i];
+  const bool movable = movable_[i];
+  release(i);
+  // A scan made here (offered by value) was made non-const and is handed out only as a const
+  // view: when no view is left, it is moved out instead of copied.
+  if (movable && scan.use_count() == 1) return std::move(const_cast<PrismScan&>(*scan));
+  return *scan;
 }
 
 void HeldScans::release(size_t i) {
   budgetLeft_ += keptBytes_[i];
+  keptTotal_ -= keptBytes_[i];
   keptBytes_[i] = 0;
+  movable_[i] = 0;
   kept_[i].reset();
+  memoryLedger().set(Held::keptScans, keptTotal_);
 }
 
 size_t HeldScans::keptCount() const {

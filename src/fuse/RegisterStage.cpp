@@ -41,7 +41,7 @@ void printStep(const RegistrationStep& s, const LoadedScans& scans, double voxel
   std::printf(
       "[register] %-12s round %d it %2d %-14s %8llu corr  rms %.4f vox  dR %.5f deg  dt %.4f "
       "vox%s\n",
-      s.algorithm.c_str(), s.round, s.iteration, scans.names[s.scan].c_str(),
+      toString(s.algorithm), s.round, s.iteration, scans.names[s.scan].c_str(),
       static_cast<unsigned long long>(s.correspondences), s.rms / voxel, s.rotationDeg,
       s.translation / voxel, s.applied ? "" : "  (too few correspondences: left as given)");
   std::fflush(stdout);
@@ -52,7 +52,7 @@ void printRoundEnd(const RegistrationProgress& p, double voxel) {
       "[register] simultaneous round %d done: scans moved up to %.4f vox (mean over "
       "vertices); %s\n",
       p.ended->round, p.ended->motion / voxel,
-      p.phase == "done" ? "registration done" : "rebuilding the field");
+      p.phase == RegistrationPhase::Done ? "registration done" : "rebuilding the field");
   std::fflush(stdout);
 }
 
@@ -104,7 +104,7 @@ class RegistrationCheckpointer {
     if (c_.path.empty() || !ok_) return;
     double now = MPI_Wtime();
     MPI_Bcast(&now, 1, MPI_DOUBLE, 0, comm_);  // one decision for all ranks
-    if (p.phase != "done" && now - last_ < c_.every) return;
+    if (p.phase != RegistrationPhase::Done && now - last_ < c_.every) return;
     last_ = now;
     LoadedScans current = scans_;
     current.poses = poses;

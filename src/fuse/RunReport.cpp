@@ -58,7 +58,7 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
 json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>& steps) {
   json fits = json::array();
   for (const auto& s : steps)
-    fits.push_back({{"algorithm", s.algorithm},
+    fits.push_back({{"algorithm", toString(s.algorithm)},
                     {"round", s.round},
                     {"iteration", s.iteration},
                     {"scan", s.scan},

@@ -12,6 +12,7 @@
 
 #include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/fuse/ColourChoice.h"
+#include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
@@ -24,69 +25,6 @@ namespace rangefuse {
 namespace {
 
 using mpi::collectively;
-
-/// A rank's share of the scans: which it reads, and those it keeps prepared between passes.
-class ScanShare {
- public:
-  ScanShare(const StreamOptions& o, const io::ConfFile& conf, std::vector<int> readers, int me)
-      : o_(o), conf_(conf), readers_(std::move(readers)), me_(me) {}
-
-  bool reads(size_t i) const { return readers_[i] == me_; }
-  int reader(size_t i) const { return readers_[i]; }
-
-  /// Scan i read from its file and placed at its pose.
-  PrismScan read(size_t i) const {
-    return placeScan(loadScan(conf_.scans[i], o_.surface, o_.limits, o_.eps), conf_.scans[i].pose);
-  }
-
-  /// Scans `which` read and placed, on the rank's threads.
-  std::vector<PrismScan> read(const std::vector<size_t>& which) const {
-    std::vector<const io::ConfScan*> scans;
-    for (size_t i : which) scans.push_back(&conf_.scans[i]);
-    std::vector<PrismScan> out = loadScans(scans, o_.surface, o_.limits, o_.eps, o_.threads);
-    for (size_t k = 0; k < out.size(); ++k)
-      out[k] = placeScan(std::move(out[k]), conf_.scans[which[k]].pose);
-    return out;
-  }
-
-  /// The kept copy of scan i, or null when it must be read again.
-  const PrismScan* kept(size_t i) const {
-    auto it = kept_.find(i);
-    return it == kept_.end() ? nullptr : &it->second;
-  }
-
-  /// Scan i placed, for its last use: a kept scan is handed over and forgotten.
-  PrismScan take(size_t i) {
-    auto it = kept_.find(i);
-    if (it == kept_.end()) return read(i);
-    PrismScan s = std::move(it->second);
-    kept_.erase(it);
-    held_ -= scanBytes(s);
-    memoryLedger().set(Held::keptScans, held_);
-    return s;
-  }
-
-  /// Keeps scan i if it fits what is left of the budget.
-  void offer(size_t i, PrismScan&& s) {
-    const uint64_t bytes = scanBytes(s);
-    if (keptBytes_ + bytes > o_.keepBytes) return;
-    keptBytes_ += bytes;
-    held_ += bytes;
-    memoryLedger().set(Held::keptScans, held_);
-    kept_.emplace(i, std::move(s));
-  }
-
-  size_t keptCount() const { return kept_.size(); }
-
- private:
-  const StreamOptions& o_;
-  const io::ConfFile& conf_;
-  std::vector<int> readers_;
-  int me_;
-  std::map<size_t, PrismScan> kept_;
-  uint64_t keptBytes_ = 0;  ///< offered and kept, for the budget
-  uint64_t held_ = 0;       ///< kept and not yet taken
-};
 
 /// The bytes each scan reads: its file's, or its share of a PTX file's scan.
 std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
@@ -173,7 +111,7 @@ struct SightMaps {
 };
 
 /// Pass 1: reads this rank's scans, keeps what fits, and returns the bounds of all points.
-bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_Comm comm,
+bool readShare(const io::ConfFile& conf, HeldScans& share, int threads, MPI_Comm comm,
                Progress& progress, Eigen::AlignedBox3d& box, uint64_t& triangles,
                std::vector<uint64_t>& bytes, std::vector<std::optional<ColourKind>>& kinds,
                SightMaps* sights) {
@@ -186,11 +124,11 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
   if (!collectively(comm, [&] {
         std::vector<size_t> mine;
         for (size_t i = 0; i < conf.scans.size(); ++i)
-          if (share.reads(i)) mine.push_back(i);
+          if (share.holds(i)) mine.push_back(i);
         size_t done = 0;
         // As many scans at a time as the rank has threads: one each.
         forEachBatch(mine, threads, [&](const std::vector<size_t>& batch) {
-          std::vector<PrismScan> scans = share.read(batch);
+          std::vector<PrismScan> scans = share.read(batch, threads);
           for (size_t k = 0; k < batch.size(); ++k) {
             const size_t i = batch[k];
             PrismScan& s = scans[k];
@@ -225,18 +163,18 @@ bool readShare(const io::ConfFile& conf, ScanShare& share, size_t threads, MPI_C
 }
 
 /// Pass 2: the bricks every prism touches, planned from this rank's scans and reduced.
-bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& share,
+bool planShare(const StreamOptions& o, const io::ConfFile& conf, const HeldScans& share,
                const VoxelGrid& grid, MPI_Comm comm, BrickLayout& layout) {
   BrickWork work;
   if (!collectively(comm, [&] {
         // Kept scans whole, a share on each thread (one parallel section, not one a scan);
         // the others are read again one at a time, each on all threads.
-        std::vector<const PrismScan*> kept;
+        std::vector<std::shared_ptr<const PrismScan>> kept;
         std::vector<size_t> unkept;
         for (size_t i = 0; i < conf.scans.size(); ++i) {
-          if (!share.reads(i)) continue;
-          if (const PrismScan* s = share.kept(i))
-            kept.push_back(s);
+          if (!share.holds(i)) continue;
+          if (share.kept(i))
+            kept.push_back(share.get(i));
           else
             unkept.push_back(i);
         }
@@ -248,7 +186,7 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, ScanShare& shar
         });
         for (const BrickWork& p : part) addWork(p, grid, o.limits.maxVoxels, work);
         for (size_t i : unkept)
-          addPrismWork(share.read(i), grid, o.limits.maxVoxels, work, o.threads);
+          addPrismWork(*share.get(i), grid, o.limits.maxVoxels, work, o.threads);
       }))
     return false;
   return collectively(comm,
@@ -287,7 +225,7 @@ uint64_t partsBytes(const IndexedScans& parts) {
 /// bytes (roundsOf): what is in flight is about a scan's copies, not a window's, and each rank
 /// gives away about what it receives (the window is added in scan order whatever the order it
 /// arrived in).
-bool routeEntries(size_t first, size_t end, ScanShare& share,
+bool routeEntries(size_t first, size_t end, HeldScans& share,
                   const std::vector<uint64_t>& preparedBytes, bool colour, double reach,
                   const BrickLayout& layout, MPI_Comm comm, IndexedScans& parts,
                   RoutingStats& routing) {
@@ -307,7 +245,7 @@ bool routeEntries(size_t first, size_t end, ScanShare& share,
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
 /// they receive in scan order (or keep it, for the closest-surface methods).
-bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf, ScanShare& share,
+bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf, HeldScans& share,
                     const std::vector<size_t>& windows, const std::vector<uint64_t>& preparedBytes,
                     double reach, int threads, SurfaceHypotheses* hypotheses, MPI_Comm comm,
                     Progress& progress, FusedField& field, RankCounters& counters,
@@ -385,7 +323,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
     scanOf.push_back(scanOf.empty() ? 0 : scanOf.back() + (c.band == 0));
   std::vector<Eigen::Vector3d> sensors;
   for (const io::ConfScan& c : conf.scans) sensors.push_back(c.pose.apply(Eigen::Vector3d::Zero()));
-  ScanShare share(o, conf, assignReadersNearby(sensors, fileSizes(conf), ranks), me);
+  HeldScans share(conf.scans, assignReadersNearby(sensors, fileSizes(conf), ranks), me,
+                  ScanPreparation{o.surface, o.limits, o.eps}, o.keepBytes, true);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   std::vector<uint64_t> bytes;

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "FollowedFolder.h"
+#include "TrackingField.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
-#include "rangefuse/fuse/TrackingField.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/Png.h"

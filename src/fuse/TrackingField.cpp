@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/TrackingField.h"
+#include "TrackingField.h"
 
 #include <algorithm>
 #include <cmath>

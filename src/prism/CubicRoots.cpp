@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "FootKernels.h"
+#include "PrismSolve.h"
 #include "rangefuse/prism/Prism.h"
 
 namespace rangefuse::internal {

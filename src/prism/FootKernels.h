@@ -3,6 +3,7 @@
 // out, inlined into the batch's loops, which the compiler then vectorises.
 #pragma once
 
+#include "PrismSolve.h"
 #include "rangefuse/prism/Prism.h"
 
 namespace rangefuse::internal {

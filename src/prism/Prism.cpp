@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "FootKernels.h"
+#include "PrismSolve.h"
 
 namespace rangefuse {
 namespace {

@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "PrismRows.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/parallel/Threads.h"
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "PrismRows.h"
+
 namespace rangefuse {
 namespace internal {
 
@@ -69,6 +71,16 @@ void rasterizePrismBruteForce(const Prism& prism, const VoxelGrid& grid,
     for (v.y() = lo.y(); v.y() <= hi.y(); ++v.y())
       for (v.x() = lo.x(); v.x() <= hi.x(); ++v.x())
         if (internal::solvePrismDistance(prism, cubic, grid.centre(v), hit)) visit(v, hit);
+}
+
+void rasterizePrism(const Prism& prism, const VoxelGrid& grid, const PrismVisitor& visit) {
+  PrismHit hit;
+  internal::rasterizeRows(
+      prism, grid, internal::PrismRows(prism, grid), [](const VoxelIndex&) -> int64_t { return 0; },
+      [&](const VoxelIndex& v, int64_t, const PrismFoot& foot) {
+        internal::completeHit(prism, foot, hit);
+        visit(v, hit);
+      });
 }
 
 }  // namespace rangefuse

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "VoxelTerms.h"
 #include "rangefuse/parallel/FixedPointSum.h"
 #include "rangefuse/parallel/Mpi.h"
 

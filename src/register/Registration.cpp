@@ -81,7 +81,7 @@ RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlR
 
 bool converged(const RegistrationStep& s, const RegistrationOptions& o) {
   if (!s.applied) return true;
-  if (s.algorithm == "joint")  // Gauss-Newton: later steps only follow the noise
+  if (s.algorithm == FitAlgorithm::Joint)  // Gauss-Newton: later steps only follow the noise
     return s.rotationDeg < o.jointRotationTolDeg && s.translation < o.jointTranslationTol;
   return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
 }
@@ -101,7 +101,7 @@ void incremental(const ScanSource& scans, std::vector<Pose>& poses, const Regist
     FitHistory history;
     for (int it = 1; it <= o.maxIterations; ++it) {
       RegistrationStep step = fitOnce(i, poses[i], *store, control, o, comm, history);
-      step.algorithm = "incremental";
+      step.algorithm = FitAlgorithm::Incremental;
       step.iteration = it;
       step.scan = i;
       onStep(step);
@@ -175,13 +175,13 @@ std::vector<RegistrationStep> fitAll(std::vector<Pose>& poses, const BrickStore&
     const JointStepSettings settings{o.anchor, o.minCorrespondences, o.maxExtrapolation,
                                      o.correspondences};
     std::vector<RegistrationStep> steps = jointStep(poses, store, control, settings, comm);
-    for (RegistrationStep& step : steps) step.algorithm = "joint";
+    for (RegistrationStep& step : steps) step.algorithm = FitAlgorithm::Joint;
     return steps;
   }
   std::vector<RegistrationStep> steps;
   for (size_t i = 0; i < poses.size(); ++i) {
     steps.push_back(fitOnce(i, poses[i], store, control, o, comm, history[i]));
-    steps.back().algorithm = "simultaneous";
+    steps.back().algorithm = FitAlgorithm::Simultaneous;
     steps.back().scan = i;
   }
   return steps;
@@ -197,7 +197,7 @@ void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, Registratio
   o.correspondences.minImages = 2;
   o.correspondences.weightByImages = true;
   const std::vector<size_t> all = everyScan(scans.size());
-  while (p.phase == "simultaneous") {
+  while (p.phase == RegistrationPhase::Simultaneous) {
     if (p.iteration < o.maxIterations && p.lastMoved) {
       const BrickStore& store = field.build(all, p.roundPoses);
       p.latticeOrigin = field.latticeOrigin();
@@ -221,7 +221,7 @@ void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, Registratio
     // later rounds only wander within the noise (docs/registration.md).
     const int round = p.round;
     if (!p.roundMoved || motion < o.roundTolerance || p.round >= o.maxRounds) {
-      p.phase = "done";
+      p.phase = RegistrationPhase::Done;
     } else {
       ++p.round;
       startRound(p, poses);
@@ -234,6 +234,39 @@ void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, Registratio
 
 }  // namespace
 
+const char* toString(FitAlgorithm algorithm) {
+  switch (algorithm) {
+    case FitAlgorithm::Incremental:
+      return "incremental";
+    case FitAlgorithm::Joint:
+      return "joint";
+    case FitAlgorithm::Simultaneous:
+      return "simultaneous";
+  }
+  return "?";
+}
+
+const char* toString(RegistrationPhase phase) {
+  switch (phase) {
+    case RegistrationPhase::Start:
+      return "start";
+    case RegistrationPhase::Incremental:
+      return "incremental";
+    case RegistrationPhase::Simultaneous:
+      return "simultaneous";
+    case RegistrationPhase::Done:
+      return "done";
+  }
+  return "?";
+}
+
+RegistrationPhase parseRegistrationPhase(const std::string& text) {
+  for (RegistrationPhase p : {RegistrationPhase::Start, RegistrationPhase::Incremental,
+                              RegistrationPhase::Simultaneous, RegistrationPhase::Done})
+    if (text == toString(p)) return p;
+  throw std::runtime_error("unknown registration phase '" + text + "'");
+}
+
 double rotationDegrees(const Eigen::Matrix3d& R) {
   return std::abs(Eigen::AngleAxisd(R).angle()) * 180 / M_PI;
 }
@@ -245,16 +278,17 @@ void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const Regi
   p.latticeOrigin = field.fixLattice(p.latticeOrigin, poses);
   const bool first = o.mode == RegistrationMode::Incremental || o.mode == RegistrationMode::Both;
   const bool second = o.mode == RegistrationMode::Simultaneous || o.mode == RegistrationMode::Both;
-  if (p.phase == "start") p.phase = first ? "incremental" : "simultaneous";
-  if (p.phase == "simultaneous" && p.roundPoses.empty()) startRound(p, poses);
+  using Phase = RegistrationPhase;
+  if (p.phase == Phase::Start) p.phase = first ? Phase::Incremental : Phase::Simultaneous;
+  if (p.phase == Phase::Simultaneous && p.roundPoses.empty()) startRound(p, poses);
   ControlRouting control(scans, o.controlStride, comm);
-  if (p.phase == "incremental") {
+  if (p.phase == Phase::Incremental) {
     incremental(scans, poses, o, field, control, comm, onStep, p, onBoundary);
-    p.phase = second ? "simultaneous" : "done";
+    p.phase = second ? Phase::Simultaneous : Phase::Done;
     if (second) startRound(p, poses);
     onBoundary(p, poses);
   }
-  if (p.phase == "simultaneous")
+  if (p.phase == Phase::Simultaneous)
     simultaneous(scans, poses, o, field, control, comm, onStep, p, onBoundary);
 }
 
@@ -267,9 +301,9 @@ nlohmann::json RegistrationProgress::toJson() const {
                     {"rotation", vec(h.last.rotation)},
                     {"shift", vec(h.last.shift)},
                     {"radius", h.last.radius}});
-  return {{"phase", phase},         {"next_scan", nextScan},           {"round", round},
-          {"iteration", iteration}, {"round_moved", roundMoved},       {"last_moved", lastMoved},
-          {"round_poses", poses},   {"lattice_origin", latticeOrigin}, {"history", hist}};
+  return {{"phase", toString(phase)}, {"next_scan", nextScan},           {"round", round},
+          {"iteration", iteration},   {"round_moved", roundMoved},       {"last_moved", lastMoved},
+          {"round_poses", poses},     {"lattice_origin", latticeOrigin}, {"history", hist}};
 }
 
 RegistrationProgress RegistrationProgress::fromJson(const nlohmann::json& j) {
@@ -279,7 +313,7 @@ RegistrationProgress RegistrationProgress::fromJson(const nlohmann::json& j) {
     return Eigen::Vector3d(v[0], v[1], v[2]);
   };
   RegistrationProgress p;
-  p.phase = j.at("phase").get<std::string>();
+  p.phase = parseRegistrationPhase(j.at("phase").get<std::string>());
   p.nextScan = j.at("next_scan").get<size_t>();
   p.round = j.at("round").get<int>();
   p.iteration = j.at("iteration").get<int>();

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <vector>
 
+#include "GridShape.h"
+#include "GridSteps.h"
 #include "rangefuse/surface/GridMerging.h"
-#include "rangefuse/surface/GridSteps.h"
 
 namespace rangefuse {
 namespace {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "rangefuse/surface/GridSteps.h"
+#include "GridSteps.h"
 
 namespace rangefuse {
 namespace {

@@ -1,7 +1,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rangefuse/surface/GridSteps.h"
+#include "GridShape.h"
+#include "GridSteps.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {

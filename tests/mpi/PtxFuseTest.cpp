@@ -18,6 +18,7 @@
 #include "rangefuse/scan/Shapes.h"
 #include "rangefuse/scan/SyntheticScanner.h"
 #include "rangefuse/surface/ScanSurface.h"
+#include "surface/GridShape.h"
 
 using namespace rangefuse;
 

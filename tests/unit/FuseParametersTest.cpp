@@ -3,6 +3,7 @@
 // names its option.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 #include "rangefuse/core/Error.h"
@@ -85,6 +86,29 @@ TEST(FuseParameters, ABadValueIsRefusedNamingItsOption) {
   }
   o.brick = 8;
   EXPECT_NO_THROW(validateFuseOptions(o));
+}
+
+TEST(FuseParameters, GroupsSayWhichCommandsTakeAnOption) {
+  std::map<std::string, OptionGroup> groupOf;
+  for (const FuseParameter& p : fuseParameters()) groupOf[p.option] = p.group;
+  // Commands that only build a field (render) take what the field needs, nothing a run writes,
+  // registers or tracks.
+  for (const char* option : {"scans", "scan-format", "voxel", "method", "merge-cells", "threads"})
+    EXPECT_TRUE(buildsField(groupOf.at(option))) << option;
+  for (const char* option :
+       {"out", "report", "preview", "normals", "register", "register-solve", "poses-out", "track",
+        "follow", "follow-timeout", "preview-every", "trajectory-out", "checkpoint", "resume"})
+    EXPECT_FALSE(buildsField(groupOf.at(option))) << option;
+  // Every group has options and a heading of its own.
+  std::set<std::string> titles;
+  for (OptionGroup g :
+       {OptionGroup::Input, OptionGroup::Field, OptionGroup::Output, OptionGroup::Registration,
+        OptionGroup::Tracking, OptionGroup::Checkpoint, OptionGroup::Resources}) {
+    EXPECT_TRUE(titles.insert(groupTitle(g)).second) << groupTitle(g);
+    bool any = false;
+    for (const auto& [option, group] : groupOf) any |= group == g;
+    EXPECT_TRUE(any) << groupTitle(g);
+  }
 }
 
 TEST(MethodRegistry, EveryMethodIsNamedAndParsedBack) {

@@ -4,6 +4,7 @@
 #include <map>
 #include <random>
 
+#include "prism/PrismSolve.h"
 #include "rangefuse/prism/PrismRaster.h"
 
 using namespace rangefuse;

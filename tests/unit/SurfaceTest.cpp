@@ -6,6 +6,7 @@
 #include <set>
 
 #include "rangefuse/surface/ScanSurface.h"
+#include "surface/GridShape.h"
 
 using namespace rangefuse;
 

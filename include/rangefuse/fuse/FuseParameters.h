@@ -23,11 +23,22 @@ using OptionValue = std::variant<double*, float*, int*, bool*, std::string*, Fie
 /// (where outputs go, resources).
 enum class Recorded { Result, CheckpointOnly, No };
 
+/// Which part of a run an option sets: commands that only build a field (render) take the
+/// input, field and resource groups; --help lists the groups in this order.
+enum class OptionGroup { Input, Field, Output, Registration, Tracking, Checkpoint, Resources };
+
+/// The heading --help gives a group.
+const char* groupTitle(OptionGroup group);
+
+/// True for the groups a command needs to build a field: input, field, resources.
+bool buildsField(OptionGroup group);
+
 struct FuseParameter {
   std::string option;  ///< command-line name, without "--"
   std::string key;     ///< report and checkpoint key (empty when not recorded)
   Recorded recorded = Recorded::No;
   bool required = false;  ///< has no default: --help shows none
+  OptionGroup group = OptionGroup::Field;
   std::string help;
   std::function<OptionValue(FuseOptions&)> value;
   /// Empty when the value is acceptable, else what it must be ("must be ..."); may be null.

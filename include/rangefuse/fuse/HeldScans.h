@@ -20,16 +20,29 @@ struct ScanPreparation {
   double eps = 0;  ///< prism envelope, in the scans' units
 };
 
+/// A rank's share of a scan list, kept in memory within a budget: the scans it reads (its
+/// readers say which), prepared as `preparation` says, each kept while it fits what is left of
+/// the budget and read again from its file whenever it is needed otherwise. Registration and
+/// tracking hold scans in their own frames (their poses change); a streamed field holds them
+/// placed at the list's poses (`placed`).
 class HeldScans : public ScanSource {
  public:
   /// `readers`: the rank reading each scan; this rank is `rank`. Nothing is read yet.
   HeldScans(std::vector<io::ConfScan> scans, std::vector<int> readers, int rank,
-            ScanPreparation preparation, uint64_t budgetBytes);
+            ScanPreparation preparation, uint64_t budgetBytes, bool placed = false);
 
   size_t size() const override { return scans_.size(); }
   bool holds(size_t i) const override { return readers_[i] == rank_; }
   bool kept(size_t i) const override { return kept_[i] != nullptr; }
+  /// Scan i: the kept one, or one read again (not kept).
   std::shared_ptr<const PrismScan> get(size_t i) const override;
+
+  /// The rank that reads scan i.
+  int reader(size_t i) const { return readers_[i]; }
+
+  /// The listed scans read from their files on up to `threads` threads, in order, whether kept
+  /// or not; none is kept (offer them).
+  std::vector<PrismScan> read(const std::vector<size_t>& which, int threads) const;
 
   /// Reads scan i (held here) and keeps it if it fits what is left of the budget.
   std::shared_ptr<const PrismScan> readAndOffer(size_t i);
@@ -39,6 +52,11 @@ class HeldScans : public ScanSource {
 
   /// Keeps scan i, read elsewhere (another thread), if it fits what is left of the budget.
   std::shared_ptr<const PrismScan> offer(size_t i, std::shared_ptr<const PrismScan> scan);
+  std::shared_ptr<const PrismScan> offer(size_t i, PrismScan&& scan);
+
+  /// Scan i for its last use: the kept one handed over (moved out when no one else holds it)
+  /// and forgotten, or one read again.
+  PrismScan take(size_t i);
 
   /// Forgets scan i (a tracked frame once fused), returning its bytes to the budget.
   void release(size_t i);
@@ -50,13 +68,19 @@ class HeldScans : public ScanSource {
   void append(const std::vector<io::ConfScan>& more, const std::vector<int>& readers);
 
  private:
+  PrismScan load(size_t i) const;
+  void keep(size_t i, std::shared_ptr<const PrismScan> scan, uint64_t bytes);
+
   std::vector<io::ConfScan> scans_;
   std::vector<int> readers_;
   int rank_;
   ScanPreparation preparation_;
+  bool placed_;
   uint64_t budgetLeft_;
+  uint64_t keptTotal_ = 0;  ///< bytes kept now, for the memory ledger
   std::vector<std::shared_ptr<const PrismScan>> kept_;
   std::vector<uint64_t> keptBytes_;
+  std::vector<char> movable_;  ///< kept scans made here (offered by value), not const
 };
 
 /// The scans this rank reads for registration or tracking, prepared as `read` says without

@@ -35,9 +35,23 @@ struct RegistrationOptions {
   CorrespondenceSettings correspondences;
 };
 
+/// Which fit made a step: Algorithm 1's, Algorithm 2's joint solve, or Algorithm 2's per-scan
+/// fits.
+enum class FitAlgorithm { Incremental, Joint, Simultaneous };
+
+/// Where a registration stands: not begun, in Algorithm 1, in Algorithm 2, or finished.
+enum class RegistrationPhase { Start, Incremental, Simultaneous, Done };
+
+/// The names the progress lines, reports and checkpoints use.
+const char* toString(FitAlgorithm algorithm);
+const char* toString(RegistrationPhase phase);
+
+/// The phase named `text`; throws std::runtime_error for another name.
+RegistrationPhase parseRegistrationPhase(const std::string& text);
+
 /// One fit of one scan, for the report and the progress lines.
 struct RegistrationStep {
-  std::string algorithm;  ///< "incremental" or "simultaneous"
+  FitAlgorithm algorithm = FitAlgorithm::Incremental;
   int round = 0, iteration = 0;
   size_t scan = 0;
   uint64_t correspondences = 0;
@@ -69,7 +83,7 @@ struct RoundEnd {
 
 /// Where registration stands, enough to continue it exactly (checkpoints).
 struct RegistrationProgress {
-  std::string phase = "start";        ///< start, incremental, simultaneous or done
+  RegistrationPhase phase = RegistrationPhase::Start;
   size_t nextScan = 0;                ///< incremental: the next scan to register
   int round = 1;                      ///< simultaneous: the round in progress
   int iteration = 0;                  ///< simultaneous: iterations done in this round

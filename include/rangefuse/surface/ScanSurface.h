@@ -94,15 +94,6 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rul
 ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,
                             const Sensor& sensor, const Pose& pose);
 
-namespace internal {
-/// True when a spherical grid's columns close a full turn about the station's z axis.
-/// `turnColumns` (default: the grid's) is the column count of the whole turn, for a sample of
-/// a grid's columns whose empty columns separate runs of consecutive ones.
-bool wrapsAround(const RangeGrid& grid, int turnColumns = -1);
-/// True when most cells' triangles (r,c),(r,c+1),(r+1,c) face the sensor as wound.
-bool facesSensor(const RangeGrid& grid);
-}  // namespace internal
-
 /// Vertex normals as the mean of their triangles' normals, then `passes` rounds of
 /// averaging with the neighbouring vertices' normals.
 std::vector<Eigen::Vector3d> filteredVertexNormals(const TriangleMesh& mesh, int passes);
