@@ -38,9 +38,27 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
   return 0;
 }
 
+/// Where the run stood, in words: what resuming from the checkpoint will do.
+std::string progressText(const nlohmann::json& progress) {
+  const std::string stage = progress.value("stage", "");
+  if (stage == "field") return "finished field (resuming meshes it; 'rangefuse mesh' too)";
+  if (stage == "registration" && progress.contains("registration")) {
+    const nlohmann::json& r = progress["registration"];
+    return "registration, " + r.value("phase", std::string("?")) + " phase, next scan " +
+           std::to_string(r.value("next_scan", 0)) + ", round " +
+           std::to_string(r.value("round", 0)) + " (resuming continues it)";
+  }
+  if (stage == "tracking" && progress.contains("tracking"))
+    return "tracking, next frame " +
+           std::to_string(progress["tracking"].value("next_frame", size_t{0}) + 1) +
+           " (resuming continues the stream)";
+  return progress.dump();
+}
+
 void printInfo(const std::string& path, const io::CheckpointMeta& m) {
   std::printf("%s: rangefuse checkpoint, format version %d\n", path.c_str(), m.version);
-  std::printf("progress:   %s\n", m.progress.dump().c_str());
+  std::printf("progress:   %s\n", progressText(m.progress).c_str());
+  std::printf("state:      %s\n", m.progress.dump().c_str());
   std::printf("parameters: %s\n", m.parameters.dump().c_str());
   std::printf("scans:      %zu\n", m.scanNames.size());
   for (size_t i = 0; i < m.scanNames.size(); ++i) {

@@ -23,12 +23,36 @@ const char* kUsage =
     "  render  a PNG of the fused field: ray-cast surface or distance slice\n"
     "  scan    synthetic range scans of a mesh or built-in shape, with ground truth\n"
     "run 'rangefuse COMMAND --help' for the options of a command;\n"
-    "run under mpirun to spread the volume over ranks.\n";
+    "run under mpirun to spread the volume over ranks; 'rangefuse --version' says which build.\n";
+
+/// "rangefuse 0.1.0 (HDF5 1.10.8, Open MPI v4.1.4 ...)": what a bug report needs.
+std::string versionLine() {
+  unsigned major = 0, minor = 0, release = 0;
+  H5get_libversion(&major, &minor, &release);
+  char mpi[MPI_MAX_LIBRARY_VERSION_STRING];
+  int length = 0;
+  MPI_Get_library_version(mpi, &length);
+  std::string library(mpi, static_cast<size_t>(length));
+  library = library.substr(0, library.find_first_of(",\n"));
+  return std::string("rangefuse ") + RANGEFUSE_VERSION + " (HDF5 " + std::to_string(major) + "." +
+         std::to_string(minor) + "." + std::to_string(release) + ", " + library + ")";
+}
+
+/// True when any argument asks for the version (rangefuse --version, rangefuse fuse --version).
+bool asksVersion(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--version") == 0) return true;
+  return false;
+}
 
 int runCommand(int argc, char** argv, int rank) {
   using namespace rangefuse::cli;
   const std::string command = argc > 1 ? argv[1] : "";
   const MPI_Comm world = MPI_COMM_WORLD;
+  if (asksVersion(argc, argv)) {
+    if (rank == 0) std::cout << versionLine() << "\n";
+    return 0;
+  }
   if (command == "fuse") return fuseCommand(argc - 1, argv + 1, world);
   if (command == "mesh") return meshCommand(argc - 1, argv + 1, world);
   if (command == "info") return infoCommand(argc - 1, argv + 1, world);

@@ -6,6 +6,7 @@
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/StreamedField.h"
+#include "rangefuse/fuse/VoxelCheck.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -130,6 +131,7 @@ bool loadScans(const ReadSettings& read, MPI_Comm comm, Progress& progress, Load
   uint64_t triangles = 0;
   std::vector<std::string> empty;
   std::vector<size_t> mine;
+  Eigen::AlignedBox3d box;
   for (size_t i = 0; i < conf.scans.size(); ++i)
     if (scans.holds(i)) mine.push_back(i);
   if (!collectively(comm, [&] {
@@ -138,11 +140,16 @@ bool loadScans(const ReadSettings& read, MPI_Comm comm, Progress& progress, Load
           for (size_t k = 0; k < which.size(); ++k) {
             triangles += got[k]->surface.triangles.size();
             if (got[k]->surface.triangles.empty()) empty.push_back(conf.scans[which[k]].path);
+            for (const Eigen::Vector3d& p : got[k]->surface.points)
+              box.extend(scans.poses[which[k]].apply(p));
           }
         });
       }))
     return false;
   printWarnings(conf, progress);
+  const std::string slip = voxelUnitWarning(read.voxel, mpi::unitedBox(box, comm));
+  if (!slip.empty() && progress.isRoot())
+    std::fprintf(stderr, "rangefuse: warning: %s\n", slip.c_str());
   for (const auto& path : empty)
     std::fprintf(stderr, "rangefuse: warning: %s: no triangles survive the filters\n",
                  path.c_str());

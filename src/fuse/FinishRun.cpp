@@ -42,6 +42,16 @@ bool writePoses(const std::string& path, MPI_Comm comm, const LoadedScans& scans
   });
 }
 
+/// Every file the write stage leaves: the mesh (and an XDMF mesh's HDF5 data), the preview, the
+/// poses and the trajectory.
+std::string writtenFiles(const OutputSettings& o) {
+  std::string files = o.out;
+  for (const std::string& f : {io::isXdmfPath(o.out) ? io::xdmfDataPath(o.out) : std::string(),
+                               o.preview, o.posesOut, o.trajectoryOut})
+    if (!f.empty()) files += ", " + f;
+  return files;
+}
+
 }  // namespace
 
 std::function<void(const BrickLayout&)> storageWarner(const RunSettings& s, MPI_Comm comm) {
@@ -78,14 +88,13 @@ int finish(const RunSettings& s, MPI_Comm comm, Progress& progress, const Loaded
                              " vertices, halo bricks per rank " +
                              perRank(comm, ms.haloBricksReceived));
   if (!writeOutputs(o, s.mesh, comm, field, mesh) || !writePoses(o.posesOut, comm, scans)) return 1;
-  progress.stage("write", o.out + (o.preview.empty() ? "" : ", " + o.preview) +
-                              (o.posesOut.empty() ? "" : ", " + o.posesOut));
+  progress.stage("write", writtenFiles(o));
   progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));
   if (o.report.empty()) return 0;
-  return collectively(comm,
-                      [&] { writeRunReport(s, comm, progress, counters, field, mesh, steps); })
-             ? 0
-             : 1;
+  if (!collectively(comm, [&] { writeRunReport(s, comm, progress, counters, field, mesh, steps); }))
+    return 1;
+  progress.stage("report", o.report);
+  return 0;
 }
 
 }  // namespace rangefuse::internal

@@ -28,6 +28,11 @@ bool finite(double v) {
 
 std::string shortest(double v) {
   char text[64];
+  // Whole numbers as users write them (4000000, not 4e+06), up to 2^53.
+  if (v == std::floor(v) && std::fabs(v) < 9007199254740992.0) {
+    std::snprintf(text, sizeof text, "%.0f", v);
+    return text;
+  }
   for (int digits = 6; digits <= 17; ++digits) {
     std::snprintf(text, sizeof text, "%.*g", digits, v);
     if (std::strtod(text, nullptr) == v) break;
@@ -119,9 +124,14 @@ std::vector<FuseParameter> makeTable() {
        }},
       {"voxel", "voxel", R::Result, true, G::Field, "voxel size, in the scans' units",
        at(&FuseOptions::voxel),
-       must<double>(
-           &FuseOptions::voxel, [](double v) { return v > 0 && std::isfinite(v); },
-           "must be positive and finite (in the scans' units)")},
+       [](const FuseOptions& o) -> std::string {
+         if (o.voxel == 0)  // the default: not given
+           return "is required: the voxel size in the scans' units (e.g. --voxel 0.001 for 1 mm "
+                  "voxels on scans in metres)";
+         return o.voxel > 0 && std::isfinite(o.voxel) ? ""
+                                                      : "must be positive and finite (in the "
+                                                        "scans' units)";
+       }},
       {"method", "method", R::Result, false, G::Field, methodHelp(), at(&FuseOptions::method),
        nullptr},
       {"colour", "colour", R::Result, false, G::Field,

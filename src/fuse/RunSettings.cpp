@@ -13,6 +13,7 @@ ReadSettings readSettings(const FuseOptions& o) {
   r.limits = o.limits;
   r.surface = surfaceOptions(o.surface, o.mergeCells, o.voxel, o.method);
   r.eps = o.envelope * o.voxel;
+  r.voxel = o.voxel;
   r.bandCells = static_cast<uint64_t>(o.bandCells);
   r.keepBytes = static_cast<uint64_t>(o.scanMemory * 1024 * 1024);
   r.threads = o.threads;

@@ -14,6 +14,7 @@
 #include "rangefuse/fuse/ColourChoice.h"
 #include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/fuse/VoxelCheck.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -334,6 +335,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   if (!readShare(conf, share, std::max(1, o.threads), comm, progress, box, triangles, bytes, kinds,
                  sights ? &*sights : nullptr))
     return false;
+  const std::string slip = voxelUnitWarning(o.voxel, box);
+  if (!slip.empty() && me == 0) std::fprintf(stderr, "rangefuse: warning: %s\n", slip.c_str());
   ColourKind colour = ColourKind::none;
   std::string note;
   // Every rank holds the same kinds: the same choice, or the same error, everywhere.

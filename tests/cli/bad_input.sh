@@ -135,4 +135,17 @@ run_case eval-mix "either --mesh" eval --mesh a.ply --poses b.conf --voxel 1
 run_case render-slice "--slice" render --scans "$tmp/nothing.conf" --voxel 1 --slice w=3 --out "$tmp/render-slice.out.png"
 run_case render-scans "nothing.conf: cannot open" render --scans "$tmp/nothing.conf" --voxel 1 --out "$tmp/render-scans.out.png"
 
+# Unit slips: a missing voxel says it is missing; a voxel in the wrong units names the likely one.
+bunny=$(dirname "$0")/../data/bunny/bun.conf
+expect voxel-missing "--voxel is required: the voxel size in the scans' units" --scans "$bunny"
+expect voxel-tiny "--max-voxels" --scans "$bunny" --voxel 1e-6
+grep -q "warning: --voxel 1e-06 gives .* did you mean 0.001?" "$tmp/voxel-tiny.stderr" ||
+  { echo "FAIL voxel-tiny: no unit-slip warning"; cat "$tmp/voxel-tiny.stderr"; failures=$((failures + 1)); }
+if mpirun -np 2 "$bin" fuse --scans "$bunny" --voxel 1 --out "$tmp/slip.ply" >/dev/null 2>"$tmp/slip.stderr" &&
+  grep -q "warning: --voxel 1 gives 0.15.* voxels across the scans, .* did you mean 0.001?" "$tmp/slip.stderr"; then
+  echo "ok   voxel-slip: $(grep warning "$tmp/slip.stderr")"
+else
+  echo "FAIL voxel-slip: no unit-slip warning"; cat "$tmp/slip.stderr"; failures=$((failures + 1))
+fi
+
 [[ $failures -eq 0 ]] && echo "all bad-input cases passed" || { echo "$failures case(s) failed"; exit 1; }

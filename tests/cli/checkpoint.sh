@@ -22,7 +22,7 @@ done
 mpirun -np 3 "$bin" render --checkpoint "$tmp/run.h5" --width 64 --height 48 --out "$tmp/r.png" >/dev/null \
   && [[ $(head -c 8 "$tmp/r.png" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] \
   && echo "ok   render from the checkpoint on 3 ranks wrote a PNG" || fail "render --checkpoint"
-"$bin" info "$tmp/run.h5" | grep -q '"stage":"field"' && echo "ok   info shows the stage" || fail "info"
+"$bin" info "$tmp/run.h5" | grep -q '^progress: *finished field' && echo "ok   info says the field is finished" || fail "info"
 
 # A temporary left by a killed writer does not shadow the checkpoint.
 head -c 1000 "$tmp/run.h5" >"$tmp/run.h5.tmp"

@@ -24,6 +24,7 @@ struct ReadSettings {
   InputLimits limits;
   SurfaceOptions surface;  ///< merge target in the scans' units; sight maps for robust fusion
   double eps = 0;          ///< prism envelope, in the scans' units
+  double voxel = 0;        ///< the field's voxel, checked against the scans' extent
   uint64_t bandCells = 0;  ///< PTX scans of more cells are read in bands of columns
   uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes
   int threads = 1;         ///< threads of this rank
