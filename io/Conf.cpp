@@ -69,13 +69,27 @@ ConfFile readConf(const std::string& path) {
   return parseConf(path, in);
 }
 
+std::string nameFor(const std::string& name, const std::string& path, const std::string& confPath) {
+  namespace fs = std::filesystem;
+  if (fs::path(name).is_absolute()) return name;
+  // A PTX scan's name is FILE.ptx#K and its path the file's.
+  const size_t hash = name.rfind('#');
+  const std::string suffix =
+      hash != std::string::npos && path.find('#') == std::string::npos ? name.substr(hash) : "";
+  const fs::path target = fs::absolute(path).lexically_normal();
+  const fs::path dir = fs::absolute(fs::path(confPath).parent_path()).lexically_normal();
+  const fs::path relative = target.lexically_relative(dir);
+  return (relative.empty() ? target : relative).string() + suffix;
+}
+
 void writeConf(const std::string& path, const std::vector<ConfScan>& scans) {
   writeAtomically(path, [&](std::ostream& out) {
     out << std::setprecision(17);
     for (const auto& s : scans) {
       Eigen::Quaterniond q(Eigen::Matrix3d(s.pose.R.transpose()));
-      out << "bmesh " << s.name << ' ' << s.pose.t.x() << ' ' << s.pose.t.y() << ' ' << s.pose.t.z()
-          << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+      out << "bmesh " << (s.path.empty() ? s.name : nameFor(s.name, s.path, path)) << ' '
+          << s.pose.t.x() << ' ' << s.pose.t.y() << ' ' << s.pose.t.z() << ' ' << q.x() << ' '
+          << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
     }
   });
 }

@@ -61,7 +61,7 @@ int perturbCommand(int argc, char** argv, MPI_Comm comm) {
   add("rot-deg", po::value(&o.rotDeg)->default_value(5.0), "max angle per axis, degrees");
   add("trans-vox", po::value(&o.transVox)->default_value(5.0), "max shift per axis, voxels");
   add("seed", po::value(&o.seed)->default_value(1), "random seed");
-  add("out", po::value(&o.out), "perturbed .conf to write (scan names kept as written)");
+  add("out", po::value(&o.out), "perturbed .conf to write (scan names relative to its folder)");
   addSourceOptions(d, o.source);
   addLimitOptions(d, o.limits);
   po::variables_map vm;

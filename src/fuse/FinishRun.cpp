@@ -37,7 +37,7 @@ bool writePoses(const std::string& path, MPI_Comm comm, const LoadedScans& scans
     if (mpi::rank(comm) != 0) return;
     std::vector<io::ConfScan> out;
     for (size_t i = 0; i < scans.names.size(); ++i)
-      out.push_back({scans.names[i], "", scans.poses[i]});
+      out.push_back({scans.names[i], scans.paths[i], scans.poses[i]});
     io::writeConf(path, out);
   });
 }

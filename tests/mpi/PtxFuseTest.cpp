@@ -94,8 +94,10 @@ TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
   // A .conf may name the scans of a PTX file too.
   if (mpi::rank() == 0) {
     std::vector<io::ConfScan> named = conf;
-    for (size_t i = 0; i < named.size(); ++i)
+    for (size_t i = 0; i < named.size(); ++i) {
       named[i].name = "stations.ptx#" + std::to_string(i + 1);
+      named[i].path = dir + "/stations.ptx";
+    }
     io::writeConf(dir + "/named.conf", named);
   }
   MPI_Barrier(MPI_COMM_WORLD);

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/KdTree.h"
@@ -58,10 +60,23 @@ TEST(Conf, WriteThenReadGivesSameTransforms) {
   io::ConfFile back = io::readConf(dir.file("out.conf"));
   ASSERT_EQ(back.scans.size(), conf.scans.size());
   for (size_t i = 0; i < conf.scans.size(); ++i) {
-    EXPECT_EQ(back.scans[i].name, conf.scans[i].name);
+    // Written elsewhere, the names lead back to the same files.
+    EXPECT_EQ(std::filesystem::weakly_canonical(back.scans[i].path),
+              std::filesystem::weakly_canonical(conf.scans[i].path));
     EXPECT_LT((back.scans[i].pose.R - conf.scans[i].pose.R).norm(), 1e-14);
     EXPECT_EQ(back.scans[i].pose.t, conf.scans[i].pose.t);
   }
+}
+
+TEST(Conf, NamesAreRelativeToTheFolderOfTheConfThatHoldsThem) {
+  EXPECT_EQ(io::nameFor("bun000.ply", "/data/bunny/bun000.ply", "/data/bunny/out.conf"),
+            "bun000.ply");
+  EXPECT_EQ(io::nameFor("bun000.ply", "/data/bunny/bun000.ply", "/data/runs/p.conf"),
+            "../bunny/bun000.ply");
+  EXPECT_EQ(io::nameFor("../x/s.ptx#3", "/data/x/s.ptx", "/data/y/z/p.conf"), "../../x/s.ptx#3");
+  EXPECT_EQ(io::nameFor("depth/1.5.png", "/seq/depth/1.5.png", "/seq/poses.conf"),
+            "depth/1.5.png");
+  EXPECT_EQ(io::nameFor("/abs/a.ply", "/abs/a.ply", "/elsewhere/p.conf"), "/abs/a.ply");
 }
 
 TEST(Conf, MeshLinesWarnCameraIgnored) {

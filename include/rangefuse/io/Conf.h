@@ -43,7 +43,14 @@ ConfFile readConf(const std::string& path);
 /// The same from a stream; `path` heads every message and scan names resolve against its folder.
 ConfFile parseConf(const std::string& path, std::istream& in);
 
-/// Writes scans in the same convention, so that readConf gives back the same transforms.
+/// Writes scans in the same convention, so that readConf gives back the same transforms and
+/// files: a scan with a resolved path is named relative to the new file's folder (nameFor),
+/// one without keeps its name.
 void writeConf(const std::string& path, const std::vector<ConfScan>& scans);
+
+/// The name a .conf at `confPath` gives the scan `name` that resolves to `path`: `path`
+/// relative to that .conf's folder, with the name's scan suffix (`#K` of a PTX file) kept; an
+/// absolute name unchanged.
+std::string nameFor(const std::string& name, const std::string& path, const std::string& confPath);
 
 }  // namespace rangefuse::io
