@@ -219,6 +219,21 @@ std::optional<SequenceLayout> sequenceLayout(const std::string& dir) {
 
 std::string notASequence(const std::string& dir) {
   const fs::path d(dir);
+  // A folder of range grids with their scan list: the list is what --scans wants.
+  std::vector<std::string> lists;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(d, ec)) {
+    const std::string ext = entry.path().extension().string();
+    if (ext == ".conf" || ext == ".ptx") lists.push_back(entry.path().filename().string());
+  }
+  std::sort(lists.begin(), lists.end());
+  if (!lists.empty()) {
+    std::string names;
+    for (size_t k = 0; k < lists.size() && k < 3; ++k)
+      names += (k ? ", " : "") + (d / lists[k]).string();
+    return "is a folder, not a depth sequence; it holds " + names +
+           (lists.size() > 3 ? ", ..." : "") + ": give --scans one of those";
+  }
   for (const char* colour : {"color", "rgb", "image"})
     if (present(d / colour))
       return std::string("holds colour images (") + colour +

@@ -1,6 +1,7 @@
 #include "rangefuse/io/ScanFiles.h"
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "rangefuse/core/Error.h"
@@ -89,6 +90,26 @@ ConfFile readPtxList(const std::string& path, const InputLimits& limits) {
   return list;
 }
 
+/// Why a file given as a scan list is not one, from its first bytes; empty when it may be a
+/// .conf (text the .conf reader then judges).
+std::string notAScanList(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[16] = {};
+  in.read(head, sizeof head);
+  const std::string start(head, static_cast<size_t>(in.gcount()));
+  const auto begins = [&](const char* magic) { return start.rfind(magic, 0) == 0; };
+  const std::string expected =
+      ": --scans takes a scan list: a .conf with one line 'bmesh FILE tx ty tz qx qy qz qw' per "
+      "range-grid PLY file (0 0 0 0 0 0 1: as scanned), a .ptx file, or a depth-sequence folder";
+  if (begins("ply\n") || begins("ply\r")) return "is a PLY file, not a scan list" + expected;
+  if (begins("ASTM-E57"))
+    return "is an E57 file, which rangefuse does not read yet: export its scans as one PTX file, "
+           "or as range-grid PLY files with a .conf";
+  if (begins("\x89PNG")) return "is a PNG image, not a scan list" + expected;
+  if (begins("\x89HDF")) return "is an HDF5 file (a checkpoint? continue it with --resume)";
+  return "";
+}
+
 }  // namespace
 
 ConfFile readScanList(const std::string& path, const InputLimits& limits,
@@ -102,6 +123,7 @@ ConfFile readScanList(const std::string& path, const InputLimits& limits,
   if (format == "tum" || format == "redwood" || (format == "auto" && folder))
     return readSequence(path, format, source);
   if (format == "ptx" || (format == "auto" && isPtx(path))) return readPtxList(path, limits);
+  if (const std::string why = notAScanList(path); !why.empty()) throw InputError(path + ": " + why);
   ConfFile conf = readConf(path);
   locatePtxScans(conf, path, limits);
   locateDepthImages(conf, source);

@@ -21,7 +21,14 @@ bool parseOptions(int argc, char** argv, const po::options_description& desc, po
     const std::string path = vm["config"].as<std::string>();
     std::ifstream in(path);
     if (!in) throw po::error(path + ": cannot open config file");
-    po::store(po::parse_config_file(in, desc), vm);
+    try {
+      po::store(po::parse_config_file(in, desc), vm);
+    } catch (const po::error& e) {
+      // A scan list or another file given to --config is the usual cause: say which file.
+      throw po::error(path + ": " + e.what() +
+                      " (--config takes an .ini of options, 'key = value' a line; a scan list "
+                      "goes to --scans)");
+    }
   }
   po::notify(vm);
   return true;

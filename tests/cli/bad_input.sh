@@ -148,4 +148,17 @@ else
   echo "FAIL voxel-slip: no unit-slip warning"; cat "$tmp/slip.stderr"; failures=$((failures + 1))
 fi
 
+# Inputs given to the wrong option: recognised by their content, the message says what --scans
+# or --config expects.
+expect scans-ply "bun000.ply: is a PLY file, not a scan list: --scans takes a scan list" \
+  --scans "$(dirname "$bunny")/bun000.ply" --voxel 0.001
+expect scans-folder "holds $(dirname "$bunny")/bun.conf: give --scans one of those" \
+  --scans "$(dirname "$bunny")" --voxel 0.001
+printf 'ASTM-E57\0\0\0\0\0\0\0\0' >"$tmp/station.e57"
+expect scans-e57 "station.e57: is an E57 file, which rangefuse does not read yet" \
+  --scans "$tmp/station.e57" --voxel 0.001
+expect config-conf "bun.conf: the options configuration file contains an invalid line" --config "$bunny"
+grep -q "a scan list goes to --scans" "$tmp/config-conf.stderr" ||
+  { echo "FAIL config-conf: no hint"; failures=$((failures + 1)); }
+
 [[ $failures -eq 0 ]] && echo "all bad-input cases passed" || { echo "$failures case(s) failed"; exit 1; }
