@@ -155,4 +155,11 @@ RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
   return readRangeGridPly(scan.path, limits);
 }
 
+SensorKind sensorKindOf(const std::string& path) {
+  if (isPtx(path)) return SensorKind::station;
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png" ? SensorKind::camera : SensorKind::grid;
+}
+
 }  // namespace rangefuse::io

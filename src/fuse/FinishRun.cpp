@@ -1,5 +1,6 @@
 #include "FinishRun.h"
 
+#include "PreviewView.h"
 #include "RunLines.h"
 #include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/OutputChecks.h"
@@ -11,7 +12,7 @@
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
-#include "rangefuse/render/Render.h"
+#include "rangefuse/render/MeshPicture.h"
 
 namespace rangefuse::internal {
 namespace {
@@ -19,13 +20,13 @@ namespace {
 using mpi::collectively;
 
 bool writeOutputs(const OutputSettings& o, const MeshSettings& m, MPI_Comm comm,
-                  const FusedField& field, MeshPart& mesh) {
+                  const LoadedScans& scans, MeshPart& mesh) {
   if (m.normals) addPartNormals(mesh, comm);
   const bool written = io::isXdmfPath(o.out) ? io::writeMeshPartXdmf(o.out, mesh, comm)
                                              : io::writeMeshPartPly(o.out, mesh, comm);
   if (!written) return false;
   if (o.preview.empty()) return true;
-  const Image picture = renderDistributed(*field.store, m.minWeight, ViewSettings{}, 0, comm);
+  const Image picture = pictureOfMesh(mesh, previewView(o.previewView, scans, mesh, comm), 0, comm);
   return collectively(comm, [&] {
     if (mpi::rank(comm) == 0) io::writePng(o.preview, picture);
   });
@@ -87,7 +88,7 @@ int finish(const RunSettings& s, MPI_Comm comm, Progress& progress, const Loaded
                              std::to_string(mesh.totalVertices) +
                              " vertices, halo bricks per rank " +
                              perRank(comm, ms.haloBricksReceived));
-  if (!writeOutputs(o, s.mesh, comm, field, mesh) || !writePoses(o.posesOut, comm, scans)) return 1;
+  if (!writeOutputs(o, s.mesh, comm, scans, mesh) || !writePoses(o.posesOut, comm, scans)) return 1;
   progress.stage("write", writtenFiles(o));
   progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));
   if (o.report.empty()) return 0;

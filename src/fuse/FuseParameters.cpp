@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/render/Render.h"
 
 namespace rangefuse {
 namespace {
@@ -251,8 +252,25 @@ std::vector<FuseParameter> makeTable() {
        at(&FuseOptions::out), nullptr},
       {"report", "", R::No, false, G::Output,
        "write a JSON run report (stage times, counts, memory)", at(&FuseOptions::report), nullptr},
-      {"preview", "", R::No, false, G::Output, "write a ray-cast PNG picture of the fused field",
+      {"preview", "", R::No, false, G::Output,
+       "write a PNG picture of the mesh: around an object, from the first sensor inside a scene "
+       "(stations, depth frames)",
        at(&FuseOptions::preview), nullptr},
+      {"preview-view", "", R::No, false, G::Output,
+       "AZIMUTH,ELEVATION in degrees of the --preview (azimuth about +y, 0 = from +z; default: "
+       "0,20, or the first sensor's view)",
+       at(&FuseOptions::previewView),
+       [](const FuseOptions& o) -> std::string {
+         if (o.previewView.empty()) return "";
+         if (o.preview.empty()) return "needs --preview FILE.png";
+         ViewSettings v;
+         try {
+           parseView(o.previewView, v);
+         } catch (const std::exception& e) {
+           return "must be AZIMUTH,ELEVATION in degrees, not '" + o.previewView + "'";
+         }
+         return "";
+       }},
       {"normals", "", R::No, false, G::Output, "write vertex normals", at(&FuseOptions::normals),
        nullptr},
       {"register", "register", R::Result, false, G::Registration,

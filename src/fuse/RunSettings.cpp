@@ -69,6 +69,7 @@ OutputSettings outputSettings(const FuseOptions& o) {
   out.out = o.out;
   out.report = o.report;
   out.preview = o.preview;
+  out.previewView = o.previewView;
   out.posesOut = o.posesOut;
   out.trajectoryOut = o.trajectoryOut;
   out.checkpoint = o.checkpoint;

@@ -38,12 +38,18 @@ Image renderDistributed(const BrickStore& store, float minWeight, const ViewSett
     const int64_t i = layout.find(mortonEncode(b));
     return i >= 0 && layout.ownerOf(i) == me;
   };
-  const std::vector<PixelHit> hits = castRays(near, near.bounds(), view, mine);
+  // The same frame on every rank: the surface each holds, united.
+  const Eigen::AlignedBox3d extent =
+      view.camera ? Eigen::AlignedBox3d()
+                  : mpi::unitedBox(surfaceExtent(near, viewAxes(view)), comm);
+  const std::vector<PixelHit> hits = castRays(near, extent, view, mine);
   const std::vector<int> winner = nearestRanks(hits, comm);
   Image img(view.width, view.height, 0);
   for (size_t i = 0; i < hits.size(); ++i)
     for (int k = 0; k < 3; ++k)
-      img.rgb[3 * i + k] = winner[i] == me ? hits[i].rgb[k] : (winner[i] < 0 && me == root) * 255;
+      img.rgb[3 * i + k] = winner[i] == me               ? hits[i].rgb[k]
+                           : winner[i] < 0 && me == root ? kBackground[k]
+                                                         : 0;
   // Each pixel is non-zero on at most one rank, so a sum composites without loss.
   Image out(view.width, view.height, 0);
   MPI_Reduce(img.rgb.data(), out.rgb.data(), static_cast<int>(img.rgb.size()), MPI_UINT8_T, MPI_SUM,

@@ -6,25 +6,6 @@
 namespace rangefuse {
 namespace {
 
-struct Camera {
-  Eigen::Vector3d toCamera, right, up, centre;
-  double radius;
-};
-
-Camera makeCamera(const Eigen::AlignedBox3d& box, const ViewSettings& view) {
-  const double az = view.azimuthDeg * M_PI / 180, el = view.elevationDeg * M_PI / 180;
-  Camera c;
-  c.toCamera =
-      Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-  const Eigen::Vector3d worldUp =
-      std::abs(c.toCamera.y()) > 0.99 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
-  c.right = worldUp.cross(c.toCamera).normalized();
-  c.up = c.toCamera.cross(c.right);
-  c.centre = box.center();
-  c.radius = 0.5 * box.diagonal().norm();
-  return c;
-}
-
 /// Where the ray leaves the lattice cell block of brick b (cells whose low corner is in b).
 double brickExit(const SparseField& f, const BrickCoord& b, const Eigen::Vector3d& o,
                  const Eigen::Vector3d& d) {
@@ -103,33 +84,42 @@ std::vector<PixelHit> castFromCamera(const SparseField& field, const ViewSetting
 
 }  // namespace
 
-std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
+std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& extent,
                                const ViewSettings& view, const BrickFilter& counts) {
   std::vector<PixelHit> hits(static_cast<size_t>(view.width) * view.height);
-  if (bounds.isEmpty()) return hits;
   if (view.camera) return castFromCamera(field, view, counts);
-  const Camera cam = makeCamera(bounds, view);
-  const double aspect = double(view.width) / view.height;
+  if (extent.isEmpty()) return hits;
+  const ViewFrame frame(view, extent);
+  // Rays start two voxels in front of the surface and end two voxels behind it.
+  const double ahead = 2 * field.grid().voxel;
+  const Eigen::Vector3d d = -frame.axes.row(2).transpose();
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) {
-      const double u = ((x + 0.5) / view.width * 2 - 1) * aspect * cam.radius;
-      const double v = (1 - (y + 0.5) / view.height * 2) * cam.radius;
-      const Eigen::Vector3d o =
-          cam.centre + 1.5 * cam.radius * cam.toCamera + u * cam.right + v * cam.up;
-      const double t = firstCrossing(field, o, -cam.toCamera, 3 * cam.radius, counts);
-      if (!std::isnan(t))
-        hits[static_cast<size_t>(y) * view.width + x] = shadedHit(field, o, -cam.toCamera, t);
+      const Eigen::Vector3d o = frame.rayOrigin(x + 0.5, y + 0.5, ahead);
+      const double t = firstCrossing(field, o, d, extent.sizes().z() + 2 * ahead, counts);
+      if (!std::isnan(t)) hits[static_cast<size_t>(y) * view.width + x] = shadedHit(field, o, d, t);
     }
   return hits;
 }
 
+Eigen::AlignedBox3d surfaceExtent(const SparseField& field, const Eigen::Matrix3d& axes) {
+  Eigen::AlignedBox3d box;
+  const double near = field.grid().voxel;
+  field.forEachVoxel([&](const Eigen::Vector3d& centre, const VoxelSums& s) {
+    if (std::abs(s.wd / s.w) <= near) box.extend(axes * centre);
+  });
+  return box;
+}
+
 Image renderField(const SparseField& field, const ViewSettings& view) {
-  const std::vector<PixelHit> hits = castRays(field, field.bounds(), view, nullptr);
-  Image img(view.width, view.height, 255);
+  const std::vector<PixelHit> hits =
+      castRays(field, surfaceExtent(field, viewAxes(view)), view, nullptr);
+  Image img(view.width, view.height, 0);
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) {
       const PixelHit& h = hits[static_cast<size_t>(y) * view.width + x];
-      if (!std::isnan(h.t)) img.set(x, y, h.rgb[0], h.rgb[1], h.rgb[2]);
+      const std::array<uint8_t, 3>& c = std::isnan(h.t) ? kBackground : h.rgb;
+      img.set(x, y, c[0], c[1], c[2]);
     }
   return img;
 }

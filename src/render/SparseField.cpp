@@ -124,6 +124,17 @@ Eigen::AlignedBox3d SparseField::bounds() const {
   return brickBounds(grid_, codes);
 }
 
+void SparseField::forEachVoxel(
+    const std::function<void(const Eigen::Vector3d&, const VoxelSums&)>& f) const {
+  const int B = grid_.brick;
+  for (const auto& [code, sums] : bricks_) {
+    const VoxelIndex lo = mortonDecode(code) * B;
+    for (size_t i = 0; i < sums.size(); ++i)
+      if (sums[i].w > minWeight_)
+        f(grid_.centre(lo + VoxelIndex(int(i % B), int(i / B % B), int(i / B / B))), sums[i]);
+  }
+}
+
 const VoxelSums* SparseField::voxel(const VoxelIndex& v) const {
   if ((v.array() < 0).any()) return nullptr;
   const int B = grid_.brick;

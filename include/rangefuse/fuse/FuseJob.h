@@ -27,6 +27,7 @@ struct FuseOptions {
   std::string out;               ///< mesh .ply
   std::string report;            ///< run report .json (optional)
   std::string preview;           ///< rendered picture .png (optional)
+  std::string previewView;       ///< "AZIMUTH,ELEVATION" of --preview ("": chosen by the scans)
   FieldMethod method = FieldMethod::Prism;
   std::string colour = "auto";  ///< auto, rgb, intensity or none
   double voxel = 0;             ///< in the scans' units

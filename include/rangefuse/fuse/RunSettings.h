@@ -83,6 +83,7 @@ struct MeshSettings {
 /// Where the run writes, and what it resumes from.
 struct OutputSettings {
   std::string out, report, preview, posesOut, trajectoryOut;
+  std::string previewView;     ///< "AZIMUTH,ELEVATION", or "" for the scans' own choice
   std::string checkpoint;      ///< HDF5 checkpoint to write (empty: none)
   double checkpointEvery = 0;  ///< seconds between registration checkpoints
   std::string resume;          ///< checkpoint the run continues from (empty: none)

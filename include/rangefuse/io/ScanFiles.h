@@ -31,6 +31,11 @@ ConfFile readScanList(const std::string& path, const InputLimits& limits = {},
 /// per band of columns (ColumnBands.h), in order, sharing the scan's name, file and pose.
 ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells);
 
+/// What took a listed scan, told by its file: a scanner station (PTX), a depth camera (a depth
+/// image) or a range grid seen from outside (PLY).
+enum class SensorKind { grid, station, camera };
+SensorKind sensorKindOf(const std::string& path);
+
 /// The grid of one listed scan, in its own frame (not of a band: that is read by columns).
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits = {});
 

@@ -26,6 +26,30 @@ struct ViewSettings {
   double focal = 0, farthest = 0;
 };
 
+/// What a picture shows where no surface is: a dark slate that a pale surface, and a hole in
+/// it, stand out against.
+inline constexpr std::array<uint8_t, 3> kBackground{44, 48, 58};
+
+/// An orthographic view's axes as rows: right, up, and toward the camera.
+Eigen::Matrix3d viewAxes(const ViewSettings& view);
+
+/// Where an orthographic picture looks. `extent` is what it frames, in view coordinates (the
+/// rows of viewAxes); the picture fills with it, keeping a small margin, whatever its shape.
+struct ViewFrame {
+  Eigen::Matrix3d axes;
+  Eigen::AlignedBox3d extent;
+  double pixel = 0;  ///< world size of a pixel
+  int width = 0, height = 0;
+
+  ViewFrame(const ViewSettings& view, const Eigen::AlignedBox3d& extent);
+  /// Continuous pixel coordinates of p (x right, y down; pixel centres at k + 0.5) and its
+  /// depth, the distance behind the extent's near face.
+  Eigen::Vector3d project(const Eigen::Vector3d& p) const;
+  /// The world point on the extent's near face, moved `ahead` toward the camera, that pixel
+  /// position (x, y) sees.
+  Eigen::Vector3d rayOrigin(double x, double y, double ahead) const;
+};
+
 /// Which bricks a caller takes crossings from (null: all).
 using BrickFilter = std::function<bool(const BrickCoord&)>;
 
@@ -35,13 +59,19 @@ struct PixelHit {
   std::array<uint8_t, 3> rgb{};
 };
 
-/// One ray per pixel of a view framing `bounds`, cast through `field` to the first
-/// outside-to-inside crossing whose later sample lies in a brick `counts` accepts.
-std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& bounds,
+/// One ray per pixel of a view framing `extent` (view coordinates, see ViewFrame), cast through
+/// `field` to the first outside-to-inside crossing whose later sample lies in a brick `counts`
+/// accepts.
+std::vector<PixelHit> castRays(const SparseField& field, const Eigen::AlignedBox3d& extent,
                                const ViewSettings& view, const BrickFilter& counts);
 
+/// View-coordinate box of the field's observed voxels within one voxel of the surface: what an
+/// orthographic picture of it frames.
+Eigen::AlignedBox3d surfaceExtent(const SparseField& field, const Eigen::Matrix3d& axes);
+
 /// Casts a ray per pixel to the first outside-to-inside zero crossing of the trilinear
-/// distance, shaded by the stored gradient at the nearest voxel. Empty bricks are skipped.
+/// distance, shaded by the stored gradient at the nearest voxel. Empty bricks are skipped. The
+/// orbit view frames the surface.
 Image renderField(const SparseField& field, const ViewSettings& view);
 
 /// One lattice plane across `axis` (0, 1, 2) at world coordinate `value`: grey by |d| (black

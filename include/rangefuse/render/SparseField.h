@@ -35,6 +35,8 @@ class SparseField {
   Eigen::AlignedBox3d bounds() const;
   bool hasBrick(const BrickCoord& b) const { return bricks_.count(mortonEncode(b)) > 0; }
 
+  /// Calls f(centre, sums) for every observed voxel (weight above minWeight), brick by brick.
+  void forEachVoxel(const std::function<void(const Eigen::Vector3d&, const VoxelSums&)>& f) const;
   /// Voxel sums, or nullptr where unobserved (no brick, or weight not above minWeight).
   const VoxelSums* voxel(const VoxelIndex& v) const;
   /// Trilinear distance at p; false when a surrounding voxel is unobserved.
