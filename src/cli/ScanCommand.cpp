@@ -80,6 +80,31 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
   return j;
 }
 
+/// Throws InputError when the scans' depths do not fit 16-bit PNG counts of `unit` world units:
+/// the farthest past 65535 counts, or a voxel under four counts (the depth steps would show),
+/// with the --scale that would fit.
+void checkDepthsFit(const ScanOptions& o, const SyntheticSet& set, double unit) {
+  double farthest = 0;
+  for (const auto& s : set.scans)
+    for (const Eigen::Vector3d& p : s.grid.points) farthest = std::max(farthest, -p.z());
+  const std::string format = "scan --format " + o.format + ": ";
+  if (farthest / unit > 65535) {
+    const double fit = std::pow(10, -std::ceil(std::log10(farthest / (0.9 * 65535 * unit))));
+    std::ostringstream m;
+    m << format << "depths reach " << farthest << " units, but its 16-bit PNGs hold "
+      << 65535 * unit << " (" << 1 / unit
+      << " counts a unit, the format's metres): scale the scene (--scale " << o.scale * fit
+      << ") and the voxel with it (--voxel " << o.settings.voxel * fit << ")";
+    throw InputError(m.str());
+  }
+  if (o.settings.voxel < 4 * unit) {
+    std::ostringstream m;
+    m << format << "--voxel " << o.settings.voxel << " is under four of its depth steps (" << unit
+      << " units): scale the scene up and the voxel with it";
+    throw InputError(m.str());
+  }
+}
+
 /// Writes the scans as a TUM or Redwood depth sequence in `dir`, and perturbed.conf beside it
 /// (its names are the frames' images, so it reads back as a scan list).
 void writeSequence(const ScanOptions& o, const SyntheticSet& set, const std::string& dir) {
@@ -164,6 +189,8 @@ int run(const ScanOptions& given) {
   TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh, o.limits);
   for (Eigen::Vector3d& v : mesh.vertices) v *= o.scale;
   const SyntheticSet set = scanMesh(mesh, o.settings);
+  if (o.format == "tum" || o.format == "redwood")
+    checkDepthsFit(o, set, o.format == "tum" ? 1.0 / 5000 : 1e-3);
   std::filesystem::create_directories(o.out);
   const auto file = [&](const std::string& name) {
     return (std::filesystem::path(o.out) / name).string();

@@ -130,6 +130,14 @@ run_case scan-mesh "nothing.ply: cannot open" scan --mesh "$tmp/nothing.ply" --v
 run_case scan-views "--views" scan --shape sphere --views 0 --voxel 1 --out "$tmp/scan-views.out.dir"
 run_case scan-noise "--noise" scan --shape sphere --noise -1 --voxel 1 --out "$tmp/scan-noise.out.dir"
 run_case scan-shape "--shape" scan --shape cube --voxel 1 --out "$tmp/scan-shape.out.dir"
+# Depth frames whose depths overflow 16-bit PNG counts, or whose depth steps are coarser than a
+# quarter voxel: refused before a folder is made, with the scale that fits.
+run_case scan-tum-overflow "16-bit PNGs hold 13.107 .*--scale 0.01) and the voxel with it (--voxel 0.01)" \
+  scan --shape sphere --views 2 --width 40 --height 30 --voxel 1 --format tum \
+  --out "$tmp/scan-tum-overflow.out.dir"
+run_case scan-depth-steps "under four of its depth steps" scan --shape sphere --views 2 \
+  --width 40 --height 30 --voxel 0.001 --scale 0.001 --format redwood \
+  --out "$tmp/scan-depth-steps.out.dir"
 run_case eval-missing "gone.ply: cannot open" eval --mesh "$tmp/gone.ply" --reference "$tmp/gone.ply" --voxel 1
 run_case eval-mix "either --mesh" eval --mesh a.ply --poses b.conf --voxel 1
 run_case render-slice "--slice" render --scans "$tmp/nothing.conf" --voxel 1 --slice w=3 --out "$tmp/render-slice.out.png"
