@@ -16,6 +16,29 @@ namespace po = boost::program_options;
 namespace rangefuse::cli {
 namespace {
 
+/// Parses a checkpoint command's options, the checkpoint also as the first positional argument:
+/// -1 to run, else the exit code (0 after --help, 2 on a bad command line, on every rank).
+int parseWithCheckpoint(int argc, char** argv, const po::options_description& d,
+                        const std::string& example, const std::string& command, MPI_Comm comm) {
+  po::positional_options_description pos;
+  pos.add("checkpoint", 1);
+  po::variables_map vm;
+  std::string error;
+  bool help = false;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(d).positional(pos).run(), vm);
+    help = vm.count("help") > 0;
+    if (!help) po::notify(vm);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!mpi::agree(error.empty(), error + " (see 'rangefuse " + command + " --help')", comm))
+    return 2;
+  if (!help) return -1;
+  if (mpi::rank(comm) == 0) std::cout << d << "\nExample:\n  " << example << "\n";
+  return 0;
+}
+
 int meshFromCheckpoint(const std::string& path, const std::string& out, bool normals,
                        MPI_Comm comm) {
   io::CheckpointMeta meta;
@@ -84,34 +107,24 @@ int meshCommand(int argc, char** argv, MPI_Comm comm) {
   add("help,h", "show this help");
   add("checkpoint", po::value(&path), "HDF5 checkpoint (also the first positional argument)");
   add("out", po::value(&out), "mesh .ply to write");
-  add("normals", po::value(&normals)->default_value(true), "write vertex normals");
-  po::positional_options_description pos;
-  pos.add("checkpoint", 1);
-  po::variables_map vm;
-  std::string error;
-  bool run = false;
-  try {
-    po::store(po::command_line_parser(argc, argv).options(d).positional(pos).run(), vm);
-    if (vm.count("help")) {
-      if (mpi::rank(comm) == 0)
-        std::cout << d << "\nExample:\n  mpirun -np 2 rangefuse mesh run.h5 --out mesh.ply\n";
-    } else {
-      po::notify(vm);
-      run = true;
-    }
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  if (!mpi::agree(error.empty(), error + " (see 'rangefuse mesh --help')", comm)) return 2;
-  return run ? meshFromCheckpoint(path, out, normals, comm) : 0;
+  add("normals", po::value(&normals)->default_value(true, "true"),
+      "write vertex normals (true or false)");
+  const int parsed = parseWithCheckpoint(
+      argc, argv, d, "mpirun -np 2 rangefuse mesh run.h5 --out mesh.ply", "mesh", comm);
+  return parsed >= 0 ? parsed : meshFromCheckpoint(path, out, normals, comm);
 }
 
 int infoCommand(int argc, char** argv, MPI_Comm comm) {
-  if (argc != 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
-    if (mpi::rank(comm) == 0) std::cout << "usage: rangefuse info FILE.h5\n";
-    return argc == 2 ? 0 : 2;
-  }
-  const std::string path = argv[1];
+  std::string path;
+  po::options_description d(
+      "rangefuse info: what a checkpoint holds: where the run stood, its parameters, scans and "
+      "poses, the field's lattice");
+  d.add_options()("help,h", "show this help")(
+      "checkpoint", po::value(&path)->required(),
+      "HDF5 checkpoint (also the first positional argument)");
+  const int parsed =
+      parseWithCheckpoint(argc, argv, d, "rangefuse info out/bunny.h5", "info", comm);
+  if (parsed >= 0) return parsed;
   io::CheckpointMeta meta;
   if (!mpi::collectively(comm, [&] { meta = io::readCheckpointMeta(path, comm); })) return 1;
   if (mpi::rank(comm) == 0) printInfo(path, meta);

@@ -23,20 +23,23 @@ int parseCollectively(int argc, char** argv,
                       boost::program_options::variables_map& vm, const std::string& example,
                       const std::string& command, MPI_Comm comm);
 
-/// Adds the options that define the fused field (scans, voxel, envelope, ...) and
-/// --help/--config: shared by fuse and render.
-void addFieldOptions(boost::program_options::options_description& desc, FuseOptions& options);
+/// Adds --help/--config, the options that define the fused field (scans, voxel, envelope, ...)
+/// in fuse's sections, and the command's `own` section after the input: for render.
+void addFieldOptions(boost::program_options::options_description& desc, FuseOptions& options,
+                     const boost::program_options::options_description& own);
 
 /// Every option of `rangefuse fuse`, bound to `options`.
 boost::program_options::options_description fuseOptions(FuseOptions& options);
 
-/// Adds --max-elements, --max-grid-cells and --max-voxels (memory bounds on input).
-void addLimitOptions(boost::program_options::options_description& desc, InputLimits& limits);
+/// Adds --max-elements, --max-grid-cells and, for commands that build a field, --max-voxels
+/// (memory bounds on input).
+void addLimitOptions(boost::program_options::options_description& desc, InputLimits& limits,
+                     bool fields);
 
-/// --scan-format, --intrinsics and --depth-max, for commands that read scan lists (fuse has
-/// them in its option table).
+/// --scan-format, --intrinsics, --depth-max and --depth-scale, for commands that read scan lists
+/// (fuse has them in its option table); their help says they apply to `reads` (e.g. "--seen").
 void addSourceOptions(boost::program_options::options_description& desc,
-                      io::ScanSourceOptions& source);
+                      io::ScanSourceOptions& source, const std::string& reads);
 
 /// Runs fn on rank 0 only; every rank returns its exit code, or 1 if it threw (the error
 /// printed once).

@@ -341,28 +341,37 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
   EvalOptions o;
   po::options_description d(
       "rangefuse eval: a mesh against a reference mesh, or poses against reference poses");
-  d.add_options()("help,h", "show this help")("mesh", po::value(&o.mesh), "mesh to judge (PLY)")(
+  d.add_options()("help,h", "show this help");
+  po::options_description meshes("Meshes");
+  meshes.add_options()("mesh", po::value(&o.mesh), "mesh to judge (PLY)")(
       "reference", po::value(&o.reference),
       "reference mesh (PLY), or with --trajectory the true trajectory")(
-      "trajectory", po::value(&o.trajectory),
-      "estimated camera trajectory (TUM text, or .log): ATE and RPE against --reference")(
+      "voxel", po::value(&o.voxel), "voxel size (model units): results are also given in voxels")(
       "seen", po::value(&o.seen),
       "scan list (.conf, .ptx or sequence folder, with true poses): completeness and recall "
       "count only the reference surface within about --tau of its triangulated scans, the part "
-      "the scanners saw")("poses", po::value(&o.poses), "estimated poses (.conf)")(
+      "the scanners saw")("tau", po::value(&o.tau)->default_value(1.0),
+                          "F-score threshold, voxels")(
+      "spurious", po::value(&o.spurious)->default_value(3.0), "spurious-area distance, voxels")(
+      "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh");
+  po::options_description poses("Poses and trajectories");
+  poses.add_options()("poses", po::value(&o.poses), "estimated poses (.conf)")(
       "reference-poses", po::value(&o.referencePoses),
       "reference poses (.conf); its scan files give the points")(
-      "voxel", po::value(&o.voxel), "voxel size (model units): results are also given in voxels")(
-      "tau", po::value(&o.tau)->default_value(1.0), "F-score threshold, voxels")(
-      "spurious", po::value(&o.spurious)->default_value(3.0), "spurious-area distance, voxels")(
-      "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh")(
       "consistency", po::bool_switch(&o.consistency),
       "with --poses alone: how well the scans agree with one another (point-to-plane RMS to "
       "the nearest vertex of each other scan, no field involved)")(
-      "json", po::bool_switch(&o.json), "print one JSON object instead of the table")(
+      "trajectory", po::value(&o.trajectory),
+      "estimated camera trajectory (TUM text, or .log): ATE and RPE against --reference");
+  po::options_description output("Output");
+  output.add_options()("json", po::bool_switch(&o.json),
+                       "print one JSON object instead of the table")(
       "json-out", po::value(&o.jsonOut), "also write the JSON object to this file");
-  addLimitOptions(d, o.limits);
-  addSourceOptions(d, o.source);
+  po::options_description reading("Reading scan lists");
+  addSourceOptions(reading, o.source, "--seen, --poses and --reference-poses");
+  po::options_description limits("Input limits");
+  addLimitOptions(limits, o.limits, false);
+  d.add(meshes).add(poses).add(output).add(reading).add(limits);
   po::variables_map vm;
   const int parsed = parseCollectively(argc, argv, d, vm,
                                        "rangefuse eval --mesh out/bunny.ply --reference "

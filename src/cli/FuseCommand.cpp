@@ -25,63 +25,77 @@ void addParameter(po::options_description_easy_init& add, const FuseParameter& p
   add(p.option.c_str(), value, p.help.c_str());
 }
 
-}  // namespace
-
-void addFieldOptions(po::options_description& d, FuseOptions& o) {
-  auto add = d.add_options();
-  add("help,h", "show this help");
-  add("config", po::value<std::string>(),
-      "read options from an .ini file (key = value, same names)");
-  for (const FuseParameter& p : fuseParameters())
-    if (buildsField(p.group)) addParameter(add, p, o);
-  addLimitOptions(d, o.limits);
-}
-
-void addLimitOptions(po::options_description& d, InputLimits& limits) {
-  auto add = d.add_options();
-  add("max-elements", po::value(&limits.maxElements)->default_value(limits.maxElements),
-      "refuse a PLY element (vertices, faces, cells) or checkpoint metadata larger than this");
-  add("max-grid-cells", po::value(&limits.maxGridCells)->default_value(limits.maxGridCells),
-      "refuse a range grid with more num_cols x num_rows cells than this");
-  add("max-voxels", po::value(&limits.maxVoxels)->default_value(limits.maxVoxels),
-      "refuse a field that needs more voxels than this, all ranks together (~40 bytes each)");
-}
-
-void addSourceOptions(po::options_description& d, io::ScanSourceOptions& source) {
-  // The help is fuse's own, so that every command describes these options alike.
-  auto help = [](const std::string& option) {
-    for (const FuseParameter& p : fuseParameters())
-      if (p.option == option) return p.help;
-    return std::string();
-  };
-  static const std::string format = help("scan-format"), intrinsics = help("intrinsics"),
-                           depthMax = help("depth-max"), depthScale = help("depth-scale");
-  auto add = d.add_options();
-  add("scan-format", po::value(&source.format)->default_value(source.format), format.c_str());
-  add("intrinsics", po::value(&source.intrinsics), intrinsics.c_str());
-  add("depth-max", po::value(&source.maxDepth)->default_value(source.maxDepth), depthMax.c_str());
-  add("depth-scale", po::value(&source.depthScale)->default_value(source.depthScale),
-      depthScale.c_str());
-}
-
-po::options_description fuseOptions(FuseOptions& o) {
-  po::options_description d("rangefuse fuse: fuse range scans into one mesh");
+/// --help and --config, then one section for each of `groups` (in that order) holding the
+/// table's options of that group, `own` (if any) after the input, and the input limits last.
+void addSections(po::options_description& d, FuseOptions& o,
+                 std::initializer_list<OptionGroup> groups,
+                 const po::options_description* own = nullptr) {
   d.add_options()("help,h", "show this help")(
       "config", po::value<std::string>(),
       "read options from an .ini file (key = value, same names)");
-  // One section a group, in the table's group order.
-  for (OptionGroup g :
-       {OptionGroup::Input, OptionGroup::Field, OptionGroup::Output, OptionGroup::Registration,
-        OptionGroup::Tracking, OptionGroup::Checkpoint, OptionGroup::Resources}) {
+  for (OptionGroup g : groups) {
     po::options_description section(groupTitle(g));
     auto add = section.add_options();
     for (const FuseParameter& p : fuseParameters())
       if (p.group == g) addParameter(add, p, o);
     d.add(section);
+    if (g == OptionGroup::Input && own) d.add(*own);
   }
   po::options_description limits("Input limits");
-  addLimitOptions(limits, o.limits);
+  addLimitOptions(limits, o.limits, true);
   d.add(limits);
+}
+
+/// Fuse's help of an option, with `--scans` replaced by what the command reads.
+std::string helpOf(const std::string& option, const std::string& reads) {
+  for (const FuseParameter& p : fuseParameters())
+    if (p.option == option) {
+      std::string text = p.help;
+      const size_t at = text.find("--scans");
+      if (at != std::string::npos) text.replace(at, 7, reads);
+      return text;
+    }
+  return {};
+}
+
+}  // namespace
+
+void addFieldOptions(po::options_description& d, FuseOptions& o,
+                     const po::options_description& own) {
+  addSections(d, o, {OptionGroup::Input, OptionGroup::Field, OptionGroup::Resources}, &own);
+}
+
+void addLimitOptions(po::options_description& d, InputLimits& limits, bool fields) {
+  auto add = d.add_options();
+  add("max-elements", po::value(&limits.maxElements)->default_value(limits.maxElements),
+      "refuse a PLY element (vertices, faces, cells) or checkpoint metadata larger than this");
+  add("max-grid-cells", po::value(&limits.maxGridCells)->default_value(limits.maxGridCells),
+      "refuse a range grid with more num_cols x num_rows cells than this");
+  if (fields)
+    add("max-voxels", po::value(&limits.maxVoxels)->default_value(limits.maxVoxels),
+        "refuse a field that needs more voxels than this, all ranks together (~40 bytes each)");
+}
+
+void addSourceOptions(po::options_description& d, io::ScanSourceOptions& source,
+                      const std::string& reads) {
+  // The help is fuse's own, so that every command describes these options alike (Boost copies
+  // the text).
+  auto add = d.add_options();
+  add("scan-format", po::value(&source.format)->default_value(source.format),
+      helpOf("scan-format", reads).c_str());
+  add("intrinsics", po::value(&source.intrinsics), helpOf("intrinsics", reads).c_str());
+  add("depth-max", po::value(&source.maxDepth)->default_value(source.maxDepth),
+      helpOf("depth-max", reads).c_str());
+  add("depth-scale", po::value(&source.depthScale)->default_value(source.depthScale),
+      helpOf("depth-scale", reads).c_str());
+}
+
+po::options_description fuseOptions(FuseOptions& o) {
+  po::options_description d("rangefuse fuse: fuse range scans into one mesh");
+  addSections(
+      d, o,
+      {OptionGroup::Input, OptionGroup::Field, OptionGroup::Output, OptionGroup::Registration,
+       OptionGroup::Tracking, OptionGroup::Checkpoint, OptionGroup::Resources});
   return d;
 }
 

@@ -62,8 +62,8 @@ int perturbCommand(int argc, char** argv, MPI_Comm comm) {
   add("trans-vox", po::value(&o.transVox)->default_value(5.0), "max shift per axis, voxels");
   add("seed", po::value(&o.seed)->default_value(1), "random seed");
   add("out", po::value(&o.out), "perturbed .conf to write (scan names relative to its folder)");
-  addSourceOptions(d, o.source);
-  addLimitOptions(d, o.limits);
+  addSourceOptions(d, o.source, "--scans");
+  addLimitOptions(d, o.limits, false);
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

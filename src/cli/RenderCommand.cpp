@@ -93,13 +93,14 @@ int run(const RenderOptions& o, MPI_Comm comm) {
 int renderCommand(int argc, char** argv, MPI_Comm comm) {
   RenderOptions o;
   po::options_description d("rangefuse render: a PNG of the fused field (surface or slice)");
-  addFieldOptions(d, o.field);
-  d.add_options()("out", po::value(&o.out), "PNG to write")(
+  po::options_description picture("Picture");
+  picture.add_options()("out", po::value(&o.out), "PNG to write")(
       "view", po::value(&o.view), "AZIMUTH,ELEVATION in degrees (azimuth about +y, 0 = from +z)")(
       "slice", po::value(&o.slice), "AXIS=VALUE: a slice of the distance field instead")(
       "width", po::value(&o.width)->default_value(512), "picture width, pixels")(
       "height", po::value(&o.height)->default_value(512), "picture height, pixels")(
       "checkpoint", po::value(&o.checkpoint), "render the field of an HDF5 checkpoint instead");
+  addFieldOptions(d, o.field, picture);
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

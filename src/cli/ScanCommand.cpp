@@ -261,7 +261,7 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "jpeg", po::bool_switch(&o.jpeg),
       "write sequences' colour images as JPEG (quality 95), as Open3D's recorder does")(
       "out", po::value(&o.out), "output folder");
-  addLimitOptions(d, o.limits);
+  addLimitOptions(d, o.limits, false);
   po::variables_map vm;
   const int parsed = parseCollectively(
       argc, argv, d, vm,

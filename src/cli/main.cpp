@@ -15,7 +15,7 @@ namespace {
 const char* kUsage =
     "usage: rangefuse COMMAND [options]\n"
     "commands:\n"
-    "  fuse    fuse range scans (.conf + range-grid PLY) into one mesh\n"
+    "  fuse    fuse range scans (.conf, .ptx, a depth-image folder) into one mesh\n"
     "  eval    compare a mesh with a reference mesh, or poses with reference poses\n"
     "  mesh    the stitched mesh of a checkpoint's field\n"
     "  info    what a checkpoint holds\n"

@@ -129,7 +129,9 @@ int resumedRun(const RunSettings& s, const io::CheckpointMeta& meta, MPI_Comm co
 
 int runFuse(const FuseOptions& given, MPI_Comm comm) {
   memoryLedger().start();
-  Progress progress(comm);
+  Progress progress(comm, given.quiet     ? Verbosity::quiet
+                          : given.verbose ? Verbosity::verbose
+                                          : Verbosity::normal);
   FuseOptions options = given;
   io::CheckpointMeta resumed;
   if (!settle(options, comm, resumed)) return 1;

@@ -273,6 +273,17 @@ std::vector<FuseParameter> makeTable() {
        }},
       {"normals", "", R::No, false, G::Output, "write vertex normals", at(&FuseOptions::normals),
        nullptr},
+      {"quiet", "", R::No, false, G::Output,
+       "print nothing but warnings and errors (standard error)", at(&FuseOptions::quiet), nullptr,
+       "true"},
+      {"verbose", "", R::No, false, G::Output,
+       "print every registration fit and every tracked frame (by default: a line a stage, "
+       "registration rounds, a tracked frame a second and every lost one)",
+       at(&FuseOptions::verbose),
+       [](const FuseOptions& o) -> std::string {
+         return o.quiet && o.verbose ? "cannot be given with --quiet" : "";
+       },
+       "true"},
       {"register", "register", R::Result, false, G::Registration,
        "refine poses against the field: none, incremental (Algorithm 1), simultaneous "
        "(Algorithm 2) or both (1 then 2)",

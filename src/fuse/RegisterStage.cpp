@@ -146,11 +146,16 @@ bool registerPoses(const RegisterSettings& o, const FieldSettings& f,
         *scans.held, scans.poses, r, field, comm,
         [&](const RegistrationStep& s) {
           steps.push_back(s);
-          if (progress.isRoot()) printStep(s, scans, f.voxel);
+          if (progress.shows(Verbosity::verbose))
+            printStep(s, scans, f.voxel);
+          else
+            progress.update("register", std::string(toString(s.algorithm)) + " round " +
+                                            std::to_string(s.round) + ": " +
+                                            std::to_string(steps.size()) + " fits so far");
         },
         state,
         [&](const RegistrationProgress& p, const std::vector<Pose>& poses) {
-          if (p.ended && progress.isRoot()) printRoundEnd(p, f.voxel);
+          if (p.ended && progress.shows(Verbosity::normal)) printRoundEnd(p, f.voxel);
           checkpointer(p, poses);
         });
   } catch (const mpi::Reported&) {

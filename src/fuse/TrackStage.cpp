@@ -198,14 +198,20 @@ class FrameReader {
   size_t aheadFrame_ = 0;
 };
 
-/// Prints one frame's line on rank 0.
+/// Prints frames' lines on rank 0: every frame, or (not `everyFrame`) a frame a second, every
+/// lost or re-localised frame and the last.
 class FrameLines {
  public:
-  FrameLines(const LoadedScans& scans, double voxel) : scans_(scans), voxel_(voxel) {}
+  FrameLines(const LoadedScans& scans, double voxel, bool everyFrame)
+      : scans_(scans), voxel_(voxel), everyFrame_(everyFrame) {}
 
   void operator()(const FrameReport& r) {
     ++done_;
-    const double seconds = MPI_Wtime() - start_;
+    const double now = MPI_Wtime(), seconds = now - start_;
+    if (!everyFrame_ && r.fused && !r.recovered && now - lastLine_ < 1 &&
+        r.frame + 1 < scans_.names.size())
+      return;
+    lastLine_ = now;
     std::printf(
         "[track] %zu/%zu %-24s %s fits %2d inliers %3.0f%% rms %.2f vox step %.2f vox "
         "%.2f deg  %.1f frames/s%s%s\n",
@@ -220,7 +226,8 @@ class FrameLines {
  private:
   const LoadedScans& scans_;
   double voxel_;
-  double start_ = MPI_Wtime();
+  bool everyFrame_;
+  double start_ = MPI_Wtime(), lastLine_ = -INFINITY;
   size_t done_ = 0;
 };
 
@@ -385,7 +392,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
                                             f.maxVoxels, f.threads, scans.colour};
   TrackingField tracked(fieldSettings, scans, comm);
   StreamCheckpointer checkpointer(s.checkpoints(), scans, comm);
-  FrameLines lines(scans, f.voxel);
+  FrameLines lines(scans, f.voxel, progress.shows(Verbosity::verbose));
   FrameReader reader(scans, comm);
   internal::FollowedFolder folder(s.read, t.followTimeout, comm);
   std::unique_ptr<PixelMotion> pixels;
@@ -401,7 +408,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
     };
     calls.onFrame = [&](const FrameReport& r) {
       lostCount += !r.fused;
-      if (progress.isRoot()) lines(r);
+      if (progress.shows(Verbosity::normal)) lines(r);
       fused += r.fused;
       if (r.fused && t.previewEvery > 0 && fused % t.previewEvery == 0)
         previewFrom(tracked.store(), io::cameraPose(scans.poses[r.frame]), f.voxel,

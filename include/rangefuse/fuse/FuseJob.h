@@ -35,6 +35,8 @@ struct FuseOptions {
   int brick = 8;                ///< voxels per brick edge
   float minWeight = 0.0f;       ///< voxels with summed weight not above this are unobserved
   bool normals = true;          ///< write vertex normals
+  bool quiet = false;           ///< print nothing but warnings and errors
+  bool verbose = false;         ///< print every registration fit and tracked frame
   SurfaceOptions surface;       ///< mergeTarget is set from mergeCells: see surfaceOptions
   double mergeCells = 1;        ///< merge grid cells up to this many voxels (0: never)
   double bandCells = 4e6;       ///< PTX scans of more cells are read in bands by several ranks
