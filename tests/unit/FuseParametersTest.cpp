@@ -28,7 +28,7 @@ FuseOptions changed() {
   o.source.maxDepth = 3, o.bandCells = 1e6, o.source.depthScale = 4000, o.track = "on";
   o.firstPose = "1,2,3,0,0,0,1", o.minInliers = 0.4, o.maxStep = 12, o.skipLost = true;
   o.trajectoryOut = "t.txt", o.previewEvery = 5, o.follow = true, o.followTimeout = 30;
-  o.colour = "none";
+  o.colour = "none", o.previewView = "30,-10", o.quiet = true, o.verbose = true;
   return o;
 }
 
@@ -85,6 +85,8 @@ TEST(FuseParameters, ABadValueIsRefusedNamingItsOption) {
     EXPECT_NE(std::string(e.what()).find("--brick"), std::string::npos) << e.what();
   }
   o.brick = 8;
+  EXPECT_THROW(validateFuseOptions(o), InputError);  // --quiet with --verbose
+  o.verbose = false;
   EXPECT_NO_THROW(validateFuseOptions(o));
 }
 
