@@ -71,7 +71,8 @@ Pose readPose(const pt::ptree& scan, const std::string& path, const std::string&
   if (const auto r = node->get_child_optional("rotation")) {
     const std::string at = where + "/pose/rotation";
     const Eigen::Quaterniond q(childNumber(*r, "w", 1, path, at), childNumber(*r, "x", 0, path, at),
-                               childNumber(*r, "y", 0, path, at), childNumber(*r, "z", 0, path, at));
+                               childNumber(*r, "y", 0, path, at),
+                               childNumber(*r, "z", 0, path, at));
     if (!(q.norm() > 0.5 && q.norm() < 2)) bad(path, at, "not a unit quaternion");
     pose.R = q.normalized().toRotationMatrix();
   }
@@ -187,7 +188,8 @@ E57Scan readScan(const pt::ptree& node, size_t k, uint64_t fileSize, const Input
   if (!points) bad(path, where, "no points");
   if (attribute(*points, "type") != "CompressedVector")
     bad(path, where + "/points", "type '" + attribute(*points, "type") + "', not CompressedVector");
-  s.section = number<uint64_t>(attribute(*points, "fileOffset"), path, where + "/points@fileOffset");
+  s.section =
+      number<uint64_t>(attribute(*points, "fileOffset"), path, where + "/points@fileOffset");
   s.records =
       number<uint64_t>(attribute(*points, "recordCount"), path, where + "/points@recordCount");
   if (s.section < 48 || s.section >= fileSize)
@@ -200,12 +202,13 @@ E57Scan readScan(const pt::ptree& node, size_t k, uint64_t fileSize, const Input
   if (const auto codecs = points->get_child_optional("codecs"))
     for (const auto& [name, codec] : *codecs)
       if (name != "<xmlattr>" && name != "<xmlcomment>")
-        bad(path, where + "/points/codecs", "a codec other than the bit-pack codec ('" + name +
-                                                "'); only bit-packed records are read");
-  const bool cartesian = findField(s, "cartesianX") && findField(s, "cartesianY") &&
-                         findField(s, "cartesianZ");
-  s.spherical = !cartesian && findField(s, "sphericalRange") &&
-                findField(s, "sphericalAzimuth") && findField(s, "sphericalElevation");
+        bad(path, where + "/points/codecs",
+            "a codec other than the bit-pack codec ('" + name +
+                "'); only bit-packed records are read");
+  const bool cartesian =
+      findField(s, "cartesianX") && findField(s, "cartesianY") && findField(s, "cartesianZ");
+  s.spherical = !cartesian && findField(s, "sphericalRange") && findField(s, "sphericalAzimuth") &&
+                findField(s, "sphericalElevation");
   if (!cartesian && !s.spherical)
     bad(path, where + "/points/prototype",
         "no coordinates (cartesianX/Y/Z or sphericalRange/Azimuth/Elevation)");
@@ -233,13 +236,14 @@ std::string readXml(E57Pages& pages, const InputLimits& limits) {
   const uint64_t length = le64(h + 16), xmlAt = le64(h + 24), xmlLength = le64(h + 32),
                  page = le64(h + 40);
   if (major != 1)
-    throw InputError(path + ": E57 version " + std::to_string(major) + "." +
-                     std::to_string(minor) + ": version 1 is read");
+    throw InputError(path + ": E57 version " + std::to_string(major) + "." + std::to_string(minor) +
+                     ": version 1 is read");
   if (page != internal::kE57Page)
     throw InputError(path + ": page size " + std::to_string(page) + ", not 1024");
   if (length != pages.physicalSize())
-    throw InputError(path + ": the header says " + std::to_string(length) + " bytes, the file has " +
-                     std::to_string(pages.physicalSize()) + " (truncated or damaged)");
+    throw InputError(path + ": the header says " + std::to_string(length) +
+                     " bytes, the file has " + std::to_string(pages.physicalSize()) +
+                     " (truncated or damaged)");
   checkLimit(path, "XML bytes", double(xmlLength), limits.maxElements, "max-elements");
   const uint64_t from = internal::e57Logical(xmlAt);
   if (xmlAt < 48 || xmlLength == 0 || from + xmlLength > pages.logicalSize())

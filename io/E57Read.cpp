@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "E57Records.h"
+#include "rangefuse/core/KdTree.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/E57.h"
 
@@ -85,8 +86,8 @@ Returns readReturns(const std::string& path, const E57Scan& scan, const FieldRol
                         c.values[f.coordinate[2]][i]);
       if (scan.spherical) {
         const double range = p[0], az = p[1], el = p[2];
-        p = range * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                                    std::sin(el));
+        p = range *
+            Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
       }
       if (!p.allFinite())
         throw InputError(path + ": " + scan.name + ": record " + std::to_string(record) +
@@ -95,9 +96,10 @@ Returns readReturns(const std::string& path, const E57Scan& scan, const FieldRol
       out.points.push_back(p);
       out.cells.emplace_back(r, col);
       if (f.rgb())
-        out.colours.emplace_back(normalised(c.values[f.colour[0]][i], scan.colourMin, scan.colourMax),
-                                 normalised(c.values[f.colour[1]][i], scan.colourMin, scan.colourMax),
-                                 normalised(c.values[f.colour[2]][i], scan.colourMin, scan.colourMax));
+        out.colours.emplace_back(
+            normalised(c.values[f.colour[0]][i], scan.colourMin, scan.colourMax),
+            normalised(c.values[f.colour[1]][i], scan.colourMin, scan.colourMax),
+            normalised(c.values[f.colour[2]][i], scan.colourMin, scan.colourMax));
       else if (f.intensity >= 0)
         out.colours.push_back(Colour::Constant(
             normalised(c.values[f.intensity][i], scan.intensityMin, scan.intensityMax)));
@@ -129,9 +131,33 @@ RangeGrid gridOf(Returns&& in, int rows, int cols, ColourKind kind) {
   return g;
 }
 
+/// The typical angle between neighbouring returns seen from the origin: the median over up to
+/// 20000 returns of the angle to the nearest other return in direction (duplicates skipped).
+double neighbourAngle(const std::vector<Eigen::Vector3d>& points) {
+  PointCloud directions;
+  directions.pts.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) directions.pts.push_back(p.normalized());
+  const std::unique_ptr<KdTree> tree = buildKdTree(directions);
+  std::vector<double> angles;
+  const size_t stride = std::max<size_t>(1, points.size() / 20000);
+  for (size_t i = 0; i < points.size(); i += stride) {
+    size_t ids[4];
+    double squared[4];
+    const size_t found = tree->knnSearch(directions.pts[i].data(), 4, ids, squared);
+    for (size_t k = 0; k < found; ++k)
+      if (squared[k] > 1e-18) {
+        angles.push_back(std::sqrt(squared[k]));  // chord: the angle, for small angles
+        break;
+      }
+  }
+  if (angles.empty()) return 0;
+  std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+  return angles[angles.size() / 2];
+}
+
 /// Rows and columns for a scan without indices: azimuth and elevation around the origin on a
-/// square angular step, estimated as the step that spreads the returns over the angles they
-/// span; each return goes to its nearest cell.
+/// square angular step, the typical angle between neighbouring returns; each return goes to
+/// its nearest cell (a cell hit twice keeps its first return).
 RangeGrid projected(Returns&& in, uint64_t maxCells, ColourKind kind, double& stepDeg) {
   double azLo = M_PI, azHi = -M_PI, elLo = M_PI, elHi = -M_PI;
   std::vector<std::pair<double, double>> angles;
@@ -142,15 +168,12 @@ RangeGrid projected(Returns&& in, uint64_t maxCells, ColourKind kind, double& st
     azLo = std::min(azLo, az), azHi = std::max(azHi, az);
     elLo = std::min(elLo, el), elHi = std::max(elHi, el);
   }
-  if (in.points.empty()) return gridOf(std::move(in), 1, 1, kind);
-  // The solid angle the returns span, shared among them: one cell each on average.
-  const double span = std::max(azHi - azLo, 1e-9) * std::max(elHi - elLo, 1e-9);
-  const double step = std::sqrt(span / double(in.points.size()));
+  const double step = neighbourAngle(in.points);
+  if (!(step > 0)) return gridOf(std::move(in), 1, 1, kind);
   stepDeg = step * 180 / M_PI;
   const int cols = std::max(1, static_cast<int>(std::ceil((azHi - azLo) / step)) + 1);
   const int rows = std::max(1, static_cast<int>(std::ceil((elHi - elLo) / step)) + 1);
-  checkLimit("spherical projection", "grid cells", double(rows) * cols, maxCells,
-             "max-grid-cells");
+  checkLimit("spherical projection", "grid cells", double(rows) * cols, maxCells, "max-grid-cells");
   for (size_t k = 0; k < angles.size(); ++k)
     in.cells[k] = {static_cast<int>(std::lround((angles[k].second - elLo) / step)),
                    static_cast<int>(std::lround((angles[k].first - azLo) / step))};
@@ -162,12 +185,12 @@ RangeGrid projected(Returns&& in, uint64_t maxCells, ColourKind kind, double& st
 RangeGrid readE57Scan(const std::string& path, const E57Scan& scan, std::string* warning) {
   const FieldRoles f(scan);
   if (f.row >= 0 && f.column >= 0 && scan.rows > 0) return readE57Columns(path, scan, 0, scan.cols);
-  const ColourKind kind = f.rgb() ? ColourKind::rgb
+  const ColourKind kind = f.rgb()            ? ColourKind::rgb
                           : f.intensity >= 0 ? ColourKind::intensity
                                              : ColourKind::none;
   double step = 0;
   RangeGrid g = projected(readReturns(path, scan, f, 0, 1), InputLimits{}.maxGridCells, kind, step);
-  if (warning) {
+  if (warning && step > 0) {
     std::ostringstream w;
     w << path << ": " << scan.name << ": no row and column indices; gridded by spherical "
       << "projection at an estimated step of " << step << " degrees";
@@ -181,7 +204,7 @@ RangeGrid readE57Columns(const std::string& path, const E57Scan& scan, int first
   if (f.row < 0 || f.column < 0 || scan.rows == 0 || first < 0 || count < 0 ||
       first + count > scan.cols)
     throw std::logic_error("readE57Columns: columns outside the indexed scan");
-  const ColourKind kind = f.rgb() ? ColourKind::rgb
+  const ColourKind kind = f.rgb()            ? ColourKind::rgb
                           : f.intensity >= 0 ? ColourKind::intensity
                                              : ColourKind::none;
   return gridOf(readReturns(path, scan, f, first, count), scan.rows, count, kind);

@@ -65,8 +65,8 @@ class FieldStream {
         std::memcpy(&d, &u, 8);
         return d;
       }
-      const uint32_t u = uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 |
-                         uint32_t(p[3]) << 24;
+      const uint32_t u =
+          uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
       float f;
       std::memcpy(&f, &u, 4);
       return f;
@@ -120,7 +120,8 @@ void decodeE57Records(E57Pages& pages, const E57Scan& scan, const std::vector<bo
   uint8_t h[32];
   pages.read(at, h, 32);
   const uint64_t length = le64(h + 8), data = e57Logical(le64(h + 16));
-  if (h[0] != 1) bad(pages, scan, at, "not a compressed vector section (id " + std::to_string(h[0]) + ")");
+  if (h[0] != 1)
+    bad(pages, scan, at, "not a compressed vector section (id " + std::to_string(h[0]) + ")");
   if (length < 32 || at + length > pages.logicalSize() || data < at + 32 || data > at + length)
     bad(pages, scan, at, "the section's length or data offset lies outside the file");
   const uint64_t end = at + length;

@@ -18,6 +18,8 @@ namespace {
 
 /// One field's values, packed least significant bit first.
 struct PackedField {
+  explicit PackedField(E57Field f) : field(std::move(f)) {}
+
   E57Field field;
   std::vector<uint8_t> bytes;
   uint64_t bitCount = 0;
@@ -39,7 +41,8 @@ struct PackedField {
     const double raw = field.kind == Kind::scaledInteger
                            ? std::round((value - field.offset) / field.scale)
                            : std::round(value);
-    const auto v = static_cast<int64_t>(std::clamp(raw, double(field.minimum), double(field.maximum)));
+    const auto v =
+        static_cast<int64_t>(std::clamp(raw, double(field.minimum), double(field.maximum)));
     const uint64_t u = static_cast<uint64_t>(v) - static_cast<uint64_t>(field.minimum);
     for (int k = 0; k < field.bits(); ++k, ++bitCount) {
       if (bitCount % 8 == 0) bytes.push_back(0);
@@ -80,24 +83,26 @@ std::vector<PackedField> prototype(const RangeGrid& g, const E57Writing& how) {
   const bool spherical = how.coordinates == E57Coordinates::sphericalDouble;
   std::vector<PackedField> out;
   for (const char* n : {"X", "Y", "Z"})
-    out.push_back({spherical ? E57Field{} : coordinateField(std::string("cartesian") + n, how,
-                                                            bound)});
+    out.emplace_back(spherical ? E57Field{}
+                               : coordinateField(std::string("cartesian") + n, how, bound));
   if (spherical) {
     const char* names[3] = {"sphericalRange", "sphericalAzimuth", "sphericalElevation"};
-    for (int a = 0; a < 3; ++a) out[a].field.name = names[a], out[a].field.kind = E57Field::Kind::double_;
+    for (int a = 0; a < 3; ++a)
+      out[a].field.name = names[a], out[a].field.kind = E57Field::Kind::double_;
   }
   if (how.structured) {
-    out.push_back({integerField(spherical ? "sphericalInvalidState" : "cartesianInvalidState", 0, 2)});
-    out.push_back({integerField("rowIndex", 0, g.rows - 1)});
-    out.push_back({integerField("columnIndex", 0, g.cols - 1)});
+    out.emplace_back(
+        integerField(spherical ? "sphericalInvalidState" : "cartesianInvalidState", 0, 2));
+    out.emplace_back(integerField("rowIndex", 0, g.rows - 1));
+    out.emplace_back(integerField("columnIndex", 0, g.cols - 1));
   }
   if (g.colourKind == ColourKind::rgb) {
     for (const char* n : {"colorRed", "colorGreen", "colorBlue"})
-      out.push_back({integerField(n, 0, 255)});
+      out.emplace_back(integerField(n, 0, 255));
   } else {
     E57Field f;
     f.name = "intensity", f.kind = E57Field::Kind::single;
-    out.push_back({f});
+    out.emplace_back(f);
   }
   return out;
 }
@@ -151,8 +156,8 @@ void align4(std::string& s) {
 /// Appends one scan's compressed vector section at the end of the logical bytes `file`:
 /// data packets of at most `packetRecords` records' worth of each stream (or 64 KiB), then an
 /// index packet naming them. Returns the section's logical offset.
-uint64_t appendSection(std::string& file, const std::vector<PackedField>& fields,
-                       uint64_t records, const E57Writing& how) {
+uint64_t appendSection(std::string& file, const std::vector<PackedField>& fields, uint64_t records,
+                       const E57Writing& how) {
   align4(file);
   const uint64_t at = file.size();
   std::string packets;
@@ -181,8 +186,9 @@ uint64_t appendSection(std::string& file, const std::vector<PackedField>& fields
     }
     align4(p);
     p[2] = static_cast<char>((p.size() - 1) & 0xFF), p[3] = static_cast<char>((p.size() - 1) >> 8);
-    index.emplace_back(bitsPerRecord ? 8 * (sent[0] - share[0]) / std::max(1, fields[0].field.bits()) : 0,
-                       e57Physical(at + 32 + packets.size()));
+    index.emplace_back(
+        bitsPerRecord ? 8 * (sent[0] - share[0]) / std::max(1, fields[0].field.bits()) : 0,
+        e57Physical(at + 32 + packets.size()));
     packets += p;
     // An empty packet between the first two data packets, as readers must skip them.
     if (k == 0 && count > 1) packets += std::string("\x02\x00\x03\x00", 4);
@@ -191,10 +197,11 @@ uint64_t appendSection(std::string& file, const std::vector<PackedField>& fields
   idx.push_back(0), idx.push_back(0);
   put16(idx, 0);
   put16(idx, index.size());
-  idx.push_back(0);                  // index level
-  idx.append(9, '\0');               // reserved
+  idx.push_back(0);     // index level
+  idx.append(9, '\0');  // reserved
   for (const auto& [record, offset] : index) put64(idx, record), put64(idx, offset);
-  idx[2] = static_cast<char>((idx.size() - 1) & 0xFF), idx[3] = static_cast<char>((idx.size() - 1) >> 8);
+  idx[2] = static_cast<char>((idx.size() - 1) & 0xFF),
+  idx[3] = static_cast<char>((idx.size() - 1) >> 8);
   std::string head;
   head.push_back(1);
   head.append(7, '\0');
@@ -268,8 +275,8 @@ std::string paged(std::string logical) {
   out.reserve(logical.size() / internal::kE57PageData * internal::kE57Page);
   for (size_t at = 0; at < logical.size(); at += internal::kE57PageData) {
     out.append(logical, at, internal::kE57PageData);
-    const uint32_t crc =
-        internal::crc32c(reinterpret_cast<const uint8_t*>(logical.data()) + at, internal::kE57PageData);
+    const uint32_t crc = internal::crc32c(reinterpret_cast<const uint8_t*>(logical.data()) + at,
+                                          internal::kE57PageData);
     for (int k = 3; k >= 0; --k) out.push_back(static_cast<char>(crc >> (8 * k) & 0xFF));
   }
   return out;
@@ -294,22 +301,22 @@ void writeE57(const std::string& path, const std::vector<RangeGrid>& grids,
       "<guid type=\"String\"><![CDATA[{rangefuse-file}]]></guid>"
       "<versionMajor type=\"Integer\">1</versionMajor><versionMinor type=\"Integer\">0"
       "</versionMinor><data3D type=\"Vector\" allowHeterogeneousChildren=\"1\">" +
-      scans +
-      "</data3D><images2D type=\"Vector\" allowHeterogeneousChildren=\"1\"/></e57Root>\n";
+      scans + "</data3D><images2D type=\"Vector\" allowHeterogeneousChildren=\"1\"/></e57Root>\n";
   align4(file);
   const uint64_t xmlAt = file.size();
   file += xml;
   const uint64_t pages = (file.size() + internal::kE57PageData - 1) / internal::kE57PageData;
   std::string head = "ASTM-E57";
   for (int k = 0; k < 4; ++k) head.push_back(k == 0 ? 1 : 0);  // major 1
-  head.append(4, '\0');                                         // minor 0
+  head.append(4, '\0');                                        // minor 0
   put64(head, pages * internal::kE57Page);
   put64(head, e57Physical(xmlAt));
   put64(head, xml.size());
   put64(head, internal::kE57Page);
   file.replace(0, 48, head);
   const std::string bytes = paged(std::move(file));
-  writeAtomically(path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
+  writeAtomically(
+      path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
 }
 
 }  // namespace rangefuse::io

@@ -177,8 +177,9 @@ ScanOptions checked(ScanOptions o) {
     throw InputError("scan: --format must be ply, tum, redwood, ptx or e57");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
   if ((o.path == "stations") != (o.format == "ptx" || o.format == "e57"))
-    throw InputError("scan: stations (--path stations) are written as --format ptx or e57, and "
-                     "those formats hold stations only");
+    throw InputError(
+        "scan: stations (--path stations) are written as --format ptx or e57, and "
+        "those formats hold stations only");
   if (!(o.scale > 0 && std::isfinite(o.scale)))
     throw InputError("scan: --scale must be positive and finite");
   return o;
@@ -250,9 +251,8 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "format", po::value(&o.format)->default_value(o.format),
       "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
       "camera_intrinsic.json), or ptx or e57 (one Leica PTX or ASTM E57 file of every station, "
-      "truth.conf)")(
-      "scale", po::value(&o.scale)->default_value(o.scale),
-      "multiply the mesh's coordinates (e.g. to room size)")(
+      "truth.conf)")("scale", po::value(&o.scale)->default_value(o.scale),
+                     "multiply the mesh's coordinates (e.g. to room size)")(
       "outliers", po::value(&s.outliers)->default_value(0.0), "fraction of outlier samples")(
       "patches", po::value(&s.patches)->default_value(0), "extraneous patches, one scan each")(
       "rot-deg", po::value(&s.rotDeg)->default_value(0.0), "pose perturbation: max angle per axis")(

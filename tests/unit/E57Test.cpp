@@ -95,8 +95,13 @@ TEST(E57, Crc32cOfTheStandardCheckString) {
 
 TEST(E57, FieldBitsAreJustEnoughForTheRange) {
   io::E57Field f;
-  for (const auto& [lo, hi, bits] : {std::tuple{0, 0, 0}, {0, 1, 1}, {0, 2, 2}, {-1, 2, 2},
-                                     {0, 255, 8}, {0, 256, 9}, {-1000, 1000, 11}}) {
+  for (const auto& [lo, hi, bits] : {std::tuple{0, 0, 0},
+                                     {0, 1, 1},
+                                     {0, 2, 2},
+                                     {-1, 2, 2},
+                                     {0, 255, 8},
+                                     {0, 256, 9},
+                                     {-1000, 1000, 11}}) {
     f.minimum = lo, f.maximum = hi;
     EXPECT_EQ(f.bits(), bits) << lo << ".." << hi;
   }
@@ -116,9 +121,10 @@ TEST(E57, StationsRoundTripInEveryCoordinateEncoding) {
   using C = io::E57Coordinates;
   // Tolerances: doubles exact; singles to their rounding; scaled integers to half a step;
   // range, azimuth and elevation to the trigonometry's rounding.
-  for (const auto& [coordinates, tolerance] :
-       {std::pair{C::cartesianDouble, 0.0}, {C::cartesianSingle, 1e-6},
-        {C::cartesianScaled, 0.5e-4 * std::sqrt(3.0)}, {C::sphericalDouble, 1e-12}})
+  for (const auto& [coordinates, tolerance] : {std::pair{C::cartesianDouble, 0.0},
+                                               {C::cartesianSingle, 1e-6},
+                                               {C::cartesianScaled, 0.5e-4 * std::sqrt(3.0)},
+                                               {C::sphericalDouble, 1e-12}})
     for (const int packetRecords : {0, 7, 100}) {
       io::E57Writing how;
       how.coordinates = coordinates, how.packetRecords = packetRecords;
@@ -151,7 +157,9 @@ TEST(E57, ColumnsOfAStationAreThoseOfTheWholeScan) {
       for (int c = 0; c < count; ++c) {
         const int32_t a = part.at(r, c), b = whole.at(r, first + c);
         ASSERT_EQ(a < 0, b < 0);
-        if (a >= 0) EXPECT_EQ(part.points[a], whole.points[b]);
+        if (a >= 0) {
+          EXPECT_EQ(part.points[a], whole.points[b]);
+        }
       }
   }
 }
@@ -231,10 +239,11 @@ TEST(E57, TruncationAndDamageAreNamed) {
     t.replace(at, from.size(), to);
     return paged(t);
   };
-  check("broken.e57", xml("</data3D>", "</data3E>"), "XML: line");
+  check("broken.e57", xml("<data3D type=", "<data3D type "), "XML: line");
   check("nocoords.e57", xml("<cartesianX ", "<cartesianQ "), "no coordinates");
-  check("codec.e57", xml("<codecs type=\"Vector\" allowHeterogeneousChildren=\"1\"/>",
-                         "<codecs type=\"Vector\"><zip type=\"Structure\"/></codecs>"),
+  check("codec.e57",
+        xml("<codecs type=\"Vector\" allowHeterogeneousChildren=\"1\"/>",
+            "<codecs type=\"Vector\"><zip type=\"Structure\"/></codecs>"),
         "a codec other than the bit-pack codec");
   check("bounds.e57", xml("<rowMaximum type=\"Integer\">19<", "<rowMaximum type=\"Integer\">9 <"),
         "outside the stated index bounds");

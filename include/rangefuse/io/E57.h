@@ -31,15 +31,15 @@ struct E57Field {
 /// Where one scan of an E57 file lies and how it is placed.
 struct E57Scan {
   std::string name, guid;
-  Pose pose;                    ///< scan frame to the file's frame
-  uint64_t records = 0;         ///< point records
-  uint64_t section = 0;         ///< physical offset of the points' compressed vector section
+  Pose pose;                     ///< scan frame to the file's frame
+  uint64_t records = 0;          ///< point records
+  uint64_t section = 0;          ///< physical offset of the points' compressed vector section
   std::vector<E57Field> fields;  ///< the prototype's fields, in byte-stream order
-  bool spherical = false;  ///< coordinates as range, azimuth, elevation (else cartesian)
+  bool spherical = false;        ///< coordinates as range, azimuth, elevation (else cartesian)
   /// Rows and columns of a structured scan (rowIndex and columnIndex in the prototype); 0 when
   /// the scan has none.
   int rows = 0, cols = 0;
-  int64_t firstRow = 0, firstColumn = 0;  ///< the indices' smallest values
+  int64_t firstRow = 0, firstColumn = 0;      ///< the indices' smallest values
   double intensityMin = 0, intensityMax = 1;  ///< intensityLimits, else the field's bounds
   double colourMin = 0, colourMax = 255;      ///< colorLimits (red), else the field's bounds
 };
