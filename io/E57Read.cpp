@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "E57Records.h"
-#include "rangefuse/core/KdTree.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/KdTree.h"
 #include "rangefuse/io/E57.h"
 
 namespace rangefuse::io {
@@ -131,8 +131,10 @@ RangeGrid gridOf(Returns&& in, int rows, int cols, ColourKind kind) {
   return g;
 }
 
-/// The typical angle between neighbouring returns seen from the origin: the median over up to
-/// 20000 returns of the angle to the nearest other return in direction (duplicates skipped).
+/// The typical angle between neighbouring returns seen from the origin: the median, over up to
+/// 20000 returns, of the angle to the fourth nearest other return in direction. On a regular
+/// grid that is the grid's step (four neighbours at one step); on scattered returns it leaves
+/// about one return a cell.
 double neighbourAngle(const std::vector<Eigen::Vector3d>& points) {
   PointCloud directions;
   directions.pts.reserve(points.size());
@@ -141,14 +143,11 @@ double neighbourAngle(const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> angles;
   const size_t stride = std::max<size_t>(1, points.size() / 20000);
   for (size_t i = 0; i < points.size(); i += stride) {
-    size_t ids[4];
-    double squared[4];
-    const size_t found = tree->knnSearch(directions.pts[i].data(), 4, ids, squared);
-    for (size_t k = 0; k < found; ++k)
-      if (squared[k] > 1e-18) {
-        angles.push_back(std::sqrt(squared[k]));  // chord: the angle, for small angles
-        break;
-      }
+    unsigned ids[5];
+    double squared[5];
+    const size_t found = tree->knnSearch(directions.pts[i].data(), 5, ids, squared);
+    if (found == 5 && squared[4] > 1e-18)
+      angles.push_back(std::sqrt(squared[4]));  // the chord: the angle, for small angles
   }
   if (angles.empty()) return 0;
   std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());

@@ -117,6 +117,11 @@ ConfFile readE57List(const std::string& path, const InputLimits& limits) {
   for (size_t k = 0; k < scans.size(); ++k) {
     ConfScan s{name + "#" + std::to_string(k + 1), path, scans[k].pose};
     s.e57 = scans[k];
+    if (scans[k].rows == 0)
+      list.warnings.push_back(
+          s.name + " (" + scans[k].name +
+          "): no row and column indices; gridded by spherical projection "
+          "around the scan's origin, the angular step estimated from its points");
     list.scans.push_back(std::move(s));
   }
   return list;
