@@ -251,3 +251,36 @@ TEST(E57, TruncationAndDamageAreNamed) {
   check("type.e57", xml("<cartesianX type=\"Float\"", "<cartesianX type=\"Blob \""),
         "of type 'Blob '");
 }
+
+TEST(E57, FilesFromOtherWritersRead) {
+  const std::string dir = std::string(RANGEFUSE_TEST_DATA) + "/e57/";
+  // The reference implementation's bunny: scaled integers, an invalid-state field, no indices.
+  const std::vector<io::E57Scan> bunny = io::indexE57(dir + "bunnyInt32.e57");
+  ASSERT_EQ(bunny.size(), 1u);
+  EXPECT_EQ(bunny[0].name, "bunny");
+  EXPECT_EQ(bunny[0].records, 30571u);
+  EXPECT_EQ(bunny[0].rows, 0);
+  const RangeGrid b = io::readE57Scan(dir + "bunnyInt32.e57", bunny[0]);
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : b.points) box.extend(p);
+  // The Stanford bunny's extent in metres (bun_zipper.ply: x -0.0947..0.0610, z -0.0619..0.0588).
+  EXPECT_NEAR(box.min().x(), -0.0947, 1e-3);
+  EXPECT_NEAR(box.max().x(), 0.0610, 1e-3);
+  EXPECT_NEAR(box.min().z(), -0.0619, 1e-3);
+  EXPECT_NEAR(box.max().z(), 0.0588, 1e-3);
+  // libE57Format's cube: single floats on the faces of a unit cube, each face one colour.
+  const std::vector<io::E57Scan> cube = io::indexE57(dir + "ColouredCubeFloat.e57");
+  ASSERT_EQ(cube.size(), 1u);
+  EXPECT_EQ(cube[0].records, 7680u);
+  const RangeGrid c = io::readE57Scan(dir + "ColouredCubeFloat.e57", cube[0]);
+  EXPECT_EQ(c.colourKind, ColourKind::rgb);
+  for (size_t k = 0; k < c.points.size(); ++k) {
+    ASSERT_NEAR(c.points[k].cwiseAbs().maxCoeff(), 0.5, 1e-6) << "point " << k;
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_TRUE(c.colours[k][a] == 0 || c.colours[k][a] == 1) << "point " << k;
+    }
+  }
+  EXPECT_NE(message(dir + "bad-crc.e57").find("page 0 (bytes 0-1023): checksum mismatch"),
+            std::string::npos)
+      << message(dir + "bad-crc.e57");
+}
