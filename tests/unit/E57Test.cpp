@@ -144,6 +144,25 @@ TEST(E57, StationsRoundTripInEveryCoordinateEncoding) {
     }
 }
 
+TEST(E57, ScaledIntegersOfEveryWidthRoundTripToHalfAStep) {
+  // Steps from 1 to 1e-12 of coordinates up to 5: integers of 4 to 44 bits, values spanning
+  // bytes and (packets of 3 records) packets.
+  TempDir dir;
+  const RangeGrid grid = stationGrid(11, 7, 6, false);
+  for (double step = 1; step > 1e-13; step /= 10) {
+    io::E57Writing how;
+    how.coordinates = io::E57Coordinates::cartesianScaled, how.scaledStep = step;
+    how.packetRecords = 3;
+    const std::string path = dir.file("scaled.e57");
+    io::writeE57(path, {grid}, {Pose{}}, how);
+    const io::E57Scan scan = io::indexE57(path).front();
+    EXPECT_EQ(scan.fields[0].bits(), int(std::ceil(std::log2(2 * std::ceil(5 / step) + 3))))
+        << "step " << step;
+    SCOPED_TRACE("step " + std::to_string(step));
+    expectSameGrid(io::readE57Scan(path, scan), grid, 0.5 * step * std::sqrt(3.0) + 1e-15);
+  }
+}
+
 TEST(E57, ColumnsOfAStationAreThoseOfTheWholeScan) {
   TempDir dir;
   const RangeGrid whole = stationGrid(20, 8, 3, false);
