@@ -29,7 +29,12 @@ echo "stations: E57 on 1, 2 and 3 ranks gives the PTX mesh's bytes"
 fuse 2 "$tmp/ptx/stations.ptx" "$tmp/ptx-bands.ply" --band-cells 20000
 fuse 3 "$tmp/e57/stations.e57" "$tmp/e57-bands.ply" --band-cells 20000
 cmp "$tmp/ptx-bands.ply" "$tmp/e57-bands.ply" || fail "E57 bands differ from PTX bands"
-echo "bands: E57 read in bands gives the PTX bands' mesh"
+# Bands take their rules from a sample of columns, so their mesh is the whole station's to
+# rounding, not to the bit: every sample within a voxel, Chamfer under a hundredth of one.
+"$bin" eval --mesh "$tmp/e57-bands.ply" --reference "$tmp/ptx.ply" --voxel 0.05 >"$tmp/bands.eval"
+grep -q "F-score 1.0000" "$tmp/bands.eval" && grep -qE "^chamfer .*\(0\.00[0-9] voxels\)" "$tmp/bands.eval" ||
+  fail "bands against the whole station: $(cat "$tmp/bands.eval")"
+echo "bands: E57 read in bands gives the PTX bands' mesh, the whole station's within 0.01 voxel"
 
 # A .conf naming the file's scans, and --poses-out writing that form.
 fuse 2 "$tmp/e57/truth.conf" "$tmp/conf.ply" --poses-out "$tmp/poses.conf"
