@@ -25,6 +25,8 @@ namespace {
 
 struct ScanOptions {
   std::string mesh, shape, out, path = "sphere", format = "ply";
+  std::string e57Coordinates = "double";  ///< double, single, scaled (0.1 mm steps), spherical
+  bool e57Loose = false;                  ///< E57 without row and column indices
   double scale = 1;
   bool ascii = false, bigEndian = false, jpeg = false;
   ScanSettings settings;
@@ -144,7 +146,8 @@ void writeRangeGrids(const ScanOptions& o, const SyntheticSet& set, const std::s
 
 /// Writes the scans as one Leica PTX file, stations.ptx, or one E57 file, stations.e57, with
 /// truth.conf and perturbed.conf naming its scans (stations.ptx#K, stations.e57#K).
-void writeStations(const SyntheticSet& set, const std::string& dir, const std::string& format) {
+void writeStations(const SyntheticSet& set, const std::string& dir, const std::string& format,
+                   const io::E57Writing& e57) {
   std::vector<RangeGrid> grids;
   std::vector<Pose> poses;
   std::vector<io::ConfScan> truth, perturbed;
@@ -158,9 +161,22 @@ void writeStations(const SyntheticSet& set, const std::string& dir, const std::s
   if (format == "ptx")
     io::writePtx(dir + "/stations.ptx", grids, poses);
   else
-    io::writeE57(dir + "/stations.e57", grids, poses);
+    io::writeE57(dir + "/stations.e57", grids, poses, e57);
   io::writeConf(dir + "/truth.conf", truth);
   io::writeConf(dir + "/perturbed.conf", perturbed);
+}
+
+/// How `--format e57` stores its stations.
+io::E57Writing e57Writing(const ScanOptions& o) {
+  io::E57Writing how;
+  const std::map<std::string, io::E57Coordinates> kinds = {
+      {"double", io::E57Coordinates::cartesianDouble},
+      {"single", io::E57Coordinates::cartesianSingle},
+      {"scaled", io::E57Coordinates::cartesianScaled},
+      {"spherical", io::E57Coordinates::sphericalDouble}};
+  how.coordinates = kinds.at(o.e57Coordinates);
+  how.structured = !o.e57Loose;
+  return how;
 }
 
 ScanOptions checked(ScanOptions o) {
@@ -176,6 +192,9 @@ ScanOptions checked(ScanOptions o) {
       o.format != "e57")
     throw InputError("scan: --format must be ply, tum, redwood, ptx or e57");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
+  if (o.e57Coordinates != "double" && o.e57Coordinates != "single" &&
+      o.e57Coordinates != "scaled" && o.e57Coordinates != "spherical")
+    throw InputError("scan: --e57-coordinates must be double, single, scaled or spherical");
   if ((o.path == "stations") != (o.format == "ptx" || o.format == "e57"))
     throw InputError(
         "scan: stations (--path stations) are written as --format ptx or e57, and "
@@ -207,7 +226,7 @@ int run(const ScanOptions& given) {
   if (o.format == "ply")
     writeRangeGrids(o, set, o.out);
   else if (o.format == "ptx" || o.format == "e57")
-    writeStations(set, o.out, o.format);
+    writeStations(set, o.out, o.format, e57Writing(o));
   else
     writeSequence(o, set, o.out);
   // A quarter voxel: sharper than any fused mesh can be, so the truth does not blur the edges
@@ -267,7 +286,12 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "the checks' colour at its vertices")(
       "jpeg", po::bool_switch(&o.jpeg),
       "write sequences' colour images as JPEG (quality 95), as Open3D's recorder does")(
-      "out", po::value(&o.out), "output folder");
+      "e57-coordinates", po::value(&o.e57Coordinates)->default_value(o.e57Coordinates),
+      "--format e57: double, single, scaled (integers of 0.1 mm, in scan units 1e-4) or "
+      "spherical (range, azimuth, elevation)")(
+      "e57-loose", po::bool_switch(&o.e57Loose),
+      "--format e57: the returns alone, without row and column indices")("out", po::value(&o.out),
+                                                                         "output folder");
   addLimitOptions(d, o.limits, false);
   po::variables_map vm;
   const int parsed = parseCollectively(

@@ -36,6 +36,21 @@ grep -q "F-score 1.0000" "$tmp/bands.eval" && grep -qE "^chamfer .*\(0\.00[0-9] 
   fail "bands against the whole station: $(cat "$tmp/bands.eval")"
 echo "bands: E57 read in bands gives the PTX bands' mesh, the whole station's within 0.01 voxel"
 
+# The same stations without row and column indices: projected on an angular grid (with a
+# warning a station), the mesh of the structured stations within a voxel nearly everywhere.
+"$bin" scan --shape room --path stations --views 3 --width 360 --height 160 --voxel 0.05 \
+  --noise 0.3 --format e57 --e57-loose --e57-coordinates single --out "$tmp/loose" >/dev/null
+fuse 2 "$tmp/loose/stations.e57" "$tmp/loose.ply" 2>"$tmp/loose.err"
+[[ $(grep -c "no row and column indices; gridded by spherical projection" "$tmp/loose.err") -eq 3 ]] ||
+  fail "loose stations: $(cat "$tmp/loose.err")"
+"$bin" eval --mesh "$tmp/loose.ply" --reference "$tmp/ptx.ply" --voxel 0.05 >"$tmp/loose.eval"
+python3 - "$tmp/loose.eval" <<'PY' || fail "loose stations: $(cat "$tmp/loose.eval")"
+import re, sys
+f = float(re.search(r"F-score ([0-9.]+)", open(sys.argv[1]).read()).group(1))
+sys.exit(f < 0.98)
+PY
+echo "stations without indices: $(grep F-score "$tmp/loose.eval")"
+
 # A .conf naming the file's scans, and --poses-out writing that form.
 fuse 2 "$tmp/e57/truth.conf" "$tmp/conf.ply" --poses-out "$tmp/poses.conf"
 cmp "$tmp/ptx.ply" "$tmp/conf.ply" || fail "truth.conf naming stations.e57#K differs"
