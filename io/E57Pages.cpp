@@ -20,11 +20,40 @@ std::string hex(uint32_t v) {
 
 }  // namespace
 
-uint32_t crc32c(const uint8_t* data, size_t n) {
+uint32_t crc32cPortable(const uint8_t* data, size_t n) {
   boost::crc_optimal<32, 0x1EDC6F41, 0xFFFFFFFF, 0xFFFFFFFF, true, true> crc;
   crc.process_bytes(data, n);
   return crc.checksum();
 }
+
+#if defined(__x86_64__)
+namespace {
+
+/// The CPU's own CRC-32C (SSE 4.2), eight bytes an instruction: checking every page then costs
+/// a small part of decoding it.
+__attribute__((target("sse4.2"))) uint32_t crc32cSse42(const uint8_t* data, size_t n) {
+  uint64_t crc = 0xFFFFFFFF;
+  for (; n >= 8; data += 8, n -= 8) {
+    uint64_t word;
+    std::memcpy(&word, data, 8);
+    crc = __builtin_ia32_crc32di(crc, word);
+  }
+  auto c = static_cast<uint32_t>(crc);
+  for (; n > 0; ++data, --n) c = __builtin_ia32_crc32qi(c, *data);
+  return c ^ 0xFFFFFFFF;
+}
+
+}  // namespace
+
+uint32_t crc32c(const uint8_t* data, size_t n) {
+  static const bool sse42 = __builtin_cpu_supports("sse4.2");
+  return sse42 ? crc32cSse42(data, n) : crc32cPortable(data, n);
+}
+#else
+uint32_t crc32c(const uint8_t* data, size_t n) {
+  return crc32cPortable(data, n);
+}
+#endif
 
 E57Pages::E57Pages(const std::string& path)
     : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {

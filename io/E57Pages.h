@@ -21,8 +21,11 @@ inline uint64_t e57Physical(uint64_t logical) {
   return logical / kE57PageData * kE57Page + logical % kE57PageData;
 }
 
-/// CRC-32C (Castagnoli) of n bytes, as E57 stores it (big-endian) at the end of each page.
+/// CRC-32C (Castagnoli) of n bytes, as E57 stores it (big-endian) at the end of each page: by
+/// the CPU's instruction where it has one, else by table.
 uint32_t crc32c(const uint8_t* data, size_t n);
+/// The same by table alone (for tests of the fast path).
+uint32_t crc32cPortable(const uint8_t* data, size_t n);
 
 /// An E57 file read by logical bytes. Pages are loaded a block at a time and each page's
 /// checksum is checked as it is loaded, so every byte read was checked.

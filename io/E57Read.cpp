@@ -66,6 +66,11 @@ Returns readReturns(const std::string& path, const E57Scan& scan, const FieldRol
   E57Pages pages(path);
   Returns out;
   const bool structured = f.row >= 0 && f.column >= 0 && scan.rows > 0;
+  // Room for every record of the columns read, so that the vectors never grow by copying.
+  const uint64_t expected =
+      structured ? scan.records * uint64_t(count) / uint64_t(scan.cols) : scan.records;
+  out.points.reserve(expected), out.cells.reserve(expected);
+  if (f.rgb() || f.intensity >= 0) out.colours.reserve(expected);
   uint64_t record = 0;
   internal::decodeE57Records(pages, scan, f.wanted(scan.fields.size()), [&](const E57Records& c) {
     for (size_t i = 0; i < c.count; ++i, ++record) {

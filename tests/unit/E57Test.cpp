@@ -93,6 +93,17 @@ TEST(E57, Crc32cOfTheStandardCheckString) {
   EXPECT_EQ(io::internal::crc32c(reinterpret_cast<const uint8_t*>(check.data()), 9), 0xE3069283u);
 }
 
+TEST(E57, Crc32cByInstructionIsTheTablesOnEveryLength) {
+  std::mt19937 rng(7);
+  std::string bytes(1100, '\0');
+  for (char& c : bytes) c = static_cast<char>(rng());
+  for (size_t n = 0; n <= bytes.size(); n += 1 + n / 7) {
+    const auto* p = reinterpret_cast<const uint8_t*>(bytes.data()) + (n % 5);
+    const size_t len = std::min(n, bytes.size() - n % 5);
+    ASSERT_EQ(io::internal::crc32c(p, len), io::internal::crc32cPortable(p, len)) << n;
+  }
+}
+
 TEST(E57, FieldBitsAreJustEnoughForTheRange) {
   io::E57Field f;
   for (const auto& [lo, hi, bits] : {std::tuple{0, 0, 0},
