@@ -2,6 +2,7 @@
 
 #include <boost/crc.hpp>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 #include "rangefuse/core/Error.h"
@@ -55,8 +56,11 @@ uint32_t crc32c(const uint8_t* data, size_t n) {
 }
 #endif
 
-E57Pages::E57Pages(const std::string& path)
-    : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
+E57Pages::E57Pages(const std::string& path) : path_(path), file_(nullptr, &std::fclose) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a folder, not an E57 file");
+  file_.reset(std::fopen(path.c_str(), "rb"));
   if (!file_) throw InputError(path + ": cannot open file");
   if (std::fseek(file_.get(), 0, SEEK_END) != 0) throw InputError(path + ": cannot seek");
   const long size = std::ftell(file_.get());
