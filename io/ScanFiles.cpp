@@ -14,16 +14,26 @@
 namespace rangefuse::io {
 namespace {
 
-bool isPtx(const std::string& path) {
+std::string extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".ptx";
+  return ext;
 }
 
-/// Splits "FILE.ptx#K" into the file and K (from 1); false for any other name.
-bool ptxReference(const std::string& path, std::string& file, size_t& k) {
+bool isPtx(const std::string& path) {
+  return extension(path) == ".ptx";
+}
+
+bool isE57(const std::string& path) {
+  return extension(path) == ".e57";
+}
+
+/// Splits "FILE.ptx#K" or "FILE.e57#K" into the file and K (from 1); false for any other name.
+bool scanReference(const std::string& path, std::string& file, size_t& k) {
   const size_t hash = path.rfind('#');
-  if (hash == std::string::npos || !isPtx(path.substr(0, hash))) return false;
+  if (hash == std::string::npos) return false;
+  const std::string ext = extension(path.substr(0, hash));
+  if (ext != ".ptx" && ext != ".e57") return false;
   const std::string number = path.substr(hash + 1);
   if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos ||
       number.size() > 9)
@@ -33,20 +43,30 @@ bool ptxReference(const std::string& path, std::string& file, size_t& k) {
   return k >= 1;
 }
 
-/// The scans of every PTX file a .conf names, each file indexed once.
-void locatePtxScans(ConfFile& conf, const std::string& confPath, const InputLimits& limits) {
-  std::map<std::string, std::vector<PtxScan>> indexed;
+/// The scans of every PTX or E57 file a .conf names, each file indexed once.
+void locateFileScans(ConfFile& conf, const std::string& confPath, const InputLimits& limits) {
+  std::map<std::string, std::vector<PtxScan>> ptx;
+  std::map<std::string, std::vector<E57Scan>> e57;
   for (ConfScan& s : conf.scans) {
     std::string file;
     size_t k = 0;
-    if (!ptxReference(s.path, file, k)) continue;
-    auto it = indexed.find(file);
-    if (it == indexed.end()) it = indexed.emplace(file, indexPtx(file, limits)).first;
-    if (k > it->second.size())
+    if (!scanReference(s.path, file, k)) continue;
+    size_t held = 0;
+    if (isPtx(file)) {
+      auto it = ptx.find(file);
+      if (it == ptx.end()) it = ptx.emplace(file, indexPtx(file, limits)).first;
+      held = it->second.size();
+      if (k <= held) s.ptx = it->second[k - 1];
+    } else {
+      auto it = e57.find(file);
+      if (it == e57.end()) it = e57.emplace(file, indexE57(file, limits)).first;
+      held = it->second.size();
+      if (k <= held) s.e57 = it->second[k - 1];
+    }
+    if (k > held)
       throw InputError(confPath + ": " + s.name + ": " + file + " holds only " +
-                       std::to_string(it->second.size()) + " scans");
+                       std::to_string(held) + " scans");
     s.path = file;
-    s.ptx = it->second[k - 1];
   }
 }
 
@@ -90,6 +110,23 @@ ConfFile readPtxList(const std::string& path, const InputLimits& limits) {
   return list;
 }
 
+ConfFile readE57List(const std::string& path, const InputLimits& limits) {
+  ConfFile list;
+  const std::string name = std::filesystem::path(path).filename().string();
+  const std::vector<E57Scan> scans = indexE57(path, limits);
+  for (size_t k = 0; k < scans.size(); ++k) {
+    ConfScan s{name + "#" + std::to_string(k + 1), path, scans[k].pose};
+    s.e57 = scans[k];
+    if (scans[k].rows == 0)
+      list.warnings.push_back(
+          s.name + " (" + scans[k].name +
+          "): no row and column indices; gridded by spherical projection "
+          "around the scan's origin, the angular step estimated from its points");
+    list.scans.push_back(std::move(s));
+  }
+  return list;
+}
+
 /// Why a file given as a scan list is not one, from its first bytes; empty when it may be a
 /// .conf (text the .conf reader then judges).
 std::string notAScanList(const std::string& path) {
@@ -100,11 +137,9 @@ std::string notAScanList(const std::string& path) {
   const auto begins = [&](const char* magic) { return start.rfind(magic, 0) == 0; };
   const std::string expected =
       ": --scans takes a scan list: a .conf with one line 'bmesh FILE tx ty tz qx qy qz qw' per "
-      "range-grid PLY file (0 0 0 0 0 0 1: as scanned), a .ptx file, or a depth-sequence folder";
+      "range-grid PLY file (0 0 0 0 0 0 1: as scanned), a .ptx or .e57 file, or a depth-sequence "
+      "folder";
   if (begins("ply\n") || begins("ply\r")) return "is a PLY file, not a scan list" + expected;
-  if (begins("ASTM-E57"))
-    return "is an E57 file, which rangefuse does not read yet: export its scans as one PTX file, "
-           "or as range-grid PLY files with a .conf";
   if (begins("\x89PNG")) return "is a PNG image, not a scan list" + expected;
   if (begins("\x89HDF")) return "is an HDF5 file (a checkpoint? continue it with --resume)";
   return "";
@@ -115,17 +150,24 @@ std::string notAScanList(const std::string& path) {
 ConfFile readScanList(const std::string& path, const InputLimits& limits,
                       const ScanSourceOptions& source) {
   const std::string& format = source.format;
-  if (format != "auto" && format != "conf" && format != "ptx" && format != "tum" &&
-      format != "redwood")
-    throw InputError("--scan-format: '" + format + "' is not auto, conf, ptx, tum or redwood");
+  if (format != "auto" && format != "conf" && format != "ptx" && format != "e57" &&
+      format != "tum" && format != "redwood")
+    throw InputError("--scan-format: '" + format + "' is not auto, conf, ptx, e57, tum or redwood");
   std::error_code ec;
   const bool folder = std::filesystem::is_directory(path, ec);
   if (format == "tum" || format == "redwood" || (format == "auto" && folder))
     return readSequence(path, format, source);
   if (format == "ptx" || (format == "auto" && isPtx(path))) return readPtxList(path, limits);
+  if (format == "e57" || (format == "auto" && isE57(path))) return readE57List(path, limits);
+  if (format == "auto" && !folder) {
+    // An E57 file under another name is told by its first bytes.
+    std::ifstream in(path, std::ios::binary);
+    char head[8] = {};
+    if (in.read(head, 8) && std::string(head, 8) == "ASTM-E57") return readE57List(path, limits);
+  }
   if (const std::string why = notAScanList(path); !why.empty()) throw InputError(path + ": " + why);
   ConfFile conf = readConf(path);
-  locatePtxScans(conf, path, limits);
+  locateFileScans(conf, path, limits);
   locateDepthImages(conf, source);
   return conf;
 }
@@ -134,7 +176,9 @@ ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
   ConfFile out;
   out.warnings = conf.warnings;
   for (const ConfScan& s : conf.scans) {
-    const int bands = s.ptx ? bandCount(s.ptx->cols, s.ptx->rows, maxCells) : 1;
+    int bands = 1;
+    if (s.ptx) bands = bandCount(s.ptx->cols, s.ptx->rows, maxCells);
+    if (s.e57 && s.e57->rows > 0) bands = bandCount(s.e57->cols, s.e57->rows, maxCells);
     for (int b = 0; b < bands; ++b) {
       out.scans.push_back(s);
       out.scans.back().band = b;
@@ -146,6 +190,7 @@ ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
 
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
   if (scan.ptx) return readPtxScan(scan.path, *scan.ptx);
+  if (scan.e57) return readE57Scan(scan.path, *scan.e57);
   if (scan.depth) {
     RangeGrid g = depthGrid(readDepthPng(scan.path, limits.maxGridCells), *scan.depth, scan.path);
     if (!scan.colour.empty())
@@ -156,10 +201,8 @@ RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
 }
 
 SensorKind sensorKindOf(const std::string& path) {
-  if (isPtx(path)) return SensorKind::station;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".png" ? SensorKind::camera : SensorKind::grid;
+  if (isPtx(path) || isE57(path)) return SensorKind::station;
+  return extension(path) == ".png" ? SensorKind::camera : SensorKind::grid;
 }
 
 }  // namespace rangefuse::io

@@ -8,8 +8,8 @@ cd "$(dirname "$0")/.."
 seconds=${1:-600}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(range_grid_ply mesh_ply conf fuse_ini checkpoint ptx depth_png depth_sequence
-  colour_image)
+((${#targets[@]})) || targets=(range_grid_ply mesh_ply conf fuse_ini checkpoint ptx e57 depth_png
+  depth_sequence colour_image)
 
 RANGEFUSE_EXTRA_PACKAGES="clang libclang-rt-14-dev" bash jobs/setup.sh >/dev/null
 source jobs/mpi_env.sh

@@ -8,6 +8,7 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/DepthSequence.h"
+#include "rangefuse/io/E57.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/Ptx.h"
@@ -24,6 +25,8 @@ namespace {
 
 struct ScanOptions {
   std::string mesh, shape, out, path = "sphere", format = "ply";
+  std::string e57Coordinates = "double";  ///< double, single, scaled (0.1 mm steps), spherical
+  bool e57Loose = false;                  ///< E57 without row and column indices
   double scale = 1;
   bool ascii = false, bigEndian = false, jpeg = false;
   ScanSettings settings;
@@ -141,22 +144,39 @@ void writeRangeGrids(const ScanOptions& o, const SyntheticSet& set, const std::s
   io::writeConf(dir + "/perturbed.conf", perturbed);
 }
 
-/// Writes the scans as one Leica PTX file, stations.ptx, with truth.conf and perturbed.conf
-/// naming its scans (stations.ptx#K).
-void writeStations(const SyntheticSet& set, const std::string& dir) {
+/// Writes the scans as one Leica PTX file, stations.ptx, or one E57 file, stations.e57, with
+/// truth.conf and perturbed.conf naming its scans (stations.ptx#K, stations.e57#K).
+void writeStations(const SyntheticSet& set, const std::string& dir, const std::string& format,
+                   const io::E57Writing& e57) {
   std::vector<RangeGrid> grids;
   std::vector<Pose> poses;
   std::vector<io::ConfScan> truth, perturbed;
   for (size_t k = 0; k < set.scans.size(); ++k) {
     grids.push_back(set.scans[k].grid);
     poses.push_back(set.scans[k].truth);
-    const std::string name = "stations.ptx#" + std::to_string(k + 1);
+    const std::string name = "stations." + format + "#" + std::to_string(k + 1);
     truth.push_back({name, "", set.scans[k].truth});
     perturbed.push_back({name, "", set.scans[k].perturbed});
   }
-  io::writePtx(dir + "/stations.ptx", grids, poses);
+  if (format == "ptx")
+    io::writePtx(dir + "/stations.ptx", grids, poses);
+  else
+    io::writeE57(dir + "/stations.e57", grids, poses, e57);
   io::writeConf(dir + "/truth.conf", truth);
   io::writeConf(dir + "/perturbed.conf", perturbed);
+}
+
+/// How `--format e57` stores its stations.
+io::E57Writing e57Writing(const ScanOptions& o) {
+  io::E57Writing how;
+  const std::map<std::string, io::E57Coordinates> kinds = {
+      {"double", io::E57Coordinates::cartesianDouble},
+      {"single", io::E57Coordinates::cartesianSingle},
+      {"scaled", io::E57Coordinates::cartesianScaled},
+      {"spherical", io::E57Coordinates::sphericalDouble}};
+  how.coordinates = kinds.at(o.e57Coordinates);
+  how.structured = !o.e57Loose;
+  return how;
 }
 
 ScanOptions checked(ScanOptions o) {
@@ -168,11 +188,17 @@ ScanOptions checked(ScanOptions o) {
   if (!paths.count(o.path))
     throw InputError("scan: --path must be sphere, orbit, stations, handheld or walk");
   o.settings.path = paths.at(o.path);
-  if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx")
-    throw InputError("scan: --format must be ply, tum, redwood or ptx");
+  if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx" &&
+      o.format != "e57")
+    throw InputError("scan: --format must be ply, tum, redwood, ptx or e57");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
-  if (o.path == "stations" && o.format != "ptx")
-    throw InputError("scan: stations are written as --format ptx (spherical grids)");
+  if (o.e57Coordinates != "double" && o.e57Coordinates != "single" &&
+      o.e57Coordinates != "scaled" && o.e57Coordinates != "spherical")
+    throw InputError("scan: --e57-coordinates must be double, single, scaled or spherical");
+  if ((o.path == "stations") != (o.format == "ptx" || o.format == "e57"))
+    throw InputError(
+        "scan: stations (--path stations) are written as --format ptx or e57, and "
+        "those formats hold stations only");
   if (!(o.scale > 0 && std::isfinite(o.scale)))
     throw InputError("scan: --scale must be positive and finite");
   return o;
@@ -199,8 +225,8 @@ int run(const ScanOptions& given) {
   for (const auto& s : set.scans) points += s.grid.points.size();
   if (o.format == "ply")
     writeRangeGrids(o, set, o.out);
-  else if (o.format == "ptx")
-    writeStations(set, o.out);
+  else if (o.format == "ptx" || o.format == "e57")
+    writeStations(set, o.out, o.format, e57Writing(o));
   else
     writeSequence(o, set, o.out);
   // A quarter voxel: sharper than any fused mesh can be, so the truth does not blur the edges
@@ -243,9 +269,9 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
                   "height is a full turn x 160 degrees)")(
       "format", po::value(&o.format)->default_value(o.format),
       "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
-      "camera_intrinsic.json), or ptx (one Leica PTX file of every scan, truth.conf)")(
-      "scale", po::value(&o.scale)->default_value(o.scale),
-      "multiply the mesh's coordinates (e.g. to room size)")(
+      "camera_intrinsic.json), or ptx or e57 (one Leica PTX or ASTM E57 file of every station, "
+      "truth.conf)")("scale", po::value(&o.scale)->default_value(o.scale),
+                     "multiply the mesh's coordinates (e.g. to room size)")(
       "outliers", po::value(&s.outliers)->default_value(0.0), "fraction of outlier samples")(
       "patches", po::value(&s.patches)->default_value(0), "extraneous patches, one scan each")(
       "rot-deg", po::value(&s.rotDeg)->default_value(0.0), "pose perturbation: max angle per axis")(
@@ -260,7 +286,12 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "the checks' colour at its vertices")(
       "jpeg", po::bool_switch(&o.jpeg),
       "write sequences' colour images as JPEG (quality 95), as Open3D's recorder does")(
-      "out", po::value(&o.out), "output folder");
+      "e57-coordinates", po::value(&o.e57Coordinates)->default_value(o.e57Coordinates),
+      "--format e57: double, single, scaled (integers of 0.1 mm, in scan units 1e-4) or "
+      "spherical (range, azimuth, elevation)")(
+      "e57-loose", po::bool_switch(&o.e57Loose),
+      "--format e57: the returns alone, without row and column indices")("out", po::value(&o.out),
+                                                                         "output folder");
   addLimitOptions(d, o.limits, false);
   po::variables_map vm;
   const int parsed = parseCollectively(

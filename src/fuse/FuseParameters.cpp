@@ -88,20 +88,22 @@ std::vector<FuseParameter> makeTable() {
   using G = OptionGroup;
   return {
       {"scans", "scans", R::CheckpointOnly, true, G::Input,
-       "scan list: a .conf (Stanford bmesh lines; FILE.ptx#K names a PTX file's scan K), a Leica "
-       ".ptx file, or a folder holding a TUM RGB-D or Redwood depth-image sequence",
+       "scan list: a .conf (Stanford bmesh lines; FILE.ptx#K and FILE.e57#K name a file's scan "
+       "K), a Leica .ptx or an ASTM E57 file, or a folder holding a TUM RGB-D or Redwood "
+       "depth-image sequence",
        at(&FuseOptions::scans),
        [](const FuseOptions& o) {
-         return o.scans.empty() ? "is required (a .conf, a .ptx file or a sequence folder)" : "";
+         return o.scans.empty() ? "is required (a .conf, a .ptx or .e57 file or a sequence folder)"
+                                : "";
        }},
       {"scan-format", "scan_format", R::CheckpointOnly, false, G::Input,
-       "how to read --scans: auto (from the name: folder, .ptx, else .conf), conf, ptx, tum or "
-       "redwood",
+       "how to read --scans: auto (from the name: folder, .ptx, .e57, else .conf), conf, ptx, "
+       "e57, tum or redwood",
        [](FuseOptions& o) -> OptionValue { return &o.source.format; },
        [](const FuseOptions& o) {
-         for (const char* f : {"auto", "conf", "ptx", "tum", "redwood"})
+         for (const char* f : {"auto", "conf", "ptx", "e57", "tum", "redwood"})
            if (o.source.format == f) return "";
-         return "must be auto, conf, ptx, tum or redwood";
+         return "must be auto, conf, ptx, e57, tum or redwood";
        }},
       {"intrinsics", "intrinsics", R::Result, false, G::Input,
        "depth images: camera intrinsics 'fx,fy,cx,cy' in pixels or an Open3D "

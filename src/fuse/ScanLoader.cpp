@@ -25,13 +25,15 @@ SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const Surfa
   return SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
 }
 
-/// One band of a large PTX scan: the rules from the scan's sample, then the band's own columns.
+/// One band of a large PTX or E57 station: the rules from the scan's sample, then the band's own
+/// columns.
 PrismScan prepareBand(const io::ConfScan& c, const SurfaceOptions& options, double eps) {
-  const io::PtxScan& ptx = *c.ptx;
   const ColumnReader read = [&](int first, int count) {
-    return io::readPtxColumns(c.path, ptx, first, count);
+    return c.ptx ? io::readPtxColumns(c.path, *c.ptx, first, count)
+                 : io::readE57Columns(c.path, *c.e57, first, count);
   };
-  const BandRules rules = bandRules(read, ptx.cols, ptx.rows, options);
+  const int cols = c.ptx ? c.ptx->cols : c.e57->cols, rows = c.ptx ? c.ptx->rows : c.e57->rows;
+  const BandRules rules = bandRules(read, cols, rows, options);
   PrismScan s;
   s.surface = buildBandSurface(read, rules, c.band, c.bands, options);
   s.limits = computePrismLimits(s.surface, eps);

@@ -27,12 +27,18 @@ namespace {
 
 using mpi::collectively;
 
-/// The bytes each scan reads: its file's, or its share of a PTX file's scan.
+/// The bytes each scan reads: its file's, or its share of a PTX or E57 file's scan.
 std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
   std::vector<uint64_t> bytes;
   for (const auto& c : conf.scans) {
     if (c.ptx) {
       bytes.push_back((c.ptx->end - c.ptx->offset) / static_cast<uint64_t>(c.bands));
+      continue;
+    }
+    if (c.e57) {
+      uint64_t bits = 0;
+      for (const io::E57Field& f : c.e57->fields) bits += static_cast<uint64_t>(f.bits());
+      bytes.push_back(c.e57->records * bits / 8 / static_cast<uint64_t>(c.bands));
       continue;
     }
     std::error_code ec;

@@ -155,6 +155,21 @@ if mpirun -np 2 "$bin" fuse --scans "$bunny" --voxel 1 --out "$tmp/slip.ply" >/d
 else
   echo "FAIL voxel-slip: no unit-slip warning"; cat "$tmp/slip.stderr"; failures=$((failures + 1))
 fi
+# E57: a file cut short, a damaged page, a .conf naming a scan the file does not hold.
+"$bin" scan --shape room --path stations --views 2 --width 60 --height 30 --voxel 0.2 \
+  --format e57 --out "$tmp/e57" >/dev/null
+head -c -100 "$tmp/e57/stations.e57" >"$tmp/cut.e57"
+expect e57-cut "cut.e57: .* not a whole number of 1024-byte E57 pages" --scans "$tmp/cut.e57" \
+  --voxel 0.2
+python3 -c "
+import sys
+b = bytearray(open(sys.argv[1], 'rb').read()); b[1024 + 9] ^= 4
+open(sys.argv[2], 'wb').write(b)" "$tmp/e57/stations.e57" "$tmp/crc.e57"
+expect e57-crc "crc.e57: page 1 (bytes 1024-2047): checksum mismatch" --scans "$tmp/crc.e57" \
+  --voxel 0.2
+printf 'bmesh stations.e57#3 0 0 0 0 0 0 1\n' >"$tmp/e57/three.conf"
+expect e57-missing-scan "stations.e57 holds only 2 scans" --scans "$tmp/e57/three.conf" \
+  --voxel 0.2
 
 # Inputs given to the wrong option: recognised by their content, the message says what --scans
 # or --config expects.
@@ -162,9 +177,10 @@ expect scans-ply "bun000.ply: is a PLY file, not a scan list: --scans takes a sc
   --scans "$(dirname "$bunny")/bun000.ply" --voxel 0.001
 expect scans-folder "holds $(dirname "$bunny")/bun.conf: give --scans one of those" \
   --scans "$(dirname "$bunny")" --voxel 0.001
-printf 'ASTM-E57\0\0\0\0\0\0\0\0' >"$tmp/station.e57"
-expect scans-e57 "station.e57: is an E57 file, which rangefuse does not read yet" \
-  --scans "$tmp/station.e57" --voxel 0.001
+# An E57 file under another name is read as E57, by its signature.
+printf 'ASTM-E57\0\0\0\0\0\0\0\0' >"$tmp/station.dat"
+expect scans-e57 "station.dat: 16 bytes is not a whole number of 1024-byte E57 pages" \
+  --scans "$tmp/station.dat" --voxel 0.001
 expect config-conf "bun.conf: the options configuration file contains an invalid line" --config "$bunny"
 grep -q "a scan list goes to --scans" "$tmp/config-conf.stderr" ||
   { echo "FAIL config-conf: no hint"; failures=$((failures + 1)); }

@@ -55,6 +55,7 @@ Entry entryNamed(const std::string& name) {
   if (name == "fuse_ini") return fuseIni;
   if (name == "checkpoint") return checkpoint;
   if (name == "ptx") return ptx;
+  if (name == "e57") return e57;
   if (name == "depth_png") return depthPng;
   if (name == "depth_sequence") return depthSequence;
   if (name == "colour_image") return colourImage;

@@ -23,6 +23,10 @@ void fuseIni(const std::string& bytes);
 /// camera_intrinsic.json; Redwood: trajectory.log, camera_intrinsic.json) beside two valid
 /// frames. A colour image: the first byte picks JPEG (even) or PNG (odd), the rest is the file.
 void ptx(const std::string& bytes);
+/// An E57 file: the first byte picks the rest as the file's bytes (odd: pages and checksums as
+/// given, reaching the checksum checks) or as its logical bytes (even: laid on pages with their
+/// checksums, so that mutations reach the header, the XML and the packets).
+void e57(const std::string& bytes);
 void depthPng(const std::string& bytes);
 void depthSequence(const std::string& bytes);
 void colourImage(const std::string& bytes);

@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../../io/E57Pages.h"
 #include "FuzzEntries.h"
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/DepthPng.h"
+#include "rangefuse/io/E57.h"
 #include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/Ptx.h"
 #include "rangefuse/io/ScanFiles.h"
@@ -72,6 +74,44 @@ void ptx(const std::string& bytes) {
       io::readPtxScan(file.string(), scan);
       // Read and prepared again in two bands of columns, as fuse reads a large station.
       io::ConfScan band{"fuzz.ptx#1", file.string(), scan.pose, scan};
+      band.bands = 2;
+      SurfaceOptions merged;
+      merged.mergeTarget = 0.5;
+      merged.sightMap = true;
+      for (band.band = 0; band.band < 2; ++band.band) loadScan(band, merged, fuzzLimits(), 0.1);
+    }
+  });
+}
+
+void e57(const std::string& bytes) {
+  const fs::path file = scratch() / "fuzz.e57";
+  std::string content = bytes.empty() ? bytes : bytes.substr(1);
+  if (!bytes.empty() && (bytes[0] & 1) == 0) {
+    // The header's file length follows the pages, so that a mutation's length is no obstacle.
+    const uint64_t pages = (content.size() + io::internal::kE57PageData - 1) /
+                           io::internal::kE57PageData * io::internal::kE57Page;
+    for (int k = 0; k < 8 && content.size() >= 24; ++k)
+      content[16 + k] = static_cast<char>(pages >> (8 * k) & 0xFF);
+    std::string paged;
+    for (size_t at = 0; at < content.size(); at += io::internal::kE57PageData) {
+      std::string page = content.substr(at, io::internal::kE57PageData);
+      page.resize(io::internal::kE57PageData, '\0');
+      const uint32_t crc =
+          io::internal::crc32c(reinterpret_cast<const uint8_t*>(page.data()), page.size());
+      for (int k = 3; k >= 0; --k) page.push_back(static_cast<char>(crc >> (8 * k) & 0xFF));
+      paged += page;
+    }
+    content = paged;
+  }
+  writeBytes(file, content);
+  refusedCleanly([&] {
+    const std::vector<io::E57Scan> scans = io::indexE57(file.string(), fuzzLimits());
+    for (const io::E57Scan& scan : scans) {
+      io::readE57Scan(file.string(), scan);
+      if (scan.rows == 0) continue;
+      // Read and prepared again in two bands of columns, as fuse reads a large station.
+      io::ConfScan band{"fuzz.e57#1", file.string(), scan.pose};
+      band.e57 = scan;
       band.bands = 2;
       SurfaceOptions merged;
       merged.mergeTarget = 0.5;

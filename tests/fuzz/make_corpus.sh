@@ -6,7 +6,7 @@ tool=$1
 out=$2
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 data=$repo/tests/data/bunny
-mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint,ptx,depth_png,depth_sequence,colour_image}
+mkdir -p "$out"/{range_grid_ply,mesh_ply,conf,fuse_ini,checkpoint,ptx,e57,depth_png,depth_sequence,colour_image}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -61,6 +61,17 @@ printf 'scans = a.conf\nvoxel = 0.5\nmethod = consensus\nquorum = 1.5\nregister 
 "$tool" scan --shape room --path stations --views 2 --width 8 --height 4 --voxel 0.5 \
   --format ptx --out "$tmp/ptx" >/dev/null
 cp "$tmp/ptx/stations.ptx" "$out/ptx/two_stations.ptx"
+# E57 as the e57 entry takes it: a byte (even: logical bytes, re-paged by the entry; odd: the
+# file as it is), then the bytes.
+"$tool" scan --shape room --path stations --views 2 --width 8 --height 4 --voxel 0.5 \
+  --format e57 --out "$tmp/e57" >/dev/null
+{ printf '\x01'; cat "$tmp/e57/stations.e57"; } >"$out/e57/two_stations_paged.e57"
+python3 - "$tmp/e57/stations.e57" "$out/e57/two_stations_logical.e57" <<'PY'
+import sys
+data = open(sys.argv[1], "rb").read()
+logical = b"".join(data[at:at + 1020] for at in range(0, len(data), 1024))
+open(sys.argv[2], "wb").write(b"\x00" + logical)
+PY
 # Colour: PTX x y z i r g b lines, range grids with red green blue, a painted truth mesh, and
 # colour images as the colour_image entry takes them (a byte picking JPEG or PNG, then the file).
 "$tool" scan --shape room --path stations --views 2 --width 8 --height 4 --voxel 0.5 \

@@ -265,7 +265,8 @@ TEST(DepthSequence, MalformedRedwoodFoldersNameTheFileAndLine) {
   std::filesystem::create_directories(dir.file("empty"));
   expectMessage(failure(dir.file("empty")), "empty: a folder of scans must be");
   expectMessage(failure(dir.file("rw"), {"ptx", "", 0}), "rw");
-  expectMessage(failure(dir.file("rw"), {"e57", "", 0}), "--scan-format: 'e57'");
+  expectMessage(failure(dir.file("rw"), {"las", "", 0}), "--scan-format: 'las'");
+  expectMessage(failure(dir.file("rw"), {"e57", "", 0}), "rw: is a folder, not an E57 file");
 }
 
 TEST(DepthSequence, FoldersWithoutATrajectoryAreReadUnposedInOrder) {

@@ -39,7 +39,7 @@ TEST_P(FuzzRegression, EveryFoundCrashIsNowReadOrRefused) {
 // The checkpoint entry needs MPI: it is replayed by the MPI tests.
 INSTANTIATE_TEST_SUITE_P(Readers, FuzzRegression,
                          ::testing::Values("range_grid_ply", "mesh_ply", "conf", "fuse_ini", "ptx",
-                                           "depth_png", "depth_sequence", "colour_image"));
+                                           "e57", "depth_png", "depth_sequence", "colour_image"));
 
 TEST(FuzzRegression, ListItemTooLargeForAnIndexIsRefused) {
   const std::string ply =

@@ -8,6 +8,7 @@
 
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/io/DepthCamera.h"
+#include "rangefuse/io/E57.h"
 #include "rangefuse/io/Ptx.h"
 
 namespace rangefuse::io {
@@ -26,6 +27,8 @@ struct ConfScan {
   double time = 0;
   /// A depth frame's colour image (8-bit PNG, registered to the depth), resolved; empty: none.
   std::string colour = {};
+  /// Set for one scan of an E57 file (named FILE.e57#K in a .conf; `path` is then the file's).
+  std::optional<E57Scan> e57 = std::nullopt;
 };
 
 struct ConfFile {
