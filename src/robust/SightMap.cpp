@@ -13,6 +13,8 @@ namespace {
 constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
 constexpr float kNothing = std::numeric_limits<float>::infinity();
 constexpr int kMaxSide = 8192;  // cells along a raster side; a coarser cell beyond that
+// Deviations of the looking scan's own noise a point must lie in front of what it saw.
+constexpr double kLookedSigmas = 3;
 
 }  // namespace
 
@@ -199,7 +201,7 @@ bool SightMap::lookedThrough(const Eigen::Vector3d& p, double margin) const {
   if (rays_ == Rays::Pinhole && !(q.z() < 0)) return false;  // behind the sensor
   const double clear = clearance(p);
   if (!(clear > margin)) return false;  // NaN (unknown) too
-  return clear > margin + 3 * noise_.at(project(q).z());
+  return clear > margin + kLookedSigmas * noise_.at(project(q).z());
 }
 
 bool SightMap::mayCover(const Eigen::AlignedBox3d& box) const {

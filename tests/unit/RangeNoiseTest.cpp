@@ -70,23 +70,33 @@ TEST(RangeNoise, InterpolatesBetweenMeasuredDepthsAndHoldsBeyond) {
 }
 
 TEST(SightMap, LooksThroughOnlyBeyondItsOwnNoise) {
-  // A noisy floor's map: a point one metre in front of the floor was looked through; one a
-  // few deviations in front of it, where the camera's own depths scatter, was not.
-  const RangeGrid grid = floorGrid(depthSquared, 0);
-  SightMap m = SightMap::fromPinholeGrid(grid, 1);
-  m.setNoise(RangeNoise::measure(grid), 1);
-  const double tilt = 30 * M_PI / 180;
-  const Eigen::Vector3d dir = Eigen::Vector3d(0, -0.2, -1).normalized();
-  // The floor along `dir`, in the camera frame.
-  const double up = dir.y() * std::cos(tilt) + dir.z() * std::sin(tilt);
-  const double t = -1.5 / up, z = -t * dir.z();
-  const double margin = 0.02, sigma = depthSquared(z);
-  EXPECT_NEAR(m.noiseAt(t * dir), sigma, 0.25 * sigma);
-  EXPECT_TRUE(m.lookedThrough((t - 1) * dir, margin));
-  EXPECT_FALSE(m.lookedThrough((t - (margin + 2 * sigma) / -dir.z()) * dir, margin));
-  // Without a noise model, the same point counts as looked through (the fixed margin alone).
-  SightMap fixed = SightMap::fromPinholeGrid(grid, 1);
-  EXPECT_TRUE(fixed.lookedThrough((t - (margin + 5 * sigma) / -dir.z()) * dir, margin));
+  // A noisy floor's map, asked along 200 rays about points in front of the floor: a metre in
+  // front, every one was looked through; 2.5 deviations in front (where the camera's own
+  // depths scatter), few were, while a map without the noise model counts most of them.
+  const RangeGrid grid = floorGrid(depthSquared, 0, 5);
+  SightMap aware = SightMap::fromPinholeGrid(grid, 1);
+  aware.setNoise(RangeNoise::measure(grid), 1);
+  const SightMap fixed = SightMap::fromPinholeGrid(grid, 1);
+  const double tilt = 30 * M_PI / 180, margin = 0.02;
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> across(-0.3, 0.3), down(0, 0.25);
+  int far = 0, near = 0, nearFixed = 0;
+  const int rays = 200;
+  for (int k = 0; k < rays; ++k) {
+    const Eigen::Vector3d dir = Eigen::Vector3d(across(rng), down(rng), -1).normalized();
+    const double t = -1.5 / (dir.y() * std::cos(tilt) + dir.z() * std::sin(tilt));
+    const double z = -t * dir.z(), sigma = depthSquared(z);
+    EXPECT_NEAR(aware.noiseAt(t * dir), sigma, 0.25 * sigma);
+    const Eigen::Vector3d front = (t - (margin + 2.5 * sigma) / -dir.z()) * dir;
+    far += aware.lookedThrough((t - 1) * dir, margin);
+    near += aware.lookedThrough(front, margin);
+    nearFixed += fixed.lookedThrough(front, margin);
+  }
+  std::printf("looked through: a metre in front %d, 2.5 deviations %d (%d without noise) of %d\n",
+              far, near, nearFixed, rays);
+  EXPECT_EQ(far, rays);
+  EXPECT_LE(near, rays / 10);
+  EXPECT_GE(nearFixed, rays / 2);
 }
 
 }  // namespace
