@@ -190,7 +190,8 @@ TEST(SyntheticScanner, BadSettingsAreRefused) {
 }
 
 TEST(SyntheticScanner, DisparityBaselineQuantisesDepthIntoEighthPixelSteps) {
-  // Each depth is f b / (n / 8) for a whole n, and lies within the rounding of the surface's disparity.
+  // Each depth is f b / (n / 8) for a whole n, and lies within the rounding of the surface's
+  // disparity.
   const TriangleMesh mesh = makeShape("sphere");
   ScanSettings s = small(3);
   s.disparityBaseline = 0.5;
