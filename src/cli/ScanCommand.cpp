@@ -48,6 +48,7 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
               {"fov_deg", s.fovDeg},
               {"noise_voxels", s.noise},
               {"depth_noise", s.depthNoise},
+              {"disparity_baseline", s.disparityBaseline},
               {"path", o.path},
               {"format", o.format},
               {"scale", o.scale},
@@ -261,12 +262,15 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "noise", po::value(&s.noise)->default_value(0.0), "range noise sigma along the ray, voxels")(
       "depth-noise", po::bool_switch(&s.depthNoise),
       "noise grows with the square of the range (depth cameras); --noise holds at the path's "
-      "distance")("path", po::value(&o.path)->default_value(o.path),
-                  "viewpoints: sphere (spread around the object), orbit (one turn, a "
-                  "hand-held sequence), handheld (one turn, nearer and farther, swaying in fast "
-                  "turns), walk (a depth camera carried inside the scene, e.g. --shape room) or "
-                  "stations (terrestrial scanners inside the scene, e.g. --shape room; width x "
-                  "height is a full turn x 160 degrees)")(
+      "distance")("disparity-baseline", po::value(&s.disparityBaseline)->default_value(0.0),
+                  "depth from disparity in 1/8-pixel steps, as a structured-light camera (a "
+                  "Kinect: 0.075 m) with this baseline measures it (0: exact depth)")(
+      "path", po::value(&o.path)->default_value(o.path),
+      "viewpoints: sphere (spread around the object), orbit (one turn, a "
+      "hand-held sequence), handheld (one turn, nearer and farther, swaying in fast "
+      "turns), walk (a depth camera carried inside the scene, e.g. --shape room) or "
+      "stations (terrestrial scanners inside the scene, e.g. --shape room; width x "
+      "height is a full turn x 160 degrees)")(
       "format", po::value(&o.format)->default_value(o.format),
       "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
       "camera_intrinsic.json), or ptx or e57 (one Leica PTX or ASTM E57 file of every station, "

@@ -8,6 +8,7 @@
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/register/Stragglers.h"
 
 namespace rangefuse {
 
@@ -54,6 +55,23 @@ void printRoundEnd(const RegistrationProgress& p, double voxel) {
       p.ended->round, p.ended->motion / voxel,
       p.phase == RegistrationPhase::Done ? "registration done" : "rebuilding the field");
   std::fflush(stdout);
+}
+
+/// One warning per scan out of line with the others (on rank 0; every rank holds the steps).
+void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScans& scans,
+                    double voxel, const Progress& progress) {
+  const std::vector<ScanStanding> standings = lastStandings(steps);
+  if (!progress.isRoot()) return;
+  std::vector<double> rms;
+  for (const ScanStanding& s : standings) rms.push_back(s.rms);
+  std::sort(rms.begin(), rms.end());
+  for (const ScanStanding& s : findStragglers(standings))
+    std::fprintf(stderr,
+                 "rangefuse: warning: registration: %s is out of line: residual %.3f voxel "
+                 "against a median of %.3f, overlap %llu control points (%.0f %% of the "
+                 "median scan's); check its pose, or give it a better start\n",
+                 scans.names[s.scan].c_str(), s.rms / voxel, rms[rms.size() / 2] / voxel,
+                 static_cast<unsigned long long>(s.correspondences), 100 * s.overlapShare);
 }
 
 /// Adds the time from its construction to its destruction to `total`.
@@ -167,6 +185,7 @@ bool registerPoses(const RegisterSettings& o, const FieldSettings& f,
                 steps.empty() ? 0.0 : 1e3 * fits / static_cast<double>(steps.size()));
   progress.stage("register", std::string(toString(o.mode)) + ": " + std::to_string(steps.size()) +
                                  " fits" + times);
+  warnStragglers(steps, scans, f.voxel, progress);
   return checkpointer.ok();
 }
 

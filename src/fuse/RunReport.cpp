@@ -2,6 +2,8 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "rangefuse/core/MemoryLedger.h"
@@ -9,6 +11,7 @@
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/MpiTraffic.h"
+#include "rangefuse/register/Stragglers.h"
 
 using nlohmann::json;
 
@@ -67,7 +70,19 @@ json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>
                     {"rotation_deg", s.rotationDeg},
                     {"translation", s.translation},
                     {"applied", s.applied}});
-  return {{"mode", toString(mode)}, {"fits", fits}};
+  // Each scan's last fit, and whether it is out of line with the others (Stragglers.h).
+  const std::vector<ScanStanding> standings = lastStandings(steps), out = findStragglers(standings);
+  json scans = json::array();
+  for (const ScanStanding& s : standings)
+    scans.push_back({{"scan", s.scan},
+                     {"rms", s.rms},
+                     {"correspondences", s.correspondences},
+                     {"rms_score", std::isfinite(s.rmsScore) ? json(s.rmsScore) : json(nullptr)},
+                     {"overlap_share", s.overlapShare},
+                     {"straggler", std::any_of(out.begin(), out.end(), [&](const ScanStanding& o) {
+                        return o.scan == s.scan;
+                      })}});
+  return {{"mode", toString(mode)}, {"fits", fits}, {"scans", scans}};
 }
 
 }  // namespace

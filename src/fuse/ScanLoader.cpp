@@ -20,9 +20,12 @@ SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const Surfa
   const int shortSide = std::min(grid.cols, grid.rows);
   const int k = o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1;
   // A station's lines of sight fan out in angles: cells of its (merged) angular step.
-  if (grid.spherical) return SightMap::fromStation(local, k * angularSpacing(grid));
-  if (grid.pinhole) return SightMap::fromPinholeGrid(grid, k);
-  return SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
+  SightMap map = grid.spherical ? SightMap::fromStation(local, k * angularSpacing(grid))
+                 : grid.pinhole ? SightMap::fromPinholeGrid(grid, k)
+                                : SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
+  // A merged point is the mean of k x k cells: 1 / k of their noise.
+  map.setNoise(RangeNoise::measure(grid), 1.0 / k);
+  return map;
 }
 
 /// One band of a large PTX or E57 station: the rules from the scan's sample, then the band's own

@@ -254,9 +254,9 @@ bool routeEntries(size_t first, size_t end, HeldScans& share,
 /// they receive in scan order (or keep it, for the closest-surface methods).
 bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf, HeldScans& share,
                     const std::vector<size_t>& windows, const std::vector<uint64_t>& preparedBytes,
-                    double reach, int threads, SurfaceHypotheses* hypotheses, MPI_Comm comm,
-                    Progress& progress, FusedField& field, RankCounters& counters,
-                    RoutingStats& routing) {
+                    double reach, int threads, SurfaceHypotheses* hypotheses,
+                    std::vector<SightMap>* sights, MPI_Comm comm, Progress& progress,
+                    FusedField& field, RankCounters& counters, RoutingStats& routing) {
   BrickStore& store = *field.store;
   if (reach > 0) field.scans.resize(field.scanCount);
   const int ranks = mpi::size(comm);
@@ -296,6 +296,11 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
         field.scans[i] = joinScans(std::move(bands));
         continue;
       }
+      // A part routed here carries no sight map; the rank's copy of its scan's map gives
+      // its samples' noise (the parts live only as long as this window, the maps longer).
+      if (sights)
+        for (PrismScan* part : image)
+          part->sight = std::shared_ptr<SightMap>(std::shared_ptr<SightMap>(), &(*sights)[i]);
       images.emplace_back(image.begin(), image.end());
     }
     if (integrator) {
@@ -381,8 +386,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   const std::vector<size_t> windows =
       wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4 * ranks), scanOf);
   if (!integrateShare(conf, scanOf, share, windows, bytes, o.routeReach, o.threads,
-                      hypotheses ? &*hypotheses : nullptr, comm, progress, field, counters,
-                      routing))
+                      hypotheses ? &*hypotheses : nullptr, sights ? &sights->all : nullptr, comm,
+                      progress, field, counters, routing))
     return false;
   if (hypotheses &&
       !collectively(comm, [&] { counters.robust = hypotheses->resolve(sights->all, o.threads); }))

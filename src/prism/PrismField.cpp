@@ -197,6 +197,13 @@ void prismLayers(const PrismScan& scan, size_t t, const VoxelGrid& grid, int& zL
   zHi = floorToInt((hi - grid.origin.z()) / grid.voxel);
 }
 
+/// The noise of the distances triangle t gives, at its centre's depth.
+float triangleNoise(const PrismScan& scan, size_t t) {
+  const Triangle& f = scan.surface.triangles[t];
+  const auto& p = scan.surface.points;
+  return static_cast<float>(scan.sight->sampleNoiseAt((p[f[0]] + p[f[1]] + p[f[2]]) / 3));
+}
+
 }  // namespace
 
 PrismIntegrator::PrismIntegrator(BrickStore& store, int threads)
@@ -220,7 +227,8 @@ void PrismIntegrator::storeGrew() {
 uint64_t PrismIntegrator::bytes() const {
   uint64_t b = sizeof(uint32_t) * latest_.capacity();
   for (const Slab& s : slabs_)
-    b += sizeof(Sample) * s.samples.capacity() + sizeof(Colour) * s.colours.capacity();
+    b += sizeof(Sample) * s.samples.capacity() + sizeof(Colour) * s.colours.capacity() +
+         sizeof(float) * s.sigmas.capacity();
   return b;
 }
 
@@ -285,6 +293,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   // The store takes colour only from coloured scans (a job is coloured throughout or not at all).
   const bool coloured = store_.hasColour() && !scan.surface.colours.empty();
   ColourTriangle footColours;  // the current triangle, prepared for its feet
+  float sigma = 0;             // the current triangle's depth noise (robust fusion)
   auto visit = [&](const VoxelIndex&, int64_t at, const PrismFoot& foot) {
     Sample* s = sampleOf(slab, static_cast<size_t>(at));
     // Ties keep the earlier triangle, so the result does not depend on the rank count.
@@ -293,7 +302,9 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
       latest_[at] = static_cast<uint32_t>(slab.samples.size());
       s = &slab.samples.emplace_back();
       if (coloured) slab.colours.emplace_back();
+      if (hypotheses_) slab.sigmas.emplace_back();
     }
+    if (hypotheses_) slab.sigmas[static_cast<size_t>(s - slab.samples.data())] = sigma;
     if (coloured)  // the colour at the foot, where the gradient is interpolated
       slab.colours[static_cast<size_t>(s - slab.samples.data())] =
           surfaceColour(footColours, foot.bary);
@@ -322,6 +333,7 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
     rows.lo.z() = std::max(rows.lo.z(), slab.zLo);
     rows.hi.z() = std::min(rows.hi.z(), slab.zHi);
     if (coloured) footColours = colourTriangle(scan.surface, scan.surface.triangles[t]);
+    if (hypotheses_ && scan.sight) sigma = triangleNoise(scan, t);
     internal::rasterizeRows(prism, grid, rows, slotOf, visit);
   }
   return counted;
@@ -334,7 +346,8 @@ void PrismIntegrator::accumulate(Slab& slab) {
   for (size_t i = 0; i < n; ++i) {
     const Sample& s = samples[i];
     if (hypotheses_) {
-      hypotheses_->add(s.at, s.d, s.w, s.f, slab.colours.empty() ? nullptr : &slab.colours[i]);
+      hypotheses_->add(s.at, s.d, s.w, s.f, slab.sigmas[i],
+                       slab.colours.empty() ? nullptr : &slab.colours[i]);
       continue;
     }
     if (i + ahead < n) __builtin_prefetch(&sums[samples[i + ahead].at]);
@@ -389,6 +402,7 @@ IntegrationStats PrismIntegrator::integrateSlab(const std::vector<Image>& images
       for (const Sample& s : slab.samples) ++slab.brickUpdates[s.at / store_.voxelsPerBrick()];
     slab.samples.clear();
     slab.colours.clear();
+    slab.sigmas.clear();
   }
   return stats;
 }

@@ -13,6 +13,8 @@ namespace {
 constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
 constexpr float kNothing = std::numeric_limits<float>::infinity();
 constexpr int kMaxSide = 8192;  // cells along a raster side; a coarser cell beyond that
+// Deviations of the looking scan's own noise a point must lie in front of what it saw.
+constexpr double kLookedSigmas = 3;
 
 }  // namespace
 
@@ -184,6 +186,24 @@ double SightMap::clearance(const Eigen::Vector3d& p) const {
   return nearest - r.z();
 }
 
+void SightMap::setNoise(RangeNoise noise, double sampleShare) {
+  noise_ = std::move(noise);
+  sampleShare_ = sampleShare;
+}
+
+double SightMap::noiseAt(const Eigen::Vector3d& p) const {
+  if (noise_.empty()) return 0;
+  return noise_.at(project(toScan_.apply(p)).z());
+}
+
+bool SightMap::lookedThrough(const Eigen::Vector3d& p, double margin) const {
+  const Eigen::Vector3d q = toScan_.apply(p);
+  if (rays_ == Rays::Pinhole && !(q.z() < 0)) return false;  // behind the sensor
+  const double clear = clearance(p);
+  if (!(clear > margin)) return false;  // NaN (unknown) too
+  return clear > margin + kLookedSigmas * noise_.at(project(q).z());
+}
+
 bool SightMap::mayCover(const Eigen::AlignedBox3d& box) const {
   if (rays_ == Rays::Station) return true;  // azimuths wrap: not worth bounding
   Eigen::AlignedBox2d seen;
@@ -209,6 +229,11 @@ void SightMap::pack(std::vector<char>& out) const {
   mpi::pack(out, head, 17);
   mpi::pack(out, size, 2);
   mpi::pack(out, depth_.data(), depth_.size());
+  const int32_t points = static_cast<int32_t>(noise_.depths().size());
+  mpi::pack(out, &points, 1);
+  mpi::pack(out, noise_.depths().data(), points);
+  mpi::pack(out, noise_.sigmas().data(), points);
+  mpi::pack(out, &sampleShare_, 1);
 }
 
 SightMap SightMap::unpack(const std::vector<char>& in, size_t& pos) {
@@ -225,6 +250,15 @@ SightMap SightMap::unpack(const std::vector<char>& in, size_t& pos) {
   for (int i = 0; i < 3; ++i) m.toScan_.t[i] = head[14 + i];
   m.allocate(size[0], size[1], kUnknown);
   mpi::unpack(in, pos, m.depth_.data(), m.depth_.size());
+  int32_t points = 0;
+  mpi::unpack(in, pos, &points, 1);
+  if (points < 0 || points > 1024)
+    throw std::runtime_error("sight map: bad noise curve in a message");
+  std::vector<double> depths(points), sigmas(points);
+  mpi::unpack(in, pos, depths.data(), points);
+  mpi::unpack(in, pos, sigmas.data(), points);
+  m.noise_ = RangeNoise::fromPoints(std::move(depths), std::move(sigmas));
+  mpi::unpack(in, pos, &m.sampleShare_, 1);
   return m;
 }
 

@@ -9,8 +9,10 @@
 namespace rangefuse {
 namespace {
 
-bool agrees(const VoxelSums& h, float d, const float f[3], const HypothesisParams& p) {
-  if (std::abs(h.wd / h.w - d) > p.sameDistance) return false;
+/// Wheeler's SameSurface test, its distance widened to three deviations of the sample's noise
+/// where the sensor is noisier than sameDistance allows for.
+bool agrees(const VoxelSums& h, float d, const float f[3], float sigma, const HypothesisParams& p) {
+  if (std::abs(h.wd / h.w - d) > std::max(p.sameDistance, 3.0 * sigma)) return false;
   const double dot = h.wf[0] * f[0] + h.wf[1] * f[1] + h.wf[2] * f[2];
   const double norm = std::sqrt(h.wf[0] * h.wf[0] + h.wf[1] * h.wf[1] + h.wf[2] * h.wf[2]);
   return dot >= p.sameCosine * norm;  // f is unit
@@ -69,12 +71,13 @@ SurfaceHypotheses::ExtraColour* SurfaceHypotheses::extraColours(size_t at, bool 
   return b ? b + at % per : nullptr;
 }
 
-void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3], const Colour* colour) {
+void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3], float sigma,
+                            const Colour* colour) {
   if (!(w > 0)) return;
   if (colourBlocks_.empty()) colour = nullptr;
   VoxelSums& first = store_.sums()[at];
   // Each colour mean takes the weight its hypothesis held before this sample.
-  if (first.images == 0 || agrees(first, d, f, params_)) {
+  if (first.images == 0 || agrees(first, d, f, sigma, params_)) {
     if (colour) store_.colours()[at].add(*colour, w, first.w);
     first.add(d, w, f);
     return;
@@ -85,7 +88,7 @@ void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3], const
   VoxelColour* lightestColour = colour ? &store_.colours()[at] : nullptr;
   for (size_t k = 0; k < extra.size(); ++k) {
     VoxelSums& h = extra[k];
-    if (h.images == 0 || agrees(h, d, f, params_)) {
+    if (h.images == 0 || agrees(h, d, f, sigma, params_)) {
       if (colour) (*colours)[k].add(*colour, w, h.w);
       h.add(d, w, f);
       return;
@@ -105,7 +108,7 @@ bool SurfaceHypotheses::unopposed(const VoxelSums& h, const Eigen::Vector3d& cen
   const Eigen::Vector3d f(h.wf[0], h.wf[1], h.wf[2]);
   const Eigen::Vector3d surface = centre - static_cast<double>(h.wd / h.w) * f.normalized();
   for (const SightMap& s : sights)
-    if (s.clearance(surface) > params_.freeMargin) return false;
+    if (s.lookedThrough(surface, params_.freeMargin)) return false;
   return true;
 }
 

@@ -19,6 +19,8 @@ void validate(const TriangleMesh& mesh, const ScanSettings& s) {
     throw InputError("scan: --width and --height must be at least 2");
   if (!(s.voxel > 0)) throw InputError("scan: --voxel must be positive");
   if (s.noise < 0) throw InputError("scan: --noise must not be negative");
+  if (!(s.disparityBaseline >= 0))
+    throw InputError("scan: --disparity-baseline must not be negative");
   if (s.outliers < 0 || s.outliers > 1) throw InputError("scan: --outliers must be in [0, 1]");
   if (s.patches < 0 || s.patches > s.views)
     throw InputError("scan: --patches must be between 0 and the number of views");
@@ -141,6 +143,16 @@ double castPixel(const Bvh& bvh, const TriangleMesh& patches, const Eigen::Vecto
   return t;
 }
 
+/// Range t along unit `ray` as a structured-light camera measures it: depth from a disparity
+/// rounded to 1/8 pixel.
+double quantisedRange(double t, const Eigen::Vector3d& ray, const Pinhole& lens,
+                      const ScanSettings& set) {
+  const double z = -t * ray.z(), fb = lens.fx * set.disparityBaseline;
+  if (!(z > 0)) return t;
+  const double disparity = std::max(0.125, std::round(8 * fb / z) / 8);
+  return fb / disparity / -ray.z();
+}
+
 void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, double depthLo,
             double depthHi, double eyeDistance, const ScanSettings& set, std::mt19937_64& rng) {
   RangeGrid& g = s.grid;
@@ -167,6 +179,7 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
         t = depth(rng);
       else if (set.noise > 0)
         t += growth(t) * noise(rng);
+      if (set.disparityBaseline > 0 && g.pinhole) t = quantisedRange(t, ray, *g.pinhole, set);
       g.cell[static_cast<size_t>(r) * g.cols + c] = static_cast<int32_t>(g.points.size());
       g.points.push_back(t * ray);
     }

@@ -9,6 +9,7 @@
 
 #include "ScanSetFiles.h"
 #include "SharedTemp.h"
+#include "rangefuse/eval/Comparison.h"
 #include "rangefuse/eval/MeshDistance.h"
 #include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/fuse/FuseJob.h"
@@ -175,5 +176,35 @@ TEST(RobustField, RegistersOnThePrismFieldThenFusesRobustly) {
   for (double x : off) mean += x / off.size();
   std::printf("registered robust mesh: mean distance to the truth %.3f voxel\n", mean);
   EXPECT_LT(mean, 0.3);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RobustField, KeepsTheFarNoisyWallsADepthCameraSawOnAWalkThroughARoom) {
+  // A depth camera carried through the room: 40 frames of 160 x 120, noise 1.4 voxels at 2.6 m
+  // growing with the square of the depth, depths in a Kinect's disparity steps, 0.5 % outliers,
+  // voxel 3 cm. Far walls and the floor are seen at grazing angles by many frames, each noisier
+  // there than --same-distance allows for. Robust fusion keeps what the prism field keeps (with
+  // fixed thresholds it lost 2 % of the recall) and no more stray surface.
+  ScanSettings s = settings(40);
+  s.voxel = 0.03, s.noise = 1.4, s.depthNoise = true, s.disparityBaseline = 0.075;
+  s.outliers = 0.005, s.path = ViewPath::Walk;
+  const std::string dir = scanInto("robust-room", makeRoom(), s, [](SyntheticSet&, auto&) {});
+  MeshComparison c[2];
+  for (int m = 0; m < 2; ++m) {
+    FuseOptions o;
+    o.scans = dir + "/truth.conf";
+    o.voxel = s.voxel;
+    o.method = m == 0 ? FieldMethod::Prism : FieldMethod::Robust;
+    o.out = dir + "/" + toString(o.method) + ".ply";
+    ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+    if (mpi::rank() == 0)
+      c[m] = compareMeshes(io::readMeshPly(o.out), makeRoom(),
+                           CompareSettings{s.voxel, 3 * s.voxel, 200000, 1});
+  }
+  if (mpi::rank() != 0) return;
+  std::printf("room walk: recall prism %.4f robust %.4f; spurious %.4f %.4f\n", c[0].recall,
+              c[1].recall, c[0].spuriousAreaFraction, c[1].spuriousAreaFraction);
+  EXPECT_GE(c[1].recall, c[0].recall - 0.005);
+  EXPECT_LE(c[1].spuriousAreaFraction, c[0].spuriousAreaFraction);
   std::filesystem::remove_all(dir);
 }

@@ -188,3 +188,28 @@ TEST(SyntheticScanner, BadSettingsAreRefused) {
   EXPECT_THROW(scanMesh(TriangleMesh{}, small(2)), InputError);
   EXPECT_THROW(makeShape("cube"), InputError);
 }
+
+TEST(SyntheticScanner, DisparityBaselineQuantisesDepthIntoEighthPixelSteps) {
+  // Each depth is f b / (n / 8) for a whole n, and lies within the rounding of the surface's
+  // disparity.
+  const TriangleMesh mesh = makeShape("sphere");
+  ScanSettings s = small(3);
+  s.disparityBaseline = 0.5;
+  const SyntheticSet set = scanMesh(mesh, s);
+  const MeshDistance dist(mesh);
+  size_t points = 0;
+  for (const auto& sc : set.scans) {
+    const double fb = sc.grid.pinhole->fx * s.disparityBaseline;
+    for (const auto& p : sc.grid.points) {
+      const double z = -p.z(), eighths = 8 * fb / z;
+      EXPECT_NEAR(eighths, std::round(eighths), 1e-6 * eighths);
+      // Rounding moved the disparity by 1/16 at most: the depth by no more than its far side's.
+      const double d = fb / z, farthest = fb / (d - 1.0 / 16) - z;
+      EXPECT_LE(dist.distance(sc.truth.apply(p)), farthest * p.norm() / z + 1e-9);
+      ++points;
+    }
+  }
+  EXPECT_GT(points, 1000u);
+  s.disparityBaseline = -1;
+  EXPECT_THROW(scanMesh(mesh, s), InputError);
+}

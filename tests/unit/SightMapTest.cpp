@@ -239,6 +239,22 @@ TEST(SurfaceHypotheses, AgreementStandsAndALoneSurfaceGoesOnlyWhereSomeoneLooked
   EXPECT_EQ(seen.sums()[1].images, 0) << "removed: the sums are cleared";
 }
 
+TEST(SurfaceHypotheses, NoisySamplesAgreeWithinThreeOfTheirDeviations) {
+  // Two images 3 apart on a surface: two hypotheses of one image each when their noise is
+  // small against sameDistance (2), one of two images when each is 1.2 noisy (3.6 > 3).
+  const HypothesisParams params{2, 0.7, 2, 3};
+  const float up[3] = {0, 0, 1};
+  for (float sigma : {0.0f, 0.5f, 1.2f}) {
+    BrickStore store = tinyStore();
+    SurfaceHypotheses h(store, params);
+    h.add(0, -1.5f, 1, up, sigma);
+    h.add(0, 1.5f, 1, up, sigma);
+    const HypothesisStats s = h.resolve({});
+    EXPECT_EQ(s.agreed, sigma > 1 ? 1u : 0u) << sigma;
+    EXPECT_EQ(h.extraBytes() > 0, sigma < 1) << sigma;
+  }
+}
+
 }  // namespace
 }  // namespace rangefuse
 
@@ -249,9 +265,9 @@ namespace {
 /// surface of voxel 0 is magenta.
 void addColouredSamples(SurfaceHypotheses& h, const Colour& orange, const Colour& magenta) {
   const float up[3] = {0, 0, 1}, down[3] = {0, 0, -1};
-  for (float d : {0.25f, 0.5f, 0.75f}) h.add(0, d, 0.5f, up, &orange);
-  h.add(0, -1.5f, 0.9f, down, &magenta);
-  h.add(1, 0.3f, 0.8f, up, &magenta);
+  for (float d : {0.25f, 0.5f, 0.75f}) h.add(0, d, 0.5f, up, 0, &orange);
+  h.add(0, -1.5f, 0.9f, down, 0, &magenta);
+  h.add(1, 0.3f, 0.8f, up, 0, &magenta);
 }
 
 TEST(SurfaceHypotheses, AVoxelKeepsTheColourOfTheHypothesesThatStand) {

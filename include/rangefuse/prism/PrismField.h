@@ -121,6 +121,7 @@ class PrismIntegrator {
     int zLo = 0, zHi = -1;
     std::vector<Sample> samples;
     std::vector<Colour> colours;         ///< the samples' colours, when the store has colour
+    std::vector<float> sigmas;           ///< the samples' depth noise (robust fusion)
     std::vector<uint64_t> brickUpdates;  ///< per local brick, when counted
   };
   /// Checks the store fits 32-bit offsets and finds the voxel layers its bricks span.

@@ -8,6 +8,7 @@
 
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/robust/RangeNoise.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
@@ -49,6 +50,19 @@ class SightMap {
   /// for a pinhole, wholly behind the sensor. True when it may not be (stations: always).
   bool mayCover(const Eigen::AlignedBox3d& box) const;
 
+  /// The scan's depth noise (RangeNoise::measure of its grid) and the share of it left in its
+  /// triangles' points (1 / k when k x k cells were merged into one point).
+  void setNoise(RangeNoise noise, double sampleShare);
+
+  /// The deviation of the scan's own depth at p's depth along its line of sight (0 unknown).
+  double noiseAt(const Eigen::Vector3d& p) const;
+  /// The deviation of the distances the scan's triangles give a voxel near p.
+  double sampleNoiseAt(const Eigen::Vector3d& p) const { return sampleShare_ * noiseAt(p); }
+
+  /// True when the scan looked through p by more than `margin` plus three deviations of its
+  /// own noise at that depth (clear evidence of free space; false where unknown).
+  bool lookedThrough(const Eigen::Vector3d& p, double margin) const;
+
   /// Serialised form, for sending to other ranks.
   void pack(std::vector<char>& out) const;
   static SightMap unpack(const std::vector<char>& in, size_t& pos);
@@ -79,6 +93,8 @@ class SightMap {
   double au_ = 1, bu_ = 0, av_ = 1, bv_ = 0;
   int width_ = 0, height_ = 0;
   std::vector<float> depth_;  ///< NaN: unknown; +inf: saw nothing
+  RangeNoise noise_;
+  double sampleShare_ = 1;
 };
 
 }  // namespace rangefuse

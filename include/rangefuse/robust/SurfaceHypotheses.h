@@ -42,11 +42,13 @@ class SurfaceHypotheses {
   SurfaceHypotheses& operator=(const SurfaceHypotheses&) = delete;
 
   /// One image's sample at voxel `at` (images come in scan order): joins the hypothesis it
-  /// agrees with, or opens one; with every slot taken it replaces the lightest hypothesis if it
+  /// agrees with (within sameDistance, or three deviations of its noise `sigma` if more), or
+  /// opens one; with every slot taken it replaces the lightest hypothesis if it
   /// weighs more. Samples of weight 0 carry no evidence and are skipped. Threads may add to
   /// different voxels at once. `colour` (null when the store has none) joins the colour mean
   /// of the same hypothesis, so an outlier's colour leaves with the outlier.
-  void add(size_t at, float d, float w, const float f[3], const Colour* colour = nullptr);
+  void add(size_t at, float d, float w, const float f[3], float sigma = 0,
+           const Colour* colour = nullptr);
 
   /// Writes into the store's sums, per voxel, the sum of the hypotheses that stand (those
   /// minViews images agree on, and those fewer saw but no other image looked through) and

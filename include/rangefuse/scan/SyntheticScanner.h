@@ -33,9 +33,13 @@ struct ScanSettings {
   bool depthNoise = false;  ///< sigma grows with the square of the range (depth cameras), equal
                             ///< to `noise` at the viewpoints' distance from the object's centre
   double outliers = 0;      ///< fraction of samples moved to a random depth on their ray
-  int patches = 0;          ///< extraneous flat patches, each seen by one scan only
-  double rotDeg = 0;        ///< perturbation: rotation about each axis uniform in [-A, A]
-  double transVox = 0;      ///< perturbation: translation along each axis uniform in [-T, T]
+  /// Structured-light depth (a Kinect's): the baseline (world units) of a camera whose depth
+  /// comes from disparity in steps of 1/8 pixel, so that depth falls in steps growing with
+  /// its square; 0: not quantised. Pinhole views only.
+  double disparityBaseline = 0;
+  int patches = 0;      ///< extraneous flat patches, each seen by one scan only
+  double rotDeg = 0;    ///< perturbation: rotation about each axis uniform in [-A, A]
+  double transVox = 0;  ///< perturbation: translation along each axis uniform in [-T, T]
   uint64_t seed = 1;
   double texture = 0;  ///< checks of this side (world units) colour the surface; 0: no colour
 };

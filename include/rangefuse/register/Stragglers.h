@@ -1,0 +1,31 @@
+// Scans registration left out of line with the rest: their last fit's residual far above the
+// other scans', or their overlap (correspondences) far below, so that a user sees which scan
+// to check instead of a mesh that is blurred in one place.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rangefuse/register/Registration.h"
+
+namespace rangefuse {
+
+/// How a scan ended registration: its last fit, before that fit moved it.
+struct ScanStanding {
+  size_t scan = 0;
+  double rms = 0;                ///< weighted RMS distance to its correspondences
+  uint64_t correspondences = 0;  ///< its overlap with the field, in control points
+  double rmsScore = 0;           ///< (rms - median) / (1.4826 MAD): a robust z-score
+  double overlapShare = 1;       ///< correspondences / the median scan's
+};
+
+/// Each scan's last fit among `steps`, applied or not (too few correspondences to move it:
+/// its overlap is what is out of line), in scan order; scans never fitted are left out.
+std::vector<ScanStanding> lastStandings(const std::vector<RegistrationStep>& steps);
+
+/// The standings out of line: a residual more than 5 robust deviations above the median and
+/// 25 % above it (so that a set whose scans all fit alike flags none), or correspondences under
+/// a third of the median scan's. Needs four scans or more (fewer: none).
+std::vector<ScanStanding> findStragglers(const std::vector<ScanStanding>& standings);
+
+}  // namespace rangefuse

@@ -1,0 +1,42 @@
+// How noisy a scan's depths are, as a function of depth: measured from the scan itself, so
+// that robust fusion's agreement and free-space tests widen where the sensor is noisy (a depth
+// camera's far walls) and stay tight where it is not (docs/robust.md).
+#pragma once
+
+#include <vector>
+
+#include "rangefuse/core/RangeGrid.h"
+
+namespace rangefuse {
+
+/// A scan's depth noise (one standard deviation, world units) against its depth: piecewise
+/// linear between measured depths, constant beyond them; zero everywhere when nothing was
+/// measured. Depth is -z for pinhole and near-orthographic grids, the range for stations.
+class RangeNoise {
+ public:
+  RangeNoise() = default;
+
+  /// Measures a grid's noise from the second differences of its depths along rows and
+  /// columns (a smooth surface's are near zero; noise of deviation s gives sqrt(6) s), in
+  /// bins of depth; steps between surfaces (neighbours' depths differing by more than 5 %)
+  /// are left out, and each bin's figure is the larger of a median-based and a trimmed-RMS
+  /// estimate, so that quantised depths, whose median step is zero, still count.
+  static RangeNoise measure(const RangeGrid& grid);
+
+  /// The noise at `depth`.
+  double at(double depth) const;
+
+  bool empty() const { return depth_.empty(); }
+
+  /// Depths and noise of the measured bins, for reports and messages.
+  const std::vector<double>& depths() const { return depth_; }
+  const std::vector<double>& sigmas() const { return sigma_; }
+
+  /// Builds a curve from given points (depths ascending), as messages carry it.
+  static RangeNoise fromPoints(std::vector<double> depths, std::vector<double> sigmas);
+
+ private:
+  std::vector<double> depth_, sigma_;
+};
+
+}  // namespace rangefuse

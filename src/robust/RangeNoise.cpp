@@ -1,0 +1,81 @@
+#include "rangefuse/robust/RangeNoise.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rangefuse {
+namespace {
+
+constexpr int kBins = 16;
+constexpr size_t kMinSamples = 64;  // a bin's figure needs this many second differences
+constexpr double kStep = 0.05;      // neighbours this far apart (share of depth) are an edge
+
+double depthOf(const RangeGrid& grid, const Eigen::Vector3d& p) {
+  return grid.spherical ? p.norm() : -p.z();
+}
+
+/// One bin's deviation from the absolute second differences `a` (reordered).
+double binSigma(std::vector<double>& a) {
+  const size_t mid = a.size() / 2, keep = a.size() * 9 / 10;
+  std::nth_element(a.begin(), a.begin() + mid, a.end());
+  const double median = a[mid] / 0.6745;
+  std::nth_element(a.begin(), a.begin() + keep, a.end());
+  double sum = 0;
+  for (size_t i = 0; i < keep; ++i) sum += a[i] * a[i];
+  // A normal variable's RMS below its 90th percentile of |x| is 0.789 of its deviation.
+  const double trimmed = std::sqrt(sum / std::max<size_t>(1, keep)) / 0.789;
+  return std::max(median, trimmed) / std::sqrt(6.0);
+}
+
+}  // namespace
+
+RangeNoise RangeNoise::measure(const RangeGrid& grid) {
+  std::vector<double> depth(grid.cell.size(), NAN);
+  double lo = INFINITY, hi = 0;
+  for (size_t i = 0; i < grid.cell.size(); ++i)
+    if (grid.cell[i] >= 0) {
+      const double z = depthOf(grid, grid.points[grid.cell[i]]);
+      if (!(z > 0)) continue;
+      depth[i] = z, lo = std::min(lo, z), hi = std::max(hi, z);
+    }
+  RangeNoise out;
+  if (!(hi > lo)) return out;
+  const double ratio = std::log(hi / lo) / kBins;
+  std::vector<std::vector<double>> bins(kBins);
+  auto take = [&](double a, double b, double c) {
+    if (!(std::abs(a - c) <= kStep * b) || !(std::abs(a - b) <= kStep * b)) return;
+    const int k = std::min(kBins - 1, static_cast<int>(std::log(b / lo) / ratio));
+    bins[k].push_back(std::abs(a - 2 * b + c));
+  };
+  const size_t cols = grid.cols;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const size_t i = r * cols + c;
+      if (std::isnan(depth[i])) continue;
+      if (c > 0 && c + 1 < grid.cols) take(depth[i - 1], depth[i], depth[i + 1]);
+      if (r > 0 && r + 1 < grid.rows) take(depth[i - cols], depth[i], depth[i + cols]);
+    }
+  for (int k = 0; k < kBins; ++k) {
+    if (bins[k].size() < kMinSamples) continue;
+    out.depth_.push_back(lo * std::exp((k + 0.5) * ratio));
+    out.sigma_.push_back(binSigma(bins[k]));
+  }
+  return out;
+}
+
+RangeNoise RangeNoise::fromPoints(std::vector<double> depths, std::vector<double> sigmas) {
+  RangeNoise out;
+  out.depth_ = std::move(depths), out.sigma_ = std::move(sigmas);
+  return out;
+}
+
+double RangeNoise::at(double depth) const {
+  if (depth_.empty()) return 0;
+  if (!(depth > depth_.front())) return sigma_.front();
+  if (depth >= depth_.back()) return sigma_.back();
+  const size_t k = std::upper_bound(depth_.begin(), depth_.end(), depth) - depth_.begin();
+  const double t = (depth - depth_[k - 1]) / (depth_[k] - depth_[k - 1]);
+  return sigma_[k - 1] + t * (sigma_[k] - sigma_[k - 1]);
+}
+
+}  // namespace rangefuse
