@@ -171,9 +171,15 @@ void SightMap::rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 }
 
 double SightMap::clearance(const Eigen::Vector3d& p) const {
+  double depth;
+  return clearanceAt(p, depth);
+}
+
+double SightMap::clearanceAt(const Eigen::Vector3d& p, double& depth) const {
   const Eigen::Vector3d q = toScan_.apply(p);
   if (rays_ == Rays::Pinhole && !(q.z() < 0)) return NAN;  // behind the sensor
   const Eigen::Vector3d r = project(q);
+  depth = r.z();
   if (!(r.x() >= 1 && r.y() >= 1 && r.x() < width_ - 1 && r.y() < height_ - 1)) return NAN;
   const int x = static_cast<int>(r.x()), y = static_cast<int>(r.y());
   float nearest = kNothing;
@@ -197,11 +203,10 @@ double SightMap::noiseAt(const Eigen::Vector3d& p) const {
 }
 
 bool SightMap::lookedThrough(const Eigen::Vector3d& p, double margin) const {
-  const Eigen::Vector3d q = toScan_.apply(p);
-  if (rays_ == Rays::Pinhole && !(q.z() < 0)) return false;  // behind the sensor
-  const double clear = clearance(p);
-  if (!(clear > margin)) return false;  // NaN (unknown) too
-  return clear > margin + kLookedSigmas * noise_.at(project(q).z());
+  double depth = 0;
+  const double clear = clearanceAt(p, depth);
+  if (!(clear > margin)) return false;  // NaN (unknown, behind the sensor) too
+  return clear > margin + kLookedSigmas * noise_.at(depth);
 }
 
 bool SightMap::mayCover(const Eigen::AlignedBox3d& box) const {

@@ -73,6 +73,8 @@ class SightMap {
   int height() const { return height_; }
 
  private:
+  /// clearance(p), and p's depth along the scan's line of sight.
+  double clearanceAt(const Eigen::Vector3d& p, double& depth) const;
   /// Raster coordinates (cells) and depth of a point in the scan frame.
   Eigen::Vector3d project(const Eigen::Vector3d& q) const;
   void rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
