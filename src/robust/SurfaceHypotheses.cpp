@@ -102,14 +102,26 @@ void SurfaceHypotheses::add(size_t at, float d, float w, const float f[3], float
   }
 }
 
-bool SurfaceHypotheses::unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
-                                  const std::vector<SightMap>& sights) const {
-  if (!std::isfinite(params_.freeMargin)) return false;  // free space off: agreement alone
+int SurfaceHypotheses::lookedThrough(const VoxelSums& h, const Eigen::Vector3d& centre,
+                                     const std::vector<SightMap>& sights, int enough) const {
   const Eigen::Vector3d f(h.wf[0], h.wf[1], h.wf[2]);
   const Eigen::Vector3d surface = centre - static_cast<double>(h.wd / h.w) * f.normalized();
+  int n = 0;
   for (const SightMap& s : sights)
-    if (s.lookedThrough(surface, params_.freeMargin)) return false;
-  return true;
+    if (s.lookedThrough(surface, params_.freeMargin) && ++n >= enough) break;
+  return n;
+}
+
+bool SurfaceHypotheses::stands(const VoxelSums& h, const Eigen::Vector3d& centre,
+                               const std::vector<SightMap>& sights) const {
+  const bool freeSpace = std::isfinite(params_.freeMargin);
+  if (h.images < params_.minViews)  // one view's word: only if no other image saw through it
+    return freeSpace && lookedThrough(h, centre, sights, 1) == 0;
+  // Agreed on, it stands unless as many images looked through it as saw it: a ghost that a
+  // few frames of a long sequence saw (a person passing) and more frames saw past. Past
+  // kVoteViews images it stands on agreement alone, so the test's cost stays bounded.
+  return !freeSpace || h.images >= kVoteViews ||
+         lookedThrough(h, centre, sights, static_cast<int>(h.images)) < h.images;
 }
 
 bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
@@ -119,7 +131,7 @@ bool SurfaceHypotheses::merge(const VoxelSums* h, const Eigen::Vector3d& centre,
   int nearest = -1;
   for (int k = 0; k < kSlots && h[k].images > 0; ++k) {
     const bool enough = h[k].images >= params_.minViews;
-    stands[k] = enough || unopposed(h[k], centre, sights);
+    stands[k] = this->stands(h[k], centre, sights);
     if (!stands[k]) continue;
     agreed |= enough;
     if (nearest < 0 || std::abs(h[k].wd / h[k].w) < std::abs(h[nearest].wd / h[nearest].w))

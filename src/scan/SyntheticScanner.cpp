@@ -107,18 +107,22 @@ Pose walkPose(int i, int n, const Eigen::AlignedBox3d& box) {
   return cameraPose(eye, target);
 }
 
+/// A square in front of the camera, between it and what it sees: in front of the object for
+/// views around one, and a fifth of the scene's radius ahead for a camera walking inside it (a
+/// person or an object passing close by).
 SyntheticPatch drawPatch(int scan, const Pose& cam, const Eigen::Vector3d& centre, double radius,
-                         std::mt19937_64& rng) {
+                         bool inside, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1, 1);
-  const double eyeDistance = (cam.t - centre).norm();
+  const double ahead = inside ? 0.2 * radius : (cam.t - centre).norm() - 1.25 * radius;
+  const double side = inside ? 0.05 * radius : 0.25 * radius;
   const Eigen::Vector3d look = -cam.R.col(2);
-  const Eigen::Vector3d mid = cam.t + (eyeDistance - 1.25 * radius) * look +
-                              0.25 * radius * (u(rng) * cam.R.col(0) + u(rng) * cam.R.col(1));
+  const Eigen::Vector3d mid =
+      cam.t + ahead * look + side * (u(rng) * cam.R.col(0) + u(rng) * cam.R.col(1));
   const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.25 * u(rng), cam.R.col(0)) *
                                 Eigen::AngleAxisd(0.25 * u(rng), cam.R.col(1)))
                                    .toRotationMatrix();
   const Eigen::Vector3d ax = tilt * cam.R.col(0), ay = tilt * cam.R.col(1);
-  const double h = 0.175 * radius;
+  const double h = (inside ? 0.05 : 0.175) * radius;
   SyntheticPatch p;
   p.scan = scan;
   p.corners = {mid - h * ax - h * ay, mid + h * ax - h * ay, mid + h * ax + h * ay,
@@ -242,7 +246,7 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
       s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
       TriangleMesh patches;
       if (patchOf[i] >= 0) {
-        out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, rng));
+        out.patches.push_back(drawPatch(i, s.truth, out.centre, out.radius, walk, rng));
         patches = patchMesh({out.patches.back()});
       }
       const double near = walk ? 0.02 * out.radius : eyeDistance - out.radius;

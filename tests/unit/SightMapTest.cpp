@@ -239,6 +239,30 @@ TEST(SurfaceHypotheses, AgreementStandsAndALoneSurfaceGoesOnlyWhereSomeoneLooked
   EXPECT_EQ(seen.sums()[1].images, 0) << "removed: the sums are cleared";
 }
 
+TEST(SurfaceHypotheses, AnAgreedGhostGoesWhenAsManyImagesLookedThroughItAsSawIt) {
+  // Voxel 0: `seen` images agree on a surface at z = -0.5. Each map is a camera 5 above
+  // looking down at its plane at z = -5: it looked 4.5 past the surface, more than the margin.
+  const HypothesisParams params{2, 0.7, 2, 3};
+  const float up[3] = {0, 0, 1};
+  SightMap sight = SightMap::fromPinholeGrid(planeGrid(40), 1);
+  Pose above;
+  above.t = Eigen::Vector3d(0, 0, 5);
+  sight.place(above);
+  auto standsWith = [&](int seen, int lookers) {
+    BrickStore store = tinyStore();
+    SurfaceHypotheses h(store, params);
+    for (int i = 0; i < seen; ++i) h.add(0, 0.5f, 1, up);
+    h.resolve(std::vector<SightMap>(lookers, sight));
+    return store.sums()[0].images > 0;
+  };
+  EXPECT_TRUE(standsWith(3, 2));
+  EXPECT_FALSE(standsWith(3, 3));
+  EXPECT_FALSE(standsWith(1, 1));  // one view's word, looked through once
+  EXPECT_TRUE(standsWith(1, 0));
+  // Agreed on by kVoteViews images: it stands on agreement alone, whatever saw past it.
+  EXPECT_TRUE(standsWith(SurfaceHypotheses::kVoteViews, SurfaceHypotheses::kVoteViews + 4));
+}
+
 TEST(SurfaceHypotheses, NoisySamplesAgreeWithinThreeOfTheirDeviations) {
   // Two images 3 apart on a surface: two hypotheses of one image each when their noise is
   // small against sameDistance (2), one of two images when each is 1.2 noisy (3.6 > 3).

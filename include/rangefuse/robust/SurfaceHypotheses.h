@@ -25,7 +25,7 @@ struct HypothesisParams {
 struct HypothesisStats {
   uint64_t agreed = 0;     ///< voxels with a hypothesis minViews images or more agree on
   uint64_t unopposed = 0;  ///< voxels with none, but one that no other image looked through
-  uint64_t removed = 0;    ///< voxels left empty: no hypothesis stood
+  uint64_t removed = 0;    ///< voxels left empty: no hypothesis stood (or all outvoted)
 };
 
 /// Up to kSlots hypotheses per voxel of a brick store, each a weighted sum like VoxelSums and,
@@ -35,6 +35,8 @@ struct HypothesisStats {
 class SurfaceHypotheses {
  public:
   static constexpr int kSlots = 3;
+  /// Agreed hypotheses of this many images or more stand without the free-space vote.
+  static constexpr int kVoteViews = 8;
 
   SurfaceHypotheses(BrickStore& store, const HypothesisParams& params);
   ~SurfaceHypotheses();
@@ -74,9 +76,15 @@ class SurfaceHypotheses {
   static VoxelColour mergedColour(const VoxelColour& own, const ExtraColour* extra,
                                   const bool* summed, const VoxelSums* h);
   HypothesisStats resolveBrick(size_t b, const std::vector<SightMap>& sights);
-  /// True when no image looked through the hypothesis' surface point (free space).
-  bool unopposed(const VoxelSums& h, const Eigen::Vector3d& centre,
-                 const std::vector<SightMap>& sights) const;
+  /// How many images looked through the hypothesis' surface point (free space), counted up
+  /// to `enough`.
+  int lookedThrough(const VoxelSums& h, const Eigen::Vector3d& centre,
+                    const std::vector<SightMap>& sights, int enough) const;
+  /// Whether the hypothesis stands: seen by fewer than minViews images, when no other image
+  /// looked through it; agreed on, unless as many images looked through it as saw it (tested
+  /// below kVoteViews images).
+  bool stands(const VoxelSums& h, const Eigen::Vector3d& centre,
+              const std::vector<SightMap>& sights) const;
   /// The sums a voxel keeps (false: none stands); `agreed` when an agreed hypothesis is in.
   /// `summed[k]` tells whether hypothesis k is in.
   bool merge(const VoxelSums* h, const Eigen::Vector3d& centre, const std::vector<SightMap>& sights,
