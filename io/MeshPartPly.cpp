@@ -36,6 +36,7 @@ internal::PlyMeshFormat formatOf(const MeshPart& part, MPI_Comm comm) {
   f.wide = internal::needsDoubleVertices(maxAbs, allEdges, f.faces);
   f.normals = allNormals;
   f.colour = part.colour;
+  f.filled = part.marksFilled;
   return f;
 }
 
@@ -46,7 +47,8 @@ std::string encodeVertices(const MeshPart& part, const internal::PlyMeshFormat& 
     if (part.owns(i))
       internal::encodeVertex(out, f, part.mesh.vertices[i],
                              f.normals ? &part.mesh.normals[i] : nullptr,
-                             f.colour != ColourKind::none ? &part.mesh.colours[i] : nullptr);
+                             f.colour != ColourKind::none ? &part.mesh.colours[i] : nullptr,
+                             f.filled ? part.mesh.filled[i] : 0);
   return out;
 }
 

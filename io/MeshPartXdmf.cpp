@@ -21,6 +21,7 @@ struct OwnedRows {
   std::vector<float> normals;
   std::vector<uint8_t> rgb;      ///< 3 bytes a vertex, when the part is coloured
   std::vector<float> intensity;  ///< 1 float a vertex, when it carries intensity
+  std::vector<uint8_t> filled;   ///< 1 byte a vertex, when it marks filled vertices
   std::vector<int64_t> faces;
 };
 
@@ -48,6 +49,7 @@ OwnedRows ownedRows(const MeshPart& part) {
     if (!m.normals.empty())
       for (int k = 0; k < 3; ++k) rows.normals.push_back(static_cast<float>(m.normals[i][k]));
     if (part.colour != ColourKind::none) addColour(rows, part.colour, m.colours[i]);
+    if (part.marksFilled) rows.filled.push_back(m.filled[i]);
   }
   for (const auto& t : m.faces)
     for (int k = 0; k < 3; ++k) rows.faces.push_back(part.global[t[k]]);
@@ -84,6 +86,11 @@ void writeData(const std::string& tmp, const MeshPart& part, bool normals, MPI_C
     Handle set = createDataset(file, "colours", type, part.totalVertices, cols, tmp, comm);
     writeRows(set, type, part.firstVertex, part.ownedVertices, cols, data, tmp, "colours", comm);
   }
+  if (part.marksFilled) {
+    Handle set = createDataset(file, "filled", H5T_NATIVE_UINT8, part.totalVertices, 1, tmp, comm);
+    writeRows(set, H5T_NATIVE_UINT8, part.firstVertex, part.ownedVertices, 1, rows.filled.data(),
+              tmp, "filled", comm);
+  }
   errno = 0;
   together(file.close() >= 0, tmp, "cannot finish writing (flush and close)", comm);
 }
@@ -119,6 +126,11 @@ void writeDescription(std::ostream& out, const MeshPart& part, bool normals,
   if (part.colour == ColourKind::intensity) {
     out << "      <Attribute Name=\"Intensity\" AttributeType=\"Scalar\" Center=\"Node\">\n";
     dataItem(out, part.totalVertices, "Float", 4, dataFile, "colours", 1);
+    out << "      </Attribute>\n";
+  }
+  if (part.marksFilled) {  // 1 on the vertices that close a hole (--fill-holes)
+    out << "      <Attribute Name=\"Filled\" AttributeType=\"Scalar\" Center=\"Node\">\n";
+    dataItem(out, part.totalVertices, "UChar", 1, dataFile, "filled", 1);
     out << "      </Attribute>\n";
   }
   out << "    </Grid>\n  </Domain>\n</Xdmf>\n";

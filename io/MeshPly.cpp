@@ -52,6 +52,8 @@ TriangleMesh meshFrom(const internal::PlyFile& f) {
   }
   ColourKind kind;
   m.colours = internal::elementColours(path, *v, kind);
+  if (const int cf = v->scalarColumn("filled"); cf >= 0)
+    for (uint64_t i = 0; i < v->element.count; ++i) m.filled.push_back(v->scalar(i, cf) != 0);
   readFaces(f, m);
   return m;
 }
@@ -80,6 +82,7 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh, ColourKind 
   f.wide = internal::needsDoubleVertices(maxAbs, edges, f.faces);
   f.normals = !mesh.normals.empty();
   f.colour = mesh.colours.empty() ? ColourKind::none : colour;
+  f.filled = !mesh.filled.empty();
   writeAtomically(path, [&](std::ostream& out) {
     std::string buf = f.header();
     const auto flushFull = [&] {
@@ -89,7 +92,8 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh, ColourKind 
     };
     for (size_t i = 0; i < mesh.vertices.size(); ++i, flushFull())
       internal::encodeVertex(buf, f, mesh.vertices[i], f.normals ? &mesh.normals[i] : nullptr,
-                             f.colour != ColourKind::none ? &mesh.colours[i] : nullptr);
+                             f.colour != ColourKind::none ? &mesh.colours[i] : nullptr,
+                             f.filled ? mesh.filled[i] : 0);
     for (const auto& t : mesh.faces) {
       internal::encodeFace(buf, t[0], t[1], t[2]);
       flushFull();

@@ -25,6 +25,7 @@ std::string PlyMeshFormat::header() const {
   if (colour == ColourKind::rgb)
     h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (colour == ColourKind::intensity) h += "property float intensity\n";
+  if (filled) h += "property uchar filled\n";
   h += "element face " + std::to_string(faces) + "\n";
   h += "property list uchar int vertex_indices\nend_header\n";
   return h;
@@ -46,7 +47,7 @@ bool needsDoubleVertices(double maxAbs, int64_t edgeUnitsSum, uint64_t faces) {
 }
 
 void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d* normal, const Colour* colour) {
+                  const Eigen::Vector3d* normal, const Colour* colour, uint8_t filled) {
   for (int k = 0; k < 3; ++k) {
     if (f.wide)
       put(out, p[k]);
@@ -58,6 +59,7 @@ void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3
   if (f.colour == ColourKind::rgb)
     for (int k = 0; k < 3; ++k) put(out, colourByte((*colour)[k]));
   if (f.colour == ColourKind::intensity) put(out, (*colour)[0]);
+  if (f.filled) put(out, filled);
 }
 
 void encodeFace(std::string& out, int32_t a, int32_t b, int32_t c) {

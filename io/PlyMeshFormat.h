@@ -17,13 +17,15 @@ struct PlyMeshFormat {
   bool wide = false;  ///< double vertex coordinates instead of float
   bool normals = false;
   ColourKind colour = ColourKind::none;  ///< rgb: uchar red green blue; intensity: a float
+  bool filled = false;                   ///< uchar filled: 1 on vertices that close a hole
 
   std::string header() const;
   size_t vertexBytes() const {
     return (wide ? 24 : 12) + (normals ? 12 : 0) +
            (colour == ColourKind::rgb         ? 3
             : colour == ColourKind::intensity ? 4
-                                              : 0);
+                                              : 0) +
+           (filled ? 1 : 0);
   }
   static constexpr size_t kFaceBytes = 13;  // uchar count + 3 int indices
 };
@@ -40,9 +42,11 @@ int64_t edgeUnits(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double ste
 /// the step exceeds 1/1000 of the mean edge.
 bool needsDoubleVertices(double maxAbs, int64_t edgeUnitsSum, uint64_t faces);
 
-/// Appends one vertex record (normal and colour may be null when the format has none).
+/// Appends one vertex record (normal and colour may be null when the format has none; `filled`
+/// is written when the format has it).
 void encodeVertex(std::string& out, const PlyMeshFormat& f, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d* normal, const Colour* colour = nullptr);
+                  const Eigen::Vector3d* normal, const Colour* colour = nullptr,
+                  uint8_t filled = 0);
 
 /// Appends one triangle record.
 void encodeFace(std::string& out, int32_t a, int32_t b, int32_t c);

@@ -104,9 +104,9 @@ StreamOptions streamOptions(const ReadSettings& read, const FieldSettings& f) {
   if (f.colour != "auto" || method.closestSurface)
     s.colour = parseColourKind(method.closestSurface ? "none" : f.colour, ColourKind::none);
   if (method.hypotheses)
-    s.robust =
-        HypothesisParams{f.sameDistance * f.voxel, std::cos(f.sameAngle * M_PI / 180), f.minViews,
-                         (f.freeMargin == -1 ? f.envelope : f.freeMargin) * f.voxel};
+    s.robust = HypothesisParams{f.sameDistance * f.voxel, std::cos(f.sameAngle * M_PI / 180),
+                                f.minViews, f.lookedThroughMargin()};
+  s.keepSights = f.fillHoles;
   return s;
 }
 

@@ -2,6 +2,7 @@
 
 #include "PreviewView.h"
 #include "RunLines.h"
+#include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/OutputChecks.h"
 #include "rangefuse/fuse/RunReport.h"
@@ -13,6 +14,7 @@
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/render/MeshPicture.h"
+#include "rangefuse/robust/SpaceCarving.h"
 
 namespace rangefuse::internal {
 namespace {
@@ -53,6 +55,14 @@ std::string writtenFiles(const OutputSettings& o) {
   return files;
 }
 
+/// ", of them N closing holes (area A)" with --fill-holes.
+std::string filledLine(const MeshPart& mesh) {
+  if (!mesh.marksFilled) return "";
+  char area[32];
+  std::snprintf(area, sizeof area, "%.4g", mesh.filledArea);
+  return ", " + std::to_string(mesh.filledFaces) + " of them closing holes (area " + area + ")";
+}
+
 }  // namespace
 
 std::function<void(const BrickLayout&)> storageWarner(const RunSettings& s, MPI_Comm comm) {
@@ -81,13 +91,24 @@ int finish(const RunSettings& s, MPI_Comm comm, Progress& progress, const Loaded
            FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
   const OutputSettings& o = s.outputs;
   MeshStats ms;
-  MeshPart mesh = extractDistributedMesh(*field.store, s.mesh.minWeight, comm, &ms, s.mesh.threads);
+  if (s.mesh.fillHoles && !collectively(comm, [&] {
+        if (field.sights.empty())
+          throw InputError("--fill-holes: this run has no sight maps to carve with");
+      }))
+    return 1;
+  const SpaceCarving carving(field.sights, s.mesh.carveMargin);
+  const HoleFill fill{
+      [&](const Eigen::AlignedBox3d& box, const std::vector<Eigen::Vector3d>& points) {
+        return carving.inside(box, points);
+      },
+      static_cast<float>(field.layout.grid.voxel)};
+  MeshPart mesh = extractDistributedMesh(*field.store, s.mesh.minWeight, comm, &ms, s.mesh.threads,
+                                         s.mesh.fillHoles ? &fill : nullptr);
   counters.haloBricks = ms.haloBricksReceived;
   counters.triangles = ms.localTriangles;
   progress.stage("mesh", std::to_string(mesh.totalFaces) + " triangles, " +
-                             std::to_string(mesh.totalVertices) +
-                             " vertices, halo bricks per rank " +
-                             perRank(comm, ms.haloBricksReceived));
+                             std::to_string(mesh.totalVertices) + " vertices" + filledLine(mesh) +
+                             ", halo bricks per rank " + perRank(comm, ms.haloBricksReceived));
   if (!writeOutputs(o, s.mesh, comm, scans, mesh) || !writePoses(o.posesOut, comm, scans)) return 1;
   progress.stage("write", writtenFiles(o));
   progress.stage("done", "peak memory per rank (MiB) " + perRank(comm, peakMemoryMiB()));

@@ -45,6 +45,10 @@ int resumeFromField(const RunSettings& s, const io::CheckpointMeta& meta, MPI_Co
                     Progress& progress) {
   LoadedScans scans;
   if (!collectively(comm, [&] {
+        if (s.mesh.fillHoles)
+          throw InputError("--fill-holes: " + s.outputs.resume +
+                           " holds a finished field, without the sight maps carving needs; "
+                           "fuse the scans again with --fill-holes");
         const ReadSettings& r = s.read;
         const io::ConfFile conf = io::readScanList(r.scans, r.limits, r.source);
         for (const auto& c : conf.scans)

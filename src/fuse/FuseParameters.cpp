@@ -193,6 +193,11 @@ std::vector<FuseParameter> makeTable() {
        must<double>(
            &FuseOptions::freeMargin, [](double v) { return v >= 0 || v == -1; },
            "must be a number of voxels >= 0 (-1: the envelope; inf: off)")},
+      {"fill-holes", "fill_holes", R::Result, false, G::Field,
+       "close the mesh: space behind what the scans saw that none looked through (by more than "
+       "--free-margin) counts as inside, so holes close; vertices of the fill are marked "
+       "(PLY property and XDMF attribute 'filled')",
+       at(&FuseOptions::fillHoles), nullptr, "true"},
       {"brick", "brick", R::Result, false, G::Field, "voxels per brick edge",
        at(&FuseOptions::brick),
        must<int>(

@@ -93,6 +93,16 @@ uint64_t peakMemoryMiB() {
   return static_cast<uint64_t>(u.ru_maxrss) / 1024;  // ru_maxrss is in KiB on Linux
 }
 
+/// The mesh written: its file and size, and with --fill-holes what closes its holes.
+json meshJson(const std::string& file, const MeshPart& mesh) {
+  json j = {{"file", file}, {"triangles", mesh.totalFaces}, {"vertices", mesh.totalVertices}};
+  if (mesh.marksFilled) {
+    j["filled_triangles"] = mesh.filledFaces;
+    j["filled_area"] = mesh.filledArea;
+  }
+  return j;
+}
+
 void writeRunReport(const RunSettings& s, MPI_Comm comm, const Progress& progress,
                     const RankCounters& counters, const FusedField& field, const MeshPart& mesh,
                     const std::vector<RegistrationStep>& steps) {
@@ -104,21 +114,19 @@ void writeRunReport(const RunSettings& s, MPI_Comm comm, const Progress& progres
   json parameters = s.recorded.result;
   // The option keeps -1 (so a checkpoint's parameters compare as given); show what was used.
   if (s.field.quorum < 0) parameters["quorum_used"] = autoQuorum(field.scanCount);
-  json report = {
-      {"command", "fuse"},
-      {"inputs",
-       {{"scans", s.read.scans},
-        {"scan_count", field.scanCount},
-        {"scan_triangles", field.scanTriangles}}},
-      {"parameters", parameters},
-      {"ranks", mpi::size(comm)},
-      {"threads_per_rank", s.field.threads},
-      {"total_bricks", field.layout.totalBricks()},
-      {"wall_seconds", progress.elapsed()},
-      {"per_rank", ranks},
-      {"mesh",
-       {{"file", s.outputs.out}, {"triangles", mesh.totalFaces}, {"vertices", mesh.totalVertices}}},
-      {"registration", registrationJson(s.registration.mode, steps)}};
+  json report = {{"command", "fuse"},
+                 {"inputs",
+                  {{"scans", s.read.scans},
+                   {"scan_count", field.scanCount},
+                   {"scan_triangles", field.scanTriangles}}},
+                 {"parameters", parameters},
+                 {"ranks", mpi::size(comm)},
+                 {"threads_per_rank", s.field.threads},
+                 {"total_bricks", field.layout.totalBricks()},
+                 {"wall_seconds", progress.elapsed()},
+                 {"per_rank", ranks},
+                 {"mesh", meshJson(s.outputs.out, mesh)},
+                 {"registration", registrationJson(s.registration.mode, steps)}};
   io::writeJson(s.outputs.report, report);
 }
 

@@ -6,12 +6,17 @@
 namespace rangefuse {
 namespace {
 
+/// How far (voxels) before what a scan saw a point must lie for carving to call it looked
+/// through. A voxel, not --free-margin's envelope: the fill across a gap at a grazing angle
+/// lies within this of where the views saw past it.
+constexpr double kCarveMarginVoxels = 1;
+
 ReadSettings readSettings(const FuseOptions& o) {
   ReadSettings r;
   r.scans = o.scans;
   r.source = o.source;
   r.limits = o.limits;
-  r.surface = surfaceOptions(o.surface, o.mergeCells, o.voxel, o.method);
+  r.surface = surfaceOptions(o.surface, o.mergeCells, o.voxel, o.method, o.fillHoles);
   r.eps = o.envelope * o.voxel;
   r.voxel = o.voxel;
   r.bandCells = static_cast<uint64_t>(o.bandCells);
@@ -35,6 +40,7 @@ FieldSettings fieldSettings(const FuseOptions& o) {
   f.sameDistance = o.sameDistance;
   f.sameAngle = o.sameAngle;
   f.freeMargin = o.freeMargin;
+  f.fillHoles = o.fillHoles;
   return f;
 }
 
@@ -81,10 +87,10 @@ OutputSettings outputSettings(const FuseOptions& o) {
 }  // namespace
 
 SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double voxel,
-                              FieldMethod method) {
+                              FieldMethod method, bool fillHoles) {
   SurfaceOptions s = base;
   s.mergeTarget = mergeCells * voxel;
-  s.sightMap = methodInfo(method).hypotheses;
+  s.sightMap = methodInfo(method).hypotheses || fillHoles;
   return s;
 }
 
@@ -94,7 +100,8 @@ RunSettings runSettings(const FuseOptions& o) {
   s.field = fieldSettings(o);
   s.registration = registerSettings(o);
   s.track = trackSettings(o);
-  s.mesh = MeshSettings{o.minWeight, o.normals, o.threads};
+  s.mesh =
+      MeshSettings{o.minWeight, o.normals, o.threads, o.fillHoles, kCarveMarginVoxels * o.voxel};
   s.outputs = outputSettings(o);
   s.recorded.result = resultParameters(o);
   s.recorded.checkpointOnly = nlohmann::json::object();

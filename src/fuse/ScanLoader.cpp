@@ -21,8 +21,9 @@ SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const Surfa
   const int k = o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1;
   // A station's lines of sight fan out in angles: cells of its (merged) angular step.
   SightMap map = grid.spherical ? SightMap::fromStation(local, k * angularSpacing(grid))
-                 : grid.pinhole ? SightMap::fromPinholeGrid(grid, k)
-                                : SightMap::fromSurface(local, std::max(o.mergeTarget, spacing));
+                 : grid.pinhole
+                     ? SightMap::fromPinholeGrid(grid, k)
+                     : SightMap::fromSurface(local, std::max(o.mergeTarget, spacing), &grid);
   // A merged point is the mean of k x k cells: 1 / k of their noise.
   map.setNoise(RangeNoise::measure(grid), 1.0 / k);
   return map;

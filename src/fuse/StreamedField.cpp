@@ -62,7 +62,8 @@ struct SightMaps {
 
   /// Collective: each of this rank's maps to every rank whose bricks it may see (`scanOf`: the
   /// scan of each entry; a scan read in bands gets their maps joined). Maps are asked about
-  /// the surface a voxel's hypothesis puts within `reach` of its centre (the envelope); a map
+  /// the surface a voxel's hypothesis puts within `reach` of its centre (the envelope; infinite:
+  /// every map to every rank); a map
   /// left out would have answered NaN wherever that rank asks (SightMap::mayCover), so the
   /// field is the same bits, and a rank holds the maps of the scans that see its part only.
   void share(const std::vector<size_t>& scanOf, const BrickLayout& layout, double reach,
@@ -77,7 +78,7 @@ struct SightMaps {
     for (const auto& [i, m] : mine) {
       const uint64_t index = i;
       for (int r = 0; r < ranks; ++r) {
-        if (!m.mayCover(boxes[r])) continue;
+        if (std::isfinite(reach) && !m.mayCover(boxes[r])) continue;
         mpi::pack(out[r], &index, 1);
         m.pack(out[r]);
       }
@@ -342,7 +343,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   std::vector<uint64_t> bytes;
   std::vector<std::optional<ColourKind>> kinds;
   std::optional<SightMaps> sights;
-  if (o.robust) sights.emplace();
+  if (o.robust || o.keepSights) sights.emplace();
   if (!readShare(conf, share, std::max(1, o.threads), comm, progress, box, triangles, bytes, kinds,
                  sights ? &*sights : nullptr))
     return false;
@@ -369,7 +370,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
     return false;
   if (o.planned) o.planned(field.layout);
   // A hypothesis's surface lies within the envelope of its voxel: a voxel more for rounding.
-  if (sights) sights->share(scanOf, field.layout, o.eps + o.voxel, comm);
+  // Carving asks about any voxel of the field's box: then every map goes everywhere.
+  if (sights) sights->share(scanOf, field.layout, o.keepSights ? INFINITY : o.eps + o.voxel, comm);
   field.store = std::make_unique<BrickStore>(field.layout, me);
   if (colour != ColourKind::none) field.store->enableColour(colour);
   memoryLedger().set(Held::field, field.store->bytes());
@@ -386,12 +388,13 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   const std::vector<size_t> windows =
       wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4 * ranks), scanOf);
   if (!integrateShare(conf, scanOf, share, windows, bytes, o.routeReach, o.threads,
-                      hypotheses ? &*hypotheses : nullptr, sights ? &sights->all : nullptr, comm,
-                      progress, field, counters, routing))
+                      hypotheses ? &*hypotheses : nullptr, hypotheses ? &sights->all : nullptr,
+                      comm, progress, field, counters, routing))
     return false;
   if (hypotheses &&
       !collectively(comm, [&] { counters.robust = hypotheses->resolve(sights->all, o.threads); }))
     return false;
+  if (o.keepSights) field.sights = std::move(sights->all);
   uint64_t sent = 0;
   for (int r = 0; r < ranks; ++r) sent += r == me ? 0 : routing.bytes[r];
   uint64_t totals[2] = {sent, routing.copies};

@@ -46,6 +46,11 @@ void checkTrackable(const RunSettings& s) {
     throw InputError("--register " + std::string(toString(mode)) +
                      ": tracked frames are registered as they arrive (Algorithm 1); after "
                      "the stream only --register simultaneous refines them");
+  if (s.mesh.fillHoles && mode != RegistrationMode::Simultaneous)
+    throw InputError(
+        "--fill-holes: a tracked stream is fused as its frames arrive, with no sight maps to "
+        "carve with; add --register simultaneous (the frames are then fused again) or give the "
+        "stream's trajectory");
   if (mode == RegistrationMode::Simultaneous && !s.outputs.checkpoint.empty())
     throw InputError(
         "--checkpoint: a tracked stream refined by --register simultaneous "

@@ -21,11 +21,13 @@ int32_t vertexFor(const FieldBlock& block, const VoxelGrid& grid, const VoxelInd
   p[e.axis] += grid.voxel * t;
   piece.keys.push_back(key);
   piece.positions.push_back(p);
+  const size_t side = block.side();
+  const auto index = [&](const VoxelIndex& l) {
+    return (static_cast<size_t>(l.z()) * side + l.y()) * side + l.x();
+  };
+  if (!block.filled.empty())
+    piece.filled.push_back(block.filled[index(lo)] | block.filled[index(hi)]);
   if (!block.colours.empty()) {  // the colour along the edge, as the position
-    const size_t side = block.side();
-    const auto index = [&](const VoxelIndex& l) {
-      return (static_cast<size_t>(l.z()) * side + l.y()) * side + l.x();
-    };
     const Eigen::Vector3f &c0 = block.colours[index(lo)], &c1 = block.colours[index(hi)];
     piece.colours.push_back(c0 + static_cast<float>(t) * (c1 - c0));
   }
@@ -77,6 +79,7 @@ MeshPiece joinPieces(std::vector<MeshPiece> pieces) {
         all.keys.push_back(p.keys[i]);
         all.positions.push_back(p.positions[i]);
         if (!p.colours.empty()) all.colours.push_back(p.colours[i]);
+        if (!p.filled.empty()) all.filled.push_back(p.filled[i]);
       }
       to[i] = at;
     }
@@ -97,6 +100,7 @@ TriangleMesh mergePieces(const std::vector<MeshPiece>& pieces) {
         if (isNew) {
           mesh.vertices.push_back(piece.positions[t[k]]);
           if (!piece.colours.empty()) mesh.colours.push_back(piece.colours[t[k]]);
+          if (!piece.filled.empty()) mesh.filled.push_back(piece.filled[t[k]]);
         }
         g[k] = it->second;
       }

@@ -97,6 +97,7 @@ MeshPart stitchPiece(const MeshPiece& piece, const BrickLayout& layout, MPI_Comm
   part.rank = mpi::rank(comm);
   part.mesh.vertices = piece.positions;
   part.mesh.colours = piece.colours;
+  part.mesh.filled = piece.filled;
   part.mesh.faces = piece.faces;
   const std::vector<std::vector<int>> users = sharingRanks(piece, layout, comm);
   part.owner.resize(users.size());
@@ -163,6 +164,7 @@ TriangleMesh gatherMesh(const MeshPart& part, int root, MPI_Comm comm) {
   std::vector<char> mine;
   const bool normals = !part.mesh.normals.empty();
   const bool colours = part.colour != ColourKind::none;
+  const bool filled = part.marksFilled;
   const uint64_t nf = part.mesh.faces.size();
   mpi::pack(mine, &part.ownedVertices, 1);
   for (size_t i = 0; i < part.global.size(); ++i)
@@ -170,6 +172,7 @@ TriangleMesh gatherMesh(const MeshPart& part, int root, MPI_Comm comm) {
       mpi::pack(mine, &part.mesh.vertices[i], 1);
       if (normals) mpi::pack(mine, &part.mesh.normals[i], 1);
       if (colours) mpi::pack(mine, &part.mesh.colours[i], 1);
+      if (filled) mpi::pack(mine, &part.mesh.filled[i], 1);
     }
   mpi::pack(mine, &nf, 1);
   for (const Triangle& t : part.mesh.faces) {
@@ -187,6 +190,7 @@ TriangleMesh gatherMesh(const MeshPart& part, int root, MPI_Comm comm) {
       mpi::unpack(all, pos, &mesh.vertices.emplace_back(), 1);
       if (normals) mpi::unpack(all, pos, &mesh.normals.emplace_back(), 1);
       if (colours) mpi::unpack(all, pos, &mesh.colours.emplace_back(), 1);
+      if (filled) mpi::unpack(all, pos, &mesh.filled.emplace_back(), 1);
     }
     mpi::unpack(all, pos, &count, 1);
     for (uint64_t k = 0; k < count; ++k) mpi::unpack(all, pos, &mesh.faces.emplace_back(), 1);

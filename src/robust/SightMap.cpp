@@ -54,11 +54,56 @@ SightMap SightMap::fromPinholeGrid(const RangeGrid& grid, int k) {
   return m;
 }
 
-SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
+namespace {
+
+/// x = a col + b and y = c row + d fitted to a near-orthographic grid's points (scan frame),
+/// so that its cells without a return have a place too. False when the grid is not that
+/// regular (the fit is off by more than a quarter of a cell somewhere in its bulk).
+bool fitGridLattice(const RangeGrid& grid, Eigen::Vector4d& fit) {
+  double s[2][5] = {};  // per axis: n, sum i, sum i^2, sum v, sum i v
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const int32_t i = grid.at(r, c);
+      if (i < 0) continue;
+      const double idx[2] = {double(c), double(r)},
+                   val[2] = {grid.points[i].x(), grid.points[i].y()};
+      for (int a = 0; a < 2; ++a) {
+        s[a][0] += 1, s[a][1] += idx[a], s[a][2] += idx[a] * idx[a];
+        s[a][3] += val[a], s[a][4] += idx[a] * val[a];
+      }
+    }
+  for (int a = 0; a < 2; ++a) {
+    const double det = s[a][0] * s[a][2] - s[a][1] * s[a][1];
+    if (s[a][0] < 16 || !(std::abs(det) > 0)) return false;
+    fit[2 * a] = (s[a][0] * s[a][4] - s[a][1] * s[a][3]) / det;
+    fit[2 * a + 1] = (s[a][3] - fit[2 * a] * s[a][1]) / s[a][0];
+  }
+  std::vector<double> off;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (const int32_t i = grid.at(r, c); i >= 0)
+        off.push_back(
+            std::max(std::abs(grid.points[i].x() - fit[0] * c - fit[1]) / std::abs(fit[0]),
+                     std::abs(grid.points[i].y() - fit[2] * r - fit[3]) / std::abs(fit[2])));
+  auto q = off.begin() + static_cast<std::ptrdiff_t>(0.9 * static_cast<double>(off.size()));
+  std::nth_element(off.begin(), q, off.end());
+  return *q < 0.25;
+}
+
+}  // namespace
+
+SightMap SightMap::fromSurface(const ScanSurface& surface, double cell, const RangeGrid* grid) {
   SightMap m;
   if (surface.points.empty() || !(cell > 0)) return m;
   Eigen::AlignedBox2d box;
   for (const auto& q : surface.points) box.extend(q.head<2>());
+  Eigen::Vector4d fit;
+  const bool lattice = grid && fitGridLattice(*grid, fit);
+  if (lattice) {  // the raster spans the grid's whole frame, returns or not
+    box.extend(Eigen::Vector2d(fit[1], fit[3]));
+    box.extend(
+        Eigen::Vector2d(fit[0] * (grid->cols - 1) + fit[1], fit[2] * (grid->rows - 1) + fit[3]));
+  }
   cell = std::max(cell, box.sizes().maxCoeff() / (kMaxSide - 4));
   m.au_ = m.av_ = 1 / cell;
   m.bu_ = 2 - box.min().x() / cell, m.bv_ = 2 - box.min().y() / cell;
@@ -67,8 +112,29 @@ SightMap SightMap::fromSurface(const ScanSurface& surface, double cell) {
   const auto& v = surface.points;
   for (const Triangle& t : surface.triangles)
     m.rasterize(m.project(v[t[0]]), m.project(v[t[1]]), m.project(v[t[2]]));
+  if (lattice) m.markNoReturns(*grid, fit);
   m.cropUnknown();
   return m;
+}
+
+void SightMap::markNoReturns(const RangeGrid& grid, const Eigen::Vector4d& fit) {
+  // A raster cell saw nothing when every grid cell in it got no return and no triangle covers
+  // it: a point without triangles (filtered out) still says something is there.
+  std::vector<uint8_t> returned(depth_.size(), 0);
+  std::vector<size_t> empty;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const Eigen::Vector3d at = project({fit[0] * c + fit[1], fit[2] * r + fit[3], 0});
+      const int x = static_cast<int>(std::floor(at.x())), y = static_cast<int>(std::floor(at.y()));
+      if (x < 0 || y < 0 || x >= width_ || y >= height_) continue;
+      const size_t i = static_cast<size_t>(y) * width_ + x;
+      if (grid.at(r, c) >= 0)
+        returned[i] = 1;
+      else
+        empty.push_back(i);
+    }
+  for (const size_t i : empty)
+    if (!returned[i] && std::isnan(depth_[i])) depth_[i] = kNothing;
 }
 
 SightMap SightMap::fromStation(const ScanSurface& surface, double angle) {
@@ -207,6 +273,14 @@ bool SightMap::lookedThrough(const Eigen::Vector3d& p, double margin) const {
   const double clear = clearanceAt(p, depth);
   if (!(clear > margin)) return false;  // NaN (unknown, behind the sensor) too
   return clear > margin + kLookedSigmas * noise_.at(depth);
+}
+
+SightMap::Sight SightMap::sightOf(const Eigen::Vector3d& p, double margin) const {
+  double depth = 0;
+  const double clear = clearanceAt(p, depth);
+  if (clear < 0) return Sight::Behind;
+  if (clear > margin && clear > margin + kLookedSigmas * noise_.at(depth)) return Sight::Through;
+  return Sight::Unknown;  // NaN (unknown, behind the sensor) too
 }
 
 bool SightMap::mayCover(const Eigen::AlignedBox3d& box) const {

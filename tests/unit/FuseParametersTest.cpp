@@ -22,7 +22,8 @@ FuseOptions changed() {
   o.voxel = 0.00125, o.envelope = 2.5, o.brick = 16, o.minWeight = 0.25f, o.normals = false;
   o.surface.normalPasses = 3, o.surface.maxEdgeFactor = 5, o.surface.minCosine = 0.3;
   o.mergeCells = 1.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60, o.sameDistance = 1.5;
-  o.sameAngle = 30, o.freeMargin = INFINITY, o.controlStride = 4, o.maxIterations = 7;
+  o.sameAngle = 30, o.freeMargin = INFINITY, o.fillHoles = true, o.controlStride = 4;
+  o.maxIterations = 7;
   o.maxRounds = 2, o.roundTolerance = 0.05, o.checkpointEvery = 30, o.scanMemory = 0;
   o.threads = 3, o.source.format = "tum", o.source.intrinsics = "525,525,319.5,239.5";
   o.source.maxDepth = 3, o.bandCells = 1e6, o.source.depthScale = 4000, o.track = "on";

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "rangefuse/robust/SightMap.h"
+#include "rangefuse/robust/SpaceCarving.h"
 #include "rangefuse/robust/SurfaceHypotheses.h"
 
 namespace rangefuse {
@@ -89,6 +90,67 @@ TEST(SightMap, OrthographicSurfaceAndUnknownOutsideIt) {
   EXPECT_NEAR(m.clearance(Eigen::Vector3d(5, 5, 6)), 4, 1e-6);
   EXPECT_NEAR(m.clearance(Eigen::Vector3d(3, 7, 1)), -1, 1e-6);
   EXPECT_TRUE(std::isnan(m.clearance(Eigen::Vector3d(20, 5, 6))));
+}
+
+TEST(SpaceCarving, InsideTakesTwoThirdsOfTheScansHidingAPointAndNoneLookingThrough) {
+  // Maps of the plane z = -10 seen from the origin; "away" maps are the same scan moved 1000
+  // aside, which know nothing of the points asked.
+  const SightMap plane = SightMap::fromPinholeGrid(planeGrid(40), 1);
+  SightMap away = plane;
+  Pose aside;
+  aside.t = Eigen::Vector3d(1000, 0, 0);
+  away.place(aside);
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-1, -1, -13), Eigen::Vector3d(1, 1, -3));
+  const std::vector<Eigen::Vector3d> points = {{0, 0, -12}, {0, 0, -5}, {0, 0, -9.5}};
+  auto inside = [&](int hiding, int unknowing) {
+    std::vector<SightMap> maps(hiding, plane);
+    maps.insert(maps.end(), unknowing, away);
+    return SpaceCarving(maps, 1).inside(box, points);
+  };
+  // Behind the plane: inside with 3 of 3 and 4 of 6 (two thirds); not with 3 of 6.
+  EXPECT_EQ(inside(3, 0), (std::vector<uint8_t>{1, 0, 0}));
+  EXPECT_EQ(inside(4, 2), (std::vector<uint8_t>{1, 0, 0}));
+  EXPECT_EQ(inside(3, 3), (std::vector<uint8_t>{0, 0, 0}));
+  // One scan that looked through the point settles it, however many hid it.
+  SightMap deeper = SightMap::fromPinholeGrid(planeGrid(40), 1);
+  Pose back;
+  back.t = Eigen::Vector3d(0, 0, -5);  // sees its plane at z = -15: looked through z = -12
+  deeper.place(back);
+  std::vector<SightMap> maps(5, plane);
+  maps.push_back(deeper);
+  EXPECT_EQ(SpaceCarving(maps, 1).inside(box, points)[0], 0);
+}
+
+TEST(SightMap, AnOrthographicGridKnowsWhereItsScannerGotNoReturn) {
+  // A 0.5-spaced orthographic grid of 41 x 41 cells over [0, 20]^2 seeing z = 2 where x < 10:
+  // given the grid, the cells of its frame with no return saw nothing; without it, or off the
+  // frame, nothing is known there. A point with no triangle still counts as a return.
+  RangeGrid g;
+  g.cols = g.rows = 41;
+  g.cell.assign(41 * 41, -1);
+  for (int r = 0; r < 41; ++r)
+    for (int c = 0; c < 41; ++c)
+      if (c < 20 || (r == 30 && c == 30)) {
+        g.cell[r * 41 + c] = static_cast<int32_t>(g.points.size());
+        g.points.emplace_back(0.5 * c, 0.5 * r, 2);
+      }
+  ScanSurface s;
+  for (int r = 0; r < 41; ++r)
+    for (int c = 0; c < 20; ++c) s.points.emplace_back(0.5 * c, 0.5 * r, 2);
+  for (int r = 0; r + 1 < 41; ++r)
+    for (int c = 0; c + 1 < 20; ++c) {
+      const int32_t a = r * 20 + c;
+      s.triangles.push_back({a, a + 1, a + 20});
+      s.triangles.push_back({a + 1, a + 21, a + 20});
+    }
+  const SightMap framed = SightMap::fromSurface(s, 0.5, &g), bare = SightMap::fromSurface(s, 0.5);
+  EXPECT_NEAR(framed.clearance(Eigen::Vector3d(4, 10, 5)), 3, 1e-6);  // the plane
+  EXPECT_EQ(framed.clearance(Eigen::Vector3d(16, 5, 5)), INFINITY);   // no return there
+  EXPECT_TRUE(std::isnan(bare.clearance(Eigen::Vector3d(16, 5, 5))));
+  EXPECT_TRUE(std::isnan(framed.clearance(Eigen::Vector3d(30, 5, 5))));  // off the frame
+  EXPECT_FALSE(framed.clearance(Eigen::Vector3d(15, 15, 5)) == INFINITY)
+      << "beside the lone return at (15, 15)";
+  EXPECT_TRUE(framed.lookedThrough(Eigen::Vector3d(16, 5, -50), 1));
 }
 
 /// A station's view of the sphere of radius 5 about it: 2-degree steps of azimuth and

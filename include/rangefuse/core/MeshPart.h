@@ -19,7 +19,10 @@ struct MeshPart {
   std::vector<int32_t> owner;            ///< owning rank of each local vertex
   int rank = 0;                          ///< the rank holding this part
   ColourKind colour = ColourKind::none;  ///< what mesh.colours holds (the same on every rank)
-  uint64_t firstVertex = 0;              ///< global number of this rank's first owned vertex
+  bool marksFilled = false;  ///< mesh.filled holds one flag per vertex (the same on every rank)
+  uint64_t filledFaces = 0;  ///< when marksFilled: faces of all ranks with a filled vertex
+  double filledArea = 0;     ///< and their area
+  uint64_t firstVertex = 0;  ///< global number of this rank's first owned vertex
   uint64_t ownedVertices = 0;
   uint64_t firstFace = 0;  ///< global number of this rank's first face
   uint64_t totalVertices = 0;

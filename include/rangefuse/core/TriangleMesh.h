@@ -16,6 +16,8 @@ struct TriangleMesh {
   std::vector<Triangle> faces;
   std::vector<Eigen::Vector3d> normals;  ///< empty, or one per vertex
   std::vector<Eigen::Vector3f> colours;  ///< empty, or one per vertex (channels in [0, 1])
+  /// Empty, or one per vertex: 1 where the vertex closes a hole no scan saw (--fill-holes).
+  std::vector<uint8_t> filled;
 };
 
 }  // namespace rangefuse

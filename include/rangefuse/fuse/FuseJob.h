@@ -46,6 +46,7 @@ struct FuseOptions {
   double sameDistance = 2.0;    ///< consensus: delta_d, voxels
   double sameAngle = 45.0;      ///< consensus: theta_n, degrees
   double freeMargin = -1;       ///< robust: looked-through depth, voxels (-1: the envelope)
+  bool fillHoles = false;       ///< close the mesh by carving the space the scans saw through
   RegistrationMode registration = RegistrationMode::None;
   std::string anchor;           ///< scan name that fixes the frame (default: the first)
   int controlStride = 1;        ///< registration: every k-th vertex is a control point
@@ -100,6 +101,8 @@ struct FusedField {
   uint64_t routedBytes = 0, routedCopies = 0;  ///< streamed: all ranks, to other ranks
   BrickLayout layout;
   std::unique_ptr<BrickStore> store;
+  /// --fill-holes: every scan's sight map (the same on every rank), for carving.
+  std::vector<SightMap> sights;
 };
 
 /// Per-rank counters of a run, gathered into the report.

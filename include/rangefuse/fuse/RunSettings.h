@@ -45,8 +45,11 @@ struct FieldSettings {
   double sameDistance = 2;      ///< consensus and robust: delta_d, voxels
   double sameAngle = 45;        ///< consensus and robust: theta_n, degrees
   double freeMargin = -1;       ///< robust: looked-through depth, voxels (-1: the envelope)
+  bool fillHoles = false;       ///< every scan's sight map kept on every rank, for carving
 
   double eps() const { return envelope * voxel; }
+  /// How far before what a scan saw a point must lie for the scan to have looked through it.
+  double lookedThroughMargin() const { return (freeMargin == -1 ? envelope : freeMargin) * voxel; }
 };
 
 /// Registration (--register) and its fits.
@@ -78,6 +81,8 @@ struct MeshSettings {
   float minWeight = 0;  ///< voxels with summed weight not above this are unobserved
   bool normals = true;
   int threads = 1;
+  bool fillHoles = false;  ///< carve unobserved voxels so the mesh closes (HoleFill)
+  double carveMargin = 0;  ///< looked-through margin of the carving (scan units)
 };
 
 /// Where the run writes, and what it resumes from.
@@ -120,8 +125,8 @@ struct RunSettings {
 RunSettings runSettings(const FuseOptions& options);
 
 /// The surface options scans are prepared with: merging cells up to `mergeCells` voxels,
-/// sight maps when the method judges by free space.
+/// sight maps when the method judges by free space or holes are closed.
 SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double voxel,
-                              FieldMethod method);
+                              FieldMethod method, bool fillHoles);
 
 }  // namespace rangefuse

@@ -33,6 +33,9 @@ struct StreamOptions {
   /// Set: robust fusion. Each reader also maps what its scans saw (SightMap), every rank gets
   /// every map, and images' samples become hypotheses resolved once all are in.
   std::optional<HypothesisParams> robust;
+  /// Every scan's sight map shared with every rank and kept in FusedField::sights (closing
+  /// holes carves with them).
+  bool keepSights = false;
   /// The colour asked for (--colour; none: auto, see chooseColour). Prism fields only.
   std::optional<ColourKind> colour;
   /// Called on every rank once the bricks are planned, before the field pass (may be null).

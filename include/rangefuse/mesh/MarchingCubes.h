@@ -30,6 +30,8 @@ struct FieldBlock {
   int cells = 0;
   std::vector<float> values;
   std::vector<Eigen::Vector3f> colours;  ///< empty, or one per value
+  /// Empty, or one per value: 1 where the value was carved, not observed (HoleFill).
+  std::vector<uint8_t> filled;
 
   int side() const { return cells + 1; }
   float at(int x, int y, int z) const {
@@ -45,6 +47,7 @@ struct MeshPiece {
   std::vector<uint64_t> keys;
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3f> colours;  ///< empty, or one per position
+  std::vector<uint8_t> filled;           ///< empty, or one per position: an end was carved
   std::vector<Triangle> faces;           ///< indices into keys/positions
   EdgeIndex index;
 };

@@ -24,9 +24,12 @@ class SightMap {
   /// A pinhole grid's own pixels, in blocks of k x k (scan frame): a block where the scanner
   /// got no return saw through everything (free to infinity); outside the frame: unknown.
   static SightMap fromPinholeGrid(const RangeGrid& grid, int k);
-  /// A near-orthographic scan's triangles (scan frame) on cells `cell` wide: cells no
-  /// triangle covers are unknown (such grids do not say where their frame ends).
-  static SightMap fromSurface(const ScanSurface& surface, double cell);
+  /// A near-orthographic scan's triangles (scan frame) on cells `cell` wide. With the scan's
+  /// `grid`, when its points lie on a regular lattice of columns and rows, the cells of its
+  /// frame where the scanner got no return saw nothing (free to infinity); other cells no
+  /// triangle covers are unknown.
+  static SightMap fromSurface(const ScanSurface& surface, double cell,
+                              const RangeGrid* grid = nullptr);
 
   /// A station's triangles (scan frame) on cells `angle` radians wide in azimuth (about the
   /// frame's z axis) and elevation: cells no triangle covers are unknown, and so is a thin
@@ -63,6 +66,12 @@ class SightMap {
   /// own noise at that depth (clear evidence of free space; false where unknown).
   bool lookedThrough(const Eigen::Vector3d& p, double margin) const;
 
+  /// What the scan says of the space at p: looked through (as lookedThrough), behind what it
+  /// saw along its line of sight (hidden by a surface), or neither (unknown, or too close to
+  /// call).
+  enum class Sight : uint8_t { Unknown, Through, Behind };
+  Sight sightOf(const Eigen::Vector3d& p, double margin) const;
+
   /// Serialised form, for sending to other ranks.
   void pack(std::vector<char>& out) const;
   static SightMap unpack(const std::vector<char>& in, size_t& pos);
@@ -77,6 +86,9 @@ class SightMap {
   double clearanceAt(const Eigen::Vector3d& p, double& depth) const;
   /// Raster coordinates (cells) and depth of a point in the scan frame.
   Eigen::Vector3d project(const Eigen::Vector3d& q) const;
+  /// Marks the raster cells of `grid`'s frame (x = fit[0] col + fit[1], y = fit[2] row +
+  /// fit[3]) where it got no return and nothing else is known as having seen nothing.
+  void markNoReturns(const RangeGrid& grid, const Eigen::Vector4d& fit);
   void rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
   void allocate(int width, int height, float fill);
   /// Drops the rows and columns on the raster's borders where nothing is known: clearance
