@@ -91,7 +91,7 @@ std::vector<T> blockValues(uint64_t code, int B, const BrickMap<T>& local, const
 struct BlockSources {
   BrickValues local, halo;
   BrickColours localColours, haloColours;
-  BrickFlags localFilled, haloFilled;
+  BrickFlags localFilled, haloFilled;  ///< stored bricks' carved flags (others: all carved)
   bool coloured = false, carved = false;
   float outside = NAN;  ///< the value of voxels in no brick: NaN, or empty space when carved
 };
@@ -162,13 +162,13 @@ MeshPart extractDistributedMesh(const BrickStore& store, float minWeight, MPI_Co
   if (fill) {
     BrickCoord lo, hi;
     internal::fillRegion(store.layout(), comm, lo, hi);
-    internal::FillBricks more =
+    BrickValues more =
         internal::fillBricks(store.layout(), lo, hi, *fill, mpi::rank(comm), threads);
-    filledLayout = internal::withFillBricks(store.layout(), more.values);
+    filledLayout = internal::withFillBricks(store.layout(), more);
     layout = &filledLayout;
+    // Flags for the stored bricks only: a fill brick, like a voxel in no brick, is all carved.
     for (size_t b = 0; b < n; ++b) s.localFilled[store.code(b)] = std::move(carved[b]);
-    s.local.merge(more.values);
-    s.localFilled.merge(more.filled);
+    s.local.merge(more);
     s.carved = true;
     s.outside = fill->value;
   }

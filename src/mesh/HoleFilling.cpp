@@ -53,8 +53,9 @@ std::vector<uint8_t> carveBrick(uint64_t code, const VoxelGrid& grid, const Hole
   return carved;
 }
 
-FillBricks fillBricks(const BrickLayout& layout, const BrickCoord& lo, const BrickCoord& hi,
-                      const HoleFill& fill, int me, int threads) {
+std::map<uint64_t, std::vector<float>> fillBricks(const BrickLayout& layout, const BrickCoord& lo,
+                                                  const BrickCoord& hi, const HoleFill& fill,
+                                                  int me, int threads) {
   std::vector<uint64_t> codes;
   BrickCoord c;
   for (c.z() = lo.z(); c.z() <= hi.z(); ++c.z())
@@ -81,12 +82,9 @@ FillBricks fillBricks(const BrickLayout& layout, const BrickCoord& lo, const Bri
           v.push_back(in[(static_cast<size_t>(z) * (B + 1) + y) * (B + 1) + x] ? -fill.value
                                                                                : fill.value);
   });
-  FillBricks out;
-  for (size_t k = 0; k < codes.size(); ++k) {
-    if (values[k].empty()) continue;
-    out.filled[codes[k]].assign(values[k].size(), 1);
-    out.values[codes[k]] = std::move(values[k]);
-  }
+  std::map<uint64_t, std::vector<float>> out;
+  for (size_t k = 0; k < codes.size(); ++k)
+    if (!values[k].empty()) out[codes[k]] = std::move(values[k]);
   return out;
 }
 

@@ -22,13 +22,10 @@ std::vector<uint8_t> carveBrick(uint64_t code, const VoxelGrid& grid, const Hole
 
 /// The bricks in [lo, hi] whose codes lie in rank `me`'s range, that `layout` does not hold, and
 /// whose cubes (their voxels and the first layer of their upper neighbours) reach inside space:
-/// every voxel carved.
-struct FillBricks {
-  std::map<uint64_t, std::vector<float>> values;
-  std::map<uint64_t, std::vector<uint8_t>> filled;
-};
-FillBricks fillBricks(const BrickLayout& layout, const BrickCoord& lo, const BrickCoord& hi,
-                      const HoleFill& fill, int me, int threads);
+/// every voxel carved (so their voxels need no flags: a brick without flags reads as carved).
+std::map<uint64_t, std::vector<float>> fillBricks(const BrickLayout& layout, const BrickCoord& lo,
+                                                  const BrickCoord& hi, const HoleFill& fill,
+                                                  int me, int threads);
 
 /// `layout` with this rank's fill bricks beside its own, its border no longer known (a fill
 /// brick of another rank may border this rank's), for halos and stitching.

@@ -269,10 +269,7 @@ double SightMap::noiseAt(const Eigen::Vector3d& p) const {
 }
 
 bool SightMap::lookedThrough(const Eigen::Vector3d& p, double margin) const {
-  double depth = 0;
-  const double clear = clearanceAt(p, depth);
-  if (!(clear > margin)) return false;  // NaN (unknown, behind the sensor) too
-  return clear > margin + kLookedSigmas * noise_.at(depth);
+  return sightOf(p, margin) == Sight::Through;
 }
 
 SightMap::Sight SightMap::sightOf(const Eigen::Vector3d& p, double margin) const {
