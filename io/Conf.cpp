@@ -77,7 +77,8 @@ std::string nameFor(const std::string& name, const std::string& path, const std:
   const std::string suffix =
       hash != std::string::npos && path.find('#') == std::string::npos ? name.substr(hash) : "";
   const fs::path target = fs::absolute(path).lexically_normal();
-  const fs::path dir = fs::absolute(fs::path(confPath).parent_path()).lexically_normal();
+  // absolute() first: a bare name's parent is empty, which absolute() refuses.
+  const fs::path dir = fs::absolute(confPath).lexically_normal().parent_path();
   const fs::path relative = target.lexically_relative(dir);
   return (relative.empty() ? target : relative).string() + suffix;
 }

@@ -74,9 +74,17 @@ TEST(Conf, NamesAreRelativeToTheFolderOfTheConfThatHoldsThem) {
   EXPECT_EQ(io::nameFor("bun000.ply", "/data/bunny/bun000.ply", "/data/runs/p.conf"),
             "../bunny/bun000.ply");
   EXPECT_EQ(io::nameFor("../x/s.ptx#3", "/data/x/s.ptx", "/data/y/z/p.conf"), "../../x/s.ptx#3");
-  EXPECT_EQ(io::nameFor("depth/1.5.png", "/seq/depth/1.5.png", "/seq/poses.conf"),
-            "depth/1.5.png");
+  EXPECT_EQ(io::nameFor("depth/1.5.png", "/seq/depth/1.5.png", "/seq/poses.conf"), "depth/1.5.png");
   EXPECT_EQ(io::nameFor("/abs/a.ply", "/abs/a.ply", "/elsewhere/p.conf"), "/abs/a.ply");
+}
+
+TEST(Conf, ABareNameIsInTheWorkingFolder) {
+  test::TempDir dir;
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir.file(""));
+  EXPECT_EQ(io::nameFor("s.ply", dir.file("scans/s.ply"), "out.conf"), "scans/s.ply");
+  EXPECT_EQ(io::nameFor("s.ply", dir.file("s.ply"), "out.conf"), "s.ply");
+  std::filesystem::current_path(before);
 }
 
 TEST(Conf, MeshLinesWarnCameraIgnored) {
