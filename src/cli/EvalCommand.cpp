@@ -167,23 +167,77 @@ json commonMotionReport(const std::vector<Pose>& estimates, const std::vector<Po
           {"point_displacement_mean", {{"median", median(disp)}, {"max", worst}}}};
 }
 
+/// Per scan, how far its estimated pose (after the common motion) leaves it from the surfaces
+/// the other scans give at their reference poses, beside the same at its own reference pose:
+/// a pose off along a motion the surfaces do not hold (a turn about a symmetry axis) leaves
+/// the two alike, and keeps its partners (vertices with an overlapping vertex in another scan;
+/// a scan moved off the surface loses them). Empty when a scan's file is missing.
+json surfaceReport(const std::vector<const io::ConfScan*>& scans,
+                   const std::vector<Pose>& estimates, const std::vector<Pose>& references,
+                   const std::vector<std::vector<Eigen::Vector3d>>& points, const EvalOptions& o) {
+  for (const auto& p : points)
+    if (p.empty()) return json::array();
+  const Pose g = commonMotion(estimates, references, points);
+  std::vector<ScanSurface> atReference, atEstimate;
+  for (size_t i = 0; i < scans.size(); ++i) {
+    const RangeGrid grid = io::readScanGrid(*scans[i], o.limits);
+    atReference.push_back(buildScanSurface(grid, references[i], {}));
+    const Pose moved{g.R * estimates[i].R, g.R * estimates[i].t + g.t};
+    atEstimate.push_back(buildScanSurface(grid, moved, {}));
+  }
+  // Pairs up to 3 voxels apart along the normal: a scan a voxel or two off still has partners.
+  const ConsistencySettings settings{3 * o.voxel, 2 * o.voxel};
+  const auto est = poseConsistency(atEstimate, atReference, settings),
+             ref = poseConsistency(atReference, settings);
+  if (!o.json)
+    std::printf("%-24s %18s %20s %16s\n", "scan", "surface rms (vox)", "at reference (vox)",
+                "partners kept");
+  json out = json::array();
+  for (size_t i = 0; i < scans.size(); ++i) {
+    const double kept = ref[i].pairs > 0 ? static_cast<double>(est[i].pairs) / ref[i].pairs : 0;
+    out.push_back({{"name", scans[i]->name},
+                   {"rms", est[i].rms},
+                   {"reference_rms", ref[i].rms},
+                   {"partners", est[i].pairs},
+                   {"reference_partners", ref[i].pairs}});
+    if (!o.json)
+      std::printf("%-24s %18.4f %20.4f %16.3f\n", scans[i]->name.c_str(), est[i].rms / o.voxel,
+                  ref[i].rms / o.voxel, kept);
+  }
+  return out;
+}
+
+/// What identifies a scan across pose lists: its file, resolved, with a PTX scan's #K; else
+/// its name.
+std::string scanKey(const io::ConfScan& s) {
+  if (s.path.empty()) return s.name;
+  const size_t hash = s.name.rfind('#');
+  const std::string part =
+      hash != std::string::npos && s.path.find('#') == std::string::npos ? s.name.substr(hash) : "";
+  return std::filesystem::weakly_canonical(s.path).string() + part;
+}
+
 json poseReport(const EvalOptions& o) {
   const io::ConfFile est = io::readScanList(o.poses, o.limits, o.source),
                      ref = io::readScanList(o.referencePoses, o.limits, o.source);
+  // A scan is the same file in both lists, whatever each list calls it (a .conf names files
+  // relative to its own folder).
   std::map<std::string, const io::ConfScan*> byName;
-  for (const auto& s : ref.scans) byName[s.name] = &s;
+  for (const auto& s : ref.scans) byName[scanKey(s)] = &s;
   json scans = json::array();
   std::vector<double> rot, trans, disp;
   std::vector<Pose> estimates, references;
   std::vector<std::vector<Eigen::Vector3d>> points;
+  std::vector<const io::ConfScan*> refScans;
   if (!o.json)
     std::printf("%-24s %12s %14s %16s %16s\n", "scan", "rot (deg)", "trans (vox)",
                 "disp mean (vox)", "disp max (vox)");
   for (const auto& s : est.scans) {
-    auto it = byName.find(s.name);
+    auto it = byName.find(scanKey(s));
     if (it == byName.end())
       throw InputError(o.referencePoses + ": has no scan named '" + s.name + "'");
     points.push_back(scanPoints(*it->second));
+    refScans.push_back(it->second);
     estimates.push_back(s.pose);
     references.push_back(it->second->pose);
     const PoseError e = comparePose(s.pose, references.back(), points.back());
@@ -209,8 +263,10 @@ json poseReport(const EvalOptions& o) {
     std::printf("median rotation %.5f deg, translation %.4f voxels, displacement %.4f voxels\n",
                 median(rot), median(trans) / o.voxel, median(disp) / o.voxel);
   const json common = commonMotionReport(estimates, references, points, o);
+  const json surface = surfaceReport(refScans, estimates, references, points, o);
   return {{"poses", o.poses},
           {"common_motion", common},
+          {"surface", surface},
           {"reference_poses", o.referencePoses},
           {"voxel", o.voxel},
           {"scans", scans},

@@ -30,6 +30,12 @@ void residualsAgainst(const ScanSurface& a, const ScanSurface& b, const KdTree& 
 
 std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& world,
                                              const ConsistencySettings& s) {
+  return poseConsistency(world, world, s);
+}
+
+std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& probes,
+                                             const std::vector<ScanSurface>& world,
+                                             const ConsistencySettings& s) {
   std::vector<PointCloud> clouds(world.size());
   std::vector<std::unique_ptr<KdTree>> trees;
   for (size_t j = 0; j < world.size(); ++j) {
@@ -42,14 +48,14 @@ std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& wor
   std::vector<ScanConsistency> out(world.size());
   for (size_t i = 0; i < world.size(); ++i) {
     ScanConsistency& c = out[i];
-    c.sampled = (world[i].points.size() + s.stride - 1) / s.stride;
+    c.sampled = (probes[i].points.size() + s.stride - 1) / s.stride;
     c.pairsWith.assign(world.size(), 0);
     c.rmsWith.assign(world.size(), 0.0);
     double sum = 0;
     for (size_t j = 0; j < world.size(); ++j) {
       if (j == i || world[j].points.empty()) continue;
       double sumWith = 0;
-      residualsAgainst(world[i], world[j], *trees[j], s, sumWith, c.pairsWith[j]);
+      residualsAgainst(probes[i], world[j], *trees[j], s, sumWith, c.pairsWith[j]);
       c.rmsWith[j] = rms(sumWith, c.pairsWith[j]);
       sum += sumWith;
       c.pairs += c.pairsWith[j];

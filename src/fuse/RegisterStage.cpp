@@ -1,6 +1,8 @@
 #include "rangefuse/fuse/RegisterStage.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <string>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
@@ -57,6 +59,28 @@ void printRoundEnd(const RegistrationProgress& p, double voxel) {
   std::fflush(stdout);
 }
 
+/// What a loose scan's warning says of its loosest motion.
+std::string describeLooseMotion(const LooseMotion& m) {
+  char text[400];
+  const Eigen::Vector3d &a = m.axis, &p = m.through;
+  if (m.turn)
+    std::snprintf(
+        text, sizeof text,
+        "is held loosely: turning it about the axis (%.3f, %.3f, %.3f) through "
+        "(%.4g, %.4g, %.4g) changes its fit %.3f times as much as its best-held "
+        "motion (the surfaces it shares are nearly symmetric about that axis), so the data "
+        "cannot fix its pose along that turn; its surface fits",
+        a.x(), a.y(), a.z(), p.x(), p.y(), p.z(), m.hold);
+  else
+    std::snprintf(text, sizeof text,
+                  "is held loosely: sliding it along (%.3f, %.3f, %.3f) changes its fit %.3f "
+                  "times as much as its best-held motion (the surfaces it shares run along "
+                  "that way), so the data cannot fix its pose along that slide; its "
+                  "surface fits",
+                  a.x(), a.y(), a.z(), m.hold);
+  return text;
+}
+
 /// One warning per scan out of line with the others (on rank 0; every rank holds the steps).
 void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScans& scans,
                     double voxel, const Progress& progress) {
@@ -72,6 +96,9 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
                  "median scan's); check its pose, or give it a better start\n",
                  scans.names[s.scan].c_str(), s.rms / voxel, rms[rms.size() / 2] / voxel,
                  static_cast<unsigned long long>(s.correspondences), 100 * s.overlapShare);
+  for (const ScanStanding& s : findLooseScans(standings))
+    std::fprintf(stderr, "rangefuse: warning: registration: %s %s\n", scans.names[s.scan].c_str(),
+                 describeLooseMotion(s.loose).c_str());
 }
 
 /// Adds the time from its construction to its destruction to `total`.

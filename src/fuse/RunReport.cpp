@@ -58,6 +58,16 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
       .dump();
 }
 
+/// A loose scan's loosest motion: a turn about an axis through a point, or a slide.
+json looseJson(const LooseMotion& m) {
+  const Eigen::Vector3d &a = m.axis, &p = m.through;
+  json j = {{"kind", m.turn ? "turn" : "slide"},
+            {"ways", m.looseWays},
+            {"direction", {a.x(), a.y(), a.z()}}};
+  if (m.turn) j["through"] = {p.x(), p.y(), p.z()};
+  return j;
+}
+
 json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>& steps) {
   json fits = json::array();
   for (const auto& s : steps)
@@ -73,15 +83,19 @@ json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>
   // Each scan's last fit, and whether it is out of line with the others (Stragglers.h).
   const std::vector<ScanStanding> standings = lastStandings(steps), out = findStragglers(standings);
   json scans = json::array();
-  for (const ScanStanding& s : standings)
-    scans.push_back({{"scan", s.scan},
-                     {"rms", s.rms},
-                     {"correspondences", s.correspondences},
-                     {"rms_score", std::isfinite(s.rmsScore) ? json(s.rmsScore) : json(nullptr)},
-                     {"overlap_share", s.overlapShare},
-                     {"straggler", std::any_of(out.begin(), out.end(), [&](const ScanStanding& o) {
-                        return o.scan == s.scan;
-                      })}});
+  for (const ScanStanding& s : standings) {
+    scans.push_back(
+        {{"scan", s.scan},
+         {"rms", s.rms},
+         {"correspondences", s.correspondences},
+         {"rms_score", std::isfinite(s.rmsScore) ? json(s.rmsScore) : json(nullptr)},
+         {"overlap_share", s.overlapShare},
+         {"straggler", std::any_of(out.begin(), out.end(),
+                                   [&](const ScanStanding& o) { return o.scan == s.scan; })},
+         {"hold", s.loose.hold},
+         {"loose", s.loose.hold < kLooseHold}});
+    if (s.loose.hold < kLooseHold) scans.back()["loose_motion"] = looseJson(s.loose);
+  }
   return {{"mode", toString(mode)}, {"fits", fits}, {"scans", scans}};
 }
 

@@ -243,6 +243,8 @@ std::vector<RegistrationStep> jointStep(std::vector<Pose>& poses, const BrickSto
     step.rms = eq.rms(i);
     step.applied = free[i] || i == s.anchor;  // the anchor is where it belongs
     if (!free[i]) continue;
+    step.loose =
+        loosestMotion(eq.blocks.at({static_cast<uint32_t>(i), static_cast<uint32_t>(i)}), frame);
     const Pose m = motionPose(shrink * delta[i], frame);
     poses[i].R = m.R * poses[i].R;
     poses[i].t = m.R * poses[i].t + m.t;

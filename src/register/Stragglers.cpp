@@ -24,7 +24,7 @@ constexpr double kOverlapShare = 1 / 3.0;  // correspondences against the median
 std::vector<ScanStanding> lastStandings(const std::vector<RegistrationStep>& steps) {
   std::map<size_t, ScanStanding> last;
   for (const RegistrationStep& s : steps)
-    last[s.scan] = ScanStanding{s.scan, s.rms, s.correspondences, 0, 1};
+    last[s.scan] = ScanStanding{s.scan, s.rms, s.correspondences, 0, 1, s.loose};
   std::vector<ScanStanding> out;
   for (const auto& [scan, standing] : last) out.push_back(standing);
   if (out.empty()) return out;
@@ -51,6 +51,13 @@ std::vector<ScanStanding> findStragglers(const std::vector<ScanStanding>& standi
   for (const ScanStanding& s : standings)
     if ((s.rmsScore > kScore && s.rms > kAbove * m) || s.overlapShare < kOverlapShare)
       out.push_back(s);
+  return out;
+}
+
+std::vector<ScanStanding> findLooseScans(const std::vector<ScanStanding>& standings) {
+  std::vector<ScanStanding> out;
+  for (const ScanStanding& s : standings)
+    if (s.loose.hold < kLooseHold) out.push_back(s);
   return out;
 }
 

@@ -2,7 +2,10 @@
 # Registration reports the scan it left out of line: a composite scene of 12 views perturbed by
 # up to 2 degrees and 2 voxels registers with no warning; the same set with one scan moved 25
 # and 20 voxels more gets one warning naming that scan, and the report marks it (and it alone)
-# as a straggler, with its residual and overlap beside every other scan's.
+# as a straggler, with its residual and overlap beside every other scan's. A scan that saw only
+# the composite's torus and the sphere on its axis (not the small sphere off it) cannot be fixed
+# in its turn about that axis: the clean set's report marks exactly those scans loose, each with
+# a turn about the z axis through the axis, and warns once for each.
 set -euo pipefail
 bin=$1
 tmp=$(mktemp -d)
@@ -12,9 +15,30 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$bin" scan --shape composite --views 12 --noise 0.5 --rot-deg 2 --trans-vox 2 --seed 5 \
   --voxel 1 --out "$tmp/set" >/dev/null
 mpirun --oversubscribe -np 2 "$bin" fuse --scans "$tmp/set/perturbed.conf" --voxel 1 \
-  --register both --out "$tmp/clean.ply" >"$tmp/clean.log" 2>"$tmp/clean.err"
+  --register both --out "$tmp/clean.ply" --report "$tmp/clean.json" \
+  --poses-out "$tmp/clean.conf" >"$tmp/clean.log" 2>"$tmp/clean.err"
 grep -q "out of line" "$tmp/clean.err" && fail "a clean set warned: $(cat "$tmp/clean.err")"
 echo "clean set: no scan out of line"
+python3 "$(dirname "$0")/loose_scans.py" "$tmp/set" "$tmp/clean.json" "$tmp/clean.err"
+# eval --poses: every registered scan, loose or not, lies on the others' true surfaces as
+# closely as at its true pose, and keeps its partners; the perturbed start does not.
+for poses in clean perturbed; do
+  conf="$tmp/clean.conf"
+  [[ $poses == perturbed ]] && conf="$tmp/set/perturbed.conf"
+  "$bin" eval --poses "$conf" --reference-poses "$tmp/set/truth.conf" --voxel 1 --json \
+    >"$tmp/$poses-eval.json"
+done
+python3 - "$tmp/clean-eval.json" "$tmp/perturbed-eval.json" <<'PY'
+import json, sys
+clean, start = (json.load(open(p))["surface"] for p in sys.argv[1:3])
+assert len(clean) == 12, clean
+for s in clean:
+    assert s["rms"] < 1.15 * s["reference_rms"], s
+    assert s["partners"] > 0.95 * s["reference_partners"], s
+assert max(s["rms"] / s["reference_rms"] for s in start) > 2, start
+print("registered scans on the true surfaces: surface rms / at the true pose up to %.3f"
+      % max(s["rms"] / s["reference_rms"] for s in clean))
+PY
 
 awk 'NR == 6 { $3 += 25; $4 -= 20 } { print }' "$tmp/set/perturbed.conf" >"$tmp/set/moved.conf"
 mpirun --oversubscribe -np 2 "$bin" fuse --scans "$tmp/set/moved.conf" --voxel 1 \

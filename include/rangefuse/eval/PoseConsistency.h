@@ -31,4 +31,10 @@ struct ScanConsistency {
 std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& world,
                                              const ConsistencySettings& settings);
 
+/// The same with probe i (scan i elsewhere, e.g. at an estimated pose) measured against every
+/// other scan of `world`: how far a pose leaves a scan from the surfaces the others give.
+std::vector<ScanConsistency> poseConsistency(const std::vector<ScanSurface>& probes,
+                                             const std::vector<ScanSurface>& world,
+                                             const ConsistencySettings& settings);
+
 }  // namespace rangefuse

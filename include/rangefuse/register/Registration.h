@@ -12,6 +12,7 @@
 
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/register/Correspondences.h"
+#include "rangefuse/register/LooseMotion.h"
 #include "rangefuse/register/RegistrationMode.h"
 #include "rangefuse/register/ScanSource.h"
 
@@ -59,6 +60,7 @@ struct RegistrationStep {
   double rotationDeg = 0;  ///< the fit's rotation
   double translation = 0;  ///< the fit's translation, world units
   bool applied = false;    ///< false when too few correspondences
+  LooseMotion loose;       ///< the joint solve's loosest motion of the scan (other fits: none)
 };
 
 /// A fit's motion as a twist about the control points' centroid: rotation vector and shift of

@@ -17,6 +17,7 @@ struct ScanStanding {
   uint64_t correspondences = 0;  ///< its overlap with the field, in control points
   double rmsScore = 0;           ///< (rms - median) / (1.4826 MAD): a robust z-score
   double overlapShare = 1;       ///< correspondences / the median scan's
+  LooseMotion loose;             ///< its last joint fit's loosest motion
 };
 
 /// Each scan's last fit among `steps`, applied or not (too few correspondences to move it:
@@ -27,5 +28,9 @@ std::vector<ScanStanding> lastStandings(const std::vector<RegistrationStep>& ste
 /// 25 % above it (so that a set whose scans all fit alike flags none), or correspondences under
 /// a third of the median scan's. Needs four scans or more (fewer: none).
 std::vector<ScanStanding> findStragglers(const std::vector<ScanStanding>& standings);
+
+/// The standings whose last joint fit held some motion less than kLooseHold: their pose along
+/// it rests on where they started (LooseMotion.h). Any number of scans.
+std::vector<ScanStanding> findLooseScans(const std::vector<ScanStanding>& standings);
 
 }  // namespace rangefuse
