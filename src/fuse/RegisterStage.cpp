@@ -10,6 +10,7 @@
 #include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/register/PairOverlap.h"
 #include "rangefuse/register/Stragglers.h"
 
 namespace rangefuse {
@@ -99,6 +100,19 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
   for (const ScanStanding& s : findLooseScans(standings))
     std::fprintf(stderr, "rangefuse: warning: registration: %s %s\n", scans.names[s.scan].c_str(),
                  describeLooseMotion(s.loose).c_str());
+}
+
+/// The overlap the joint solve kept: pairs of scans sharing voxels at its first and last step.
+void reportOverlap(const std::vector<RegistrationStep>& steps, Progress& progress) {
+  const std::vector<PairOverlap> pairs = pairOverlaps(steps);
+  if (pairs.empty()) return;
+  const auto [first, last] = overlappingPairs(pairs);
+  progress.update("register",
+                  "overlap: " + std::to_string(last) + " pairs of scans overlap (" +
+                      std::to_string(first) + " at the first joint step); " +
+                      std::to_string(pairsLosing(pairs, 0.5)) +
+                      " kept less than half their overlap (report: registration.pairs)",
+                  0);
 }
 
 /// Adds the time from its construction to its destruction to `total`.
@@ -213,6 +227,7 @@ bool registerPoses(const RegisterSettings& o, const FieldSettings& f,
   progress.stage("register", std::string(toString(o.mode)) + ": " + std::to_string(steps.size()) +
                                  " fits" + times);
   warnStragglers(steps, scans, f.voxel, progress);
+  reportOverlap(steps, progress);
   return checkpointer.ok();
 }
 

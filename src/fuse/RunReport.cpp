@@ -11,6 +11,7 @@
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/MpiTraffic.h"
+#include "rangefuse/register/PairOverlap.h"
 #include "rangefuse/register/Stragglers.h"
 
 using nlohmann::json;
@@ -96,7 +97,10 @@ json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>
          {"loose", s.loose.hold < kLooseHold}});
     if (s.loose.hold < kLooseHold) scans.back()["loose_motion"] = looseJson(s.loose);
   }
-  return {{"mode", toString(mode)}, {"fits", fits}, {"scans", scans}};
+  json pairs = json::array();
+  for (const PairOverlap& p : pairOverlaps(steps))
+    pairs.push_back({{"a", p.a}, {"b", p.b}, {"first", p.first}, {"last", p.last}});
+  return {{"mode", toString(mode)}, {"fits", fits}, {"scans", scans}, {"pairs", pairs}};
 }
 
 }  // namespace

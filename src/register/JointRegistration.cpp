@@ -236,6 +236,8 @@ std::vector<RegistrationStep> jointStep(std::vector<Pose>& poses, const BrickSto
   for (const Vector6d& d : delta) largest = std::max(largest, reach(d));
   const double shrink = largest > s.maxStep ? s.maxStep / largest : 1.0;
   std::vector<RegistrationStep> steps(poses.size());
+  for (const auto& [pair, points] : eq.pairPoints)
+    steps[pair.first].overlap.emplace_back(pair.second, points);
   for (size_t i = 0; i < poses.size(); ++i) {
     RegistrationStep& step = steps[i];
     step.scan = i;

@@ -51,6 +51,15 @@ uint64_t pointsInSharedVoxels(const std::vector<std::vector<VoxelShare>>& voxels
   return n;
 }
 
+/// Calls add(s, t, points) for every pair of scans s < t sharing a voxel, with the control
+/// points both put there.
+template <class Add>
+void voxelPairs(const std::vector<VoxelShare>& shares, Add&& add) {
+  for (size_t i = 0; i < shares.size(); ++i)
+    for (size_t j = i + 1; j < shares.size(); ++j)
+      add(shares[i].scan, shares[j].scan, uint64_t{shares[i].points} + shares[j].points);
+}
+
 }  // namespace
 
 void VoxelShare::add(const Eigen::Vector3d& p, const Eigen::Vector3d& f, double r, double w,
@@ -82,6 +91,8 @@ JointEquations jointEquations(const std::vector<std::vector<VoxelShare>>& voxels
           eq.squares[a.scan] += a.weight * e * e;
           eq.points[a.scan] += a.points;
         });
+  for (const auto& shares : voxels)
+    voxelPairs(shares, [&](uint32_t a, uint32_t b, uint64_t n) { eq.pairPoints[{a, b}] += n; });
   return eq;
 }
 
@@ -125,6 +136,17 @@ JointEquations reduceJointEquations(const std::vector<std::vector<VoxelShare>>& 
   }
   MPI_Allreduce(MPI_IN_PLACE, eq.points.data(), static_cast<int>(scans), MPI_UINT64_T, MPI_SUM,
                 comm);
+  // Overlap per pair: integers, so the sum is the same in any order.
+  std::vector<uint64_t> overlap(pairs.size(), 0);
+  for (const auto& shares : voxels)
+    voxelPairs(shares,
+               [&](uint32_t a, uint32_t b, uint64_t n) { overlap[slot.at(pairKey(a, b))] += n; });
+  MPI_Allreduce(MPI_IN_PLACE, overlap.data(), static_cast<int>(overlap.size()), MPI_UINT64_T,
+                MPI_SUM, comm);
+  for (size_t k = 0; k < pairs.size(); ++k)
+    if (overlap[k] > 0)
+      eq.pairPoints[{static_cast<uint32_t>(pairs[k] >> 32), static_cast<uint32_t>(pairs[k])}] =
+          overlap[k];
   return eq;
 }
 

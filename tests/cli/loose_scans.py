@@ -57,4 +57,10 @@ for s in scans:
 assert any(seen == 0 for seen in truth) and any(seen >= 100 for seen in truth), truth
 warned = open(stderr).read().count("is held loosely")
 assert warned == len(loose), (warned, loose)
+# The overlap per pair the progress line counts is the report's.
+pairs = json.load(open(report))["registration"]["pairs"]
+assert pairs and all(p["a"] < p["b"] for p in pairs), pairs
+last = sum(p["last"] >= 50 for p in pairs)
+log = open(report.replace(".json", ".log")).read()
+assert "overlap: %d pairs of scans overlap" % last in log, (last, log)
 print("loose scans %s (points on the small sphere: %s)" % (sorted(loose), truth))

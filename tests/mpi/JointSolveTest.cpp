@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <random>
 
 #include "rangefuse/parallel/FixedPointSum.h"
@@ -81,4 +82,14 @@ TEST(JointEquations, ReducedOnAnyRanksAreTheOneRankSumsBitForBit) {
     EXPECT_EQ(one.points[s], plain.points[s]);
     EXPECT_NEAR(one.rms(s), plain.rms(s), 1e-12);
   }
+  // Overlap per pair, counted by brute force: each share here holds one control point, so a
+  // pair's overlap is twice the voxels both scans reached.
+  std::map<std::pair<uint32_t, uint32_t>, uint64_t> expected;
+  for (const auto& shares : all)
+    for (const VoxelShare& a : shares)
+      for (const VoxelShare& b : shares)
+        if (a.scan < b.scan) expected[{a.scan, b.scan}] += 2;
+  EXPECT_EQ(one.pairPoints, expected);
+  EXPECT_EQ(many.pairPoints, expected);
+  EXPECT_EQ(plain.pairPoints, expected);
 }

@@ -47,6 +47,8 @@ struct JointEquations {
   std::vector<Vector6d> gradient;                            ///< g_s
   std::vector<double> weight, squares;  ///< per scan: Σ w and Σ w e² of its paired shares
   std::vector<uint64_t> points;         ///< per scan: control points in shared voxels
+  /// Per pair of scans s < t: the control points of both in voxels both reached (their overlap).
+  std::map<std::pair<uint32_t, uint32_t>, uint64_t> pairPoints;
 
   explicit JointEquations(size_t scans = 0)
       : gradient(scans, Vector6d::Zero()), weight(scans, 0), squares(scans, 0), points(scans, 0) {}

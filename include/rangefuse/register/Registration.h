@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rangefuse/prism/PrismField.h"
@@ -61,6 +62,9 @@ struct RegistrationStep {
   double translation = 0;  ///< the fit's translation, world units
   bool applied = false;    ///< false when too few correspondences
   LooseMotion loose;       ///< the joint solve's loosest motion of the scan (other fits: none)
+  /// The joint solve's overlap of this scan with each later scan t it shares voxels with: the
+  /// control points of both there (other fits: none).
+  std::vector<std::pair<uint32_t, uint64_t>> overlap;
 };
 
 /// A fit's motion as a twist about the control points' centroid: rotation vector and shift of
