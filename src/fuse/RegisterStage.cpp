@@ -97,9 +97,17 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
                  "median scan's); check its pose, or give it a better start\n",
                  scans.names[s.scan].c_str(), s.rms / voxel, rms[rms.size() / 2] / voxel,
                  static_cast<unsigned long long>(s.correspondences), 100 * s.overlapShare);
-  for (const ScanStanding& s : findLooseScans(standings))
-    std::fprintf(stderr, "rangefuse: warning: registration: %s %s\n", scans.names[s.scan].c_str(),
-                 describeLooseMotion(s.loose).c_str());
+  // A depth stream of a room may have hundreds of frames that saw one wall: name a few.
+  constexpr size_t kNamed = 5;
+  const std::vector<ScanStanding> loose = findLooseScans(standings);
+  for (size_t k = 0; k < std::min(loose.size(), kNamed); ++k)
+    std::fprintf(stderr, "rangefuse: warning: registration: %s %s\n",
+                 scans.names[loose[k].scan].c_str(), describeLooseMotion(loose[k].loose).c_str());
+  if (loose.size() > kNamed)
+    std::fprintf(stderr,
+                 "rangefuse: warning: registration: %zu more scans are held loosely (the "
+                 "report's registration.scans lists them)\n",
+                 loose.size() - kNamed);
 }
 
 /// The overlap the joint solve kept: pairs of scans sharing voxels at its first and last step.

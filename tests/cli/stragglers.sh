@@ -5,7 +5,8 @@
 # as a straggler, with its residual and overlap beside every other scan's. A scan that saw only
 # the composite's torus and the sphere on its axis (not the small sphere off it) cannot be fixed
 # in its turn about that axis: the clean set's report marks exactly those scans loose, each with
-# a turn about the z axis through the axis, and warns once for each.
+# a turn about the z axis through the axis, and warns once for each; a sphere's scans are all
+# loose, and the warnings name five and count the rest.
 set -euo pipefail
 bin=$1
 tmp=$(mktemp -d)
@@ -39,6 +40,17 @@ assert max(s["rms"] / s["reference_rms"] for s in start) > 2, start
 print("registered scans on the true surfaces: surface rms / at the true pose up to %.3f"
       % max(s["rms"] / s["reference_rms"] for s in clean))
 PY
+
+# A sphere holds no turn of any scan: every scan but the anchor is loose; five are named.
+"$bin" scan --shape sphere --views 10 --noise 0.3 --rot-deg 1 --trans-vox 1 --voxel 1 \
+  --out "$tmp/sphere" >/dev/null
+mpirun --oversubscribe -np 2 "$bin" fuse --scans "$tmp/sphere/perturbed.conf" --voxel 1 \
+  --register simultaneous --out "$tmp/sphere.ply" >/dev/null 2>"$tmp/sphere.err"
+[[ $(grep -c "is held loosely" "$tmp/sphere.err") == 5 ]] ||
+  fail "expected five loose scans named: $(cat "$tmp/sphere.err")"
+grep -q "registration: 4 more scans are held loosely" "$tmp/sphere.err" ||
+  fail "expected the other four counted: $(cat "$tmp/sphere.err")"
+echo "sphere: five loose scans named, four more counted"
 
 awk 'NR == 6 { $3 += 25; $4 -= 20 } { print }' "$tmp/set/perturbed.conf" >"$tmp/set/moved.conf"
 mpirun --oversubscribe -np 2 "$bin" fuse --scans "$tmp/set/moved.conf" --voxel 1 \
