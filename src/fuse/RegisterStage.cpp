@@ -111,16 +111,15 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
 }
 
 /// The overlap the joint solve kept: pairs of scans sharing voxels at its first and last step.
-void reportOverlap(const std::vector<RegistrationStep>& steps, Progress& progress) {
+void reportOverlap(const std::vector<RegistrationStep>& steps, const Progress& progress) {
   const std::vector<PairOverlap> pairs = pairOverlaps(steps);
-  if (pairs.empty()) return;
+  if (pairs.empty() || !progress.shows(Verbosity::normal)) return;
   const auto [first, last] = overlappingPairs(pairs);
-  progress.update("register",
-                  "overlap: " + std::to_string(last) + " pairs of scans overlap (" +
-                      std::to_string(first) + " at the first joint step); " +
-                      std::to_string(pairsLosing(pairs, 0.5)) +
-                      " kept less than half their overlap (report: registration.pairs)",
-                  0);
+  std::printf(
+      "[register] overlap: %zu pairs of scans overlap (%zu at the first joint step); %zu kept "
+      "less than half their overlap (report: registration.pairs)\n",
+      last, first, pairsLosing(pairs, 0.5));
+  std::fflush(stdout);
 }
 
 /// Adds the time from its construction to its destruction to `total`.

@@ -62,5 +62,5 @@ pairs = json.load(open(report))["registration"]["pairs"]
 assert pairs and all(p["a"] < p["b"] for p in pairs), pairs
 last = sum(p["last"] >= 50 for p in pairs)
 log = open(report.replace(".json", ".log")).read()
-assert "overlap: %d pairs of scans overlap" % last in log, (last, log)
+assert "[register] overlap: %d pairs of scans overlap" % last in log, (last, log)
 print("loose scans %s (points on the small sphere: %s)" % (sorted(loose), truth))
