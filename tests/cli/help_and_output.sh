@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # What a first run reads: each command's help in sections, essentials first, listing only the
-# options the command uses; --version; --quiet prints nothing but warnings, the default a line a stage and
-# a line a registration round, --verbose every fit; the last lines name every file written.
+# options the command uses; --version; --quiet prints nothing but warnings, the default a line
+# a stage and a line a registration round, --verbose every fit; the last lines name every file
+# written.
 set -euo pipefail
 bin=$1
 tmp=$(mktemp -d)
