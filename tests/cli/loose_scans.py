@@ -1,7 +1,7 @@
 """Checks the loose scans a composite set's run report marks against the scene's truth.
 
 The composite is a torus about the z axis, a sphere on that axis and a small sphere off it at
-(50, 0, -4), radius 8. A scan with no point on the small sphere (at its true pose) sees a scene
+(50, 0, -4), radius 8. A scan with no point on the small sphere (at its true pose; a few outliers may fall there) sees a scene
 symmetric about the z axis: it must be marked loose, with a turn about z through the axis. A scan
 with 100 points or more there must not. Usage: loose_scans.py SET REPORT STDERR
 """
@@ -46,7 +46,7 @@ scans = json.load(open(report))["registration"]["scans"]
 loose = {s["scan"] for s in scans if s["loose"]}
 for s in scans:
     seen = truth[s["scan"]]
-    if seen == 0:
+    if seen < 10:
         assert s["loose"], ("scan %d saw no asymmetric part but is held" % s["scan"], s)
     if seen >= 100:
         assert not s["loose"], ("scan %d saw the small sphere but is loose" % s["scan"], s)
@@ -54,7 +54,7 @@ for s in scans:
         m = s["loose_motion"]
         assert m["kind"] == "turn" and abs(m["direction"][2]) > 0.998, m
         assert abs(m["through"][0]) < 1 and abs(m["through"][1]) < 1, m
-assert any(seen == 0 for seen in truth) and any(seen >= 100 for seen in truth), truth
+assert any(seen < 10 for seen in truth) and any(seen >= 100 for seen in truth), truth
 warned = open(stderr).read().count("is held loosely")
 assert warned == len(loose), (warned, loose)
 # The overlap per pair the progress line counts is the report's.
