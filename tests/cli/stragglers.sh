@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Registration reports the scan it left out of line: a composite scene of 12 views with 1 %
 # outliers and 2 one-scan patches, perturbed by up to 2 degrees and 2 voxels, registers with no
-# such warning, every scan held firmly within 0.12 voxel of its true pose; the same set with one scan moved 25
-# and 20 voxels more gets one warning naming that scan, and the report marks it (and it alone)
-# as a straggler, with its residual and overlap beside every other scan's. A scan that saw only
+# such warning, every scan held firmly within 0.12 voxel of its true pose; the same set with
+# one scan moved 25 and 20 voxels more gets one warning naming that scan, and the report marks
+# it (and it alone) as a straggler, with its residual and overlap beside every other scan's. A scan that saw only
 # the composite's torus and the sphere on its axis (not the small sphere off it) cannot be fixed
 # in its turn about that axis: the clean set's report marks exactly those scans loose, each with
 # a turn about the z axis through the axis, and warns once for each; a sphere's scans are all
