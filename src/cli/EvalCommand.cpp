@@ -175,8 +175,18 @@ json commonMotionReport(const std::vector<Pose>& estimates, const std::vector<Po
 json surfaceReport(const std::vector<const io::ConfScan*>& scans,
                    const std::vector<Pose>& estimates, const std::vector<Pose>& references,
                    const std::vector<std::vector<Eigen::Vector3d>>& points, const EvalOptions& o) {
-  for (const auto& p : points)
+  // Two surfaces a scan (points, normals, trees at both poses): 50 M points take about 10 GB.
+  constexpr size_t kMostPoints = 50'000'000;
+  size_t total = 0;
+  for (const auto& p : points) {
     if (p.empty()) return json::array();
+    total += p.size();
+  }
+  if (total > kMostPoints) {
+    if (!o.json)
+      std::printf("surface check left out: %zu points (more than %zu)\n", total, kMostPoints);
+    return json::array();
+  }
   const Pose g = commonMotion(estimates, references, points);
   std::vector<ScanSurface> atReference, atEstimate;
   for (size_t i = 0; i < scans.size(); ++i) {
