@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up, build and run the whole test suite (unit tests, 2-rank MPI tests, CLI tests), then
 # build again under AddressSanitizer + UndefinedBehaviorSanitizer and run it once more, less
-# the slow repeats (1-rank MPI run, 1/2/3-rank determinism and tracking, kill-and-resume).
+# the cases labelled slow (tests/CMakeLists.txt says which and why) and the MPI suite's
+# end-to-end cases.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh
@@ -9,7 +10,8 @@ source jobs/mpi_env.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 
 echo "== sanitizer pass (ASan + UBSan) =="
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRANGEFUSE_SANITIZE=ON >/dev/null
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRANGEFUSE_SANITIZE=ON \
+  -DCMAKE_UNITY_BUILD=ON >/dev/null
 cmake --build build-asan -j "$(nproc)" >/dev/null
 # Open MPI's own allocations outlive MPI_Finalize: leak reports would be about it, not us.
 export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1

@@ -8,8 +8,8 @@ using namespace rangefuse;
 
 namespace {
 
-const Eigen::Vector3d kCentre(0.3, -0.2, 0.1);
-const double kRadius = 2.0;
+const Eigen::Vector3d kSphereCentre(0.3, -0.2, 0.1);
+const double kSphereRadius = 2.0;
 
 /// A latitude-longitude sphere, faces wound outward; without the faces whose centre lies above
 /// `capZ` (relative to the centre), so that a hole opens toward +z.
@@ -20,7 +20,7 @@ MeshPart spherePart(double capZ = INFINITY) {
   for (int i = 0; i <= rings; ++i)
     for (int j = 0; j < sectors; ++j) {
       const double th = M_PI * i / rings, ph = 2 * M_PI * j / sectors;
-      m.vertices.push_back(kCentre + kRadius * Eigen::Vector3d(std::sin(th) * std::cos(ph),
+      m.vertices.push_back(kSphereCentre + kSphereRadius * Eigen::Vector3d(std::sin(th) * std::cos(ph),
                                                                std::sin(th) * std::sin(ph),
                                                                std::cos(th)));
     }
@@ -28,8 +28,8 @@ MeshPart spherePart(double capZ = INFINITY) {
   auto add = [&](Triangle f) {
     const Eigen::Vector3d &a = m.vertices[f[0]], &b = m.vertices[f[1]], &c = m.vertices[f[2]];
     if ((b - a).cross(c - a).norm() == 0) return;
-    if ((((a + b + c) / 3 - kCentre).z()) > capZ) return;
-    if ((b - a).cross(c - a).dot(a + b + c - 3 * kCentre) < 0) std::swap(f[1], f[2]);
+    if ((((a + b + c) / 3 - kSphereCentre).z()) > capZ) return;
+    if ((b - a).cross(c - a).dot(a + b + c - 3 * kSphereCentre) < 0) std::swap(f[1], f[2]);
     m.faces.push_back(f);
   };
   for (int i = 0; i < rings; ++i)
@@ -92,7 +92,7 @@ TEST(MeshPicture, FrontFacesWarmAndAHoleShowsTheCoolInside) {
   view.width = view.height = 101;
   view.elevationDeg = 0;  // looking along -z, into the hole
   const Image closed = pictureOfMesh(spherePart(), view, 0, MPI_COMM_SELF);
-  const Image open = pictureOfMesh(spherePart(0.8 * kRadius), view, 0, MPI_COMM_SELF);
+  const Image open = pictureOfMesh(spherePart(0.8 * kSphereRadius), view, 0, MPI_COMM_SELF);
   const uint8_t* front = &closed.rgb[(50 * 101 + 50) * 3];
   const uint8_t* inside = &open.rgb[(50 * 101 + 50) * 3];
   EXPECT_GT(front[0], 200);
@@ -107,8 +107,8 @@ TEST(MeshPicture, FrontFacesWarmAndAHoleShowsTheCoolInside) {
 TEST(MeshPicture, ACameraInsideSeesTheInsideAllRound) {
   ViewSettings view;
   view.width = 64, view.height = 48;
-  view.camera = Pose{Eigen::Matrix3d::Identity(), kCentre};
-  view.focal = 32, view.farthest = 4 * kRadius;
+  view.camera = Pose{Eigen::Matrix3d::Identity(), kSphereCentre};
+  view.focal = 32, view.farthest = 4 * kSphereRadius;
   const Image img = pictureOfMesh(spherePart(), view, 0, MPI_COMM_SELF);
   for (size_t i = 0; i < size_t(view.width) * view.height; ++i) {
     ASSERT_FALSE(isBackground(img, i)) << "pixel " << i;
