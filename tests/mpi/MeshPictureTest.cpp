@@ -20,9 +20,10 @@ MeshPart spherePart(double capZ = INFINITY) {
   for (int i = 0; i <= rings; ++i)
     for (int j = 0; j < sectors; ++j) {
       const double th = M_PI * i / rings, ph = 2 * M_PI * j / sectors;
-      m.vertices.push_back(kSphereCentre + kSphereRadius * Eigen::Vector3d(std::sin(th) * std::cos(ph),
-                                                               std::sin(th) * std::sin(ph),
-                                                               std::cos(th)));
+      m.vertices.push_back(kSphereCentre +
+                           kSphereRadius * Eigen::Vector3d(std::sin(th) * std::cos(ph),
+                                                           std::sin(th) * std::sin(ph),
+                                                           std::cos(th)));
     }
   auto id = [&](int i, int j) { return i * sectors + (j % sectors); };
   auto add = [&](Triangle f) {
