@@ -63,6 +63,9 @@ void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
   std::vector<std::string> differ;
   // Checkpoints from before --merge-cells were written from unmerged grids.
   if (!meta.parameters.contains("merge_cells_voxels") && !given(o, "merge-cells")) o.mergeCells = 0;
+  // ... and before --smooth-noise, from depths as read.
+  if (!meta.parameters.contains("smooth_noise_voxels") && !given(o, "smooth-noise"))
+    o.smoothNoise = 0;
   // ... and before --min-views, with the quorum alone.
   if (!meta.parameters.contains("min_views") && !given(o, "min-views")) o.minViews = 1;
   // ... and before the joint solve, with per-scan fits.

@@ -215,6 +215,13 @@ std::vector<FuseParameter> makeTable() {
        must<double>(
            &FuseOptions::mergeCells, [](double v) { return v >= 0 && finite(v); },
            "must be a number of voxels >= 0 (0: never merge)")},
+      {"smooth-noise", "smooth_noise_voxels", R::Result, false, G::Field,
+       "where a scan's measured depth noise exceeds this many voxels (a depth camera's far "
+       "walls), average its depths along rows and columns until it is about this (0: never)",
+       at(&FuseOptions::smoothNoise),
+       must<double>(
+           &FuseOptions::smoothNoise, [](double v) { return v >= 0 && finite(v); },
+           "must be a number of voxels >= 0 (0: never smooth)")},
       {"band-cells", "band_cells", R::Result, false, G::Field,
        "PTX scans of more cells than this are read and prepared in bands of columns, each by "
        "any rank, so no rank holds a whole station (0: never split)",

@@ -16,7 +16,8 @@ ReadSettings readSettings(const FuseOptions& o) {
   r.scans = o.scans;
   r.source = o.source;
   r.limits = o.limits;
-  r.surface = surfaceOptions(o.surface, o.mergeCells, o.voxel, o.method, o.fillHoles);
+  r.surface =
+      surfaceOptions(o.surface, o.mergeCells, o.smoothNoise, o.voxel, o.method, o.fillHoles);
   r.eps = o.envelope * o.voxel;
   r.voxel = o.voxel;
   r.bandCells = static_cast<uint64_t>(o.bandCells);
@@ -86,10 +87,11 @@ OutputSettings outputSettings(const FuseOptions& o) {
 
 }  // namespace
 
-SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double voxel,
-                              FieldMethod method, bool fillHoles) {
+SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double smoothNoise,
+                              double voxel, FieldMethod method, bool fillHoles) {
   SurfaceOptions s = base;
   s.mergeTarget = mergeCells * voxel;
+  s.smoothTarget = smoothNoise * voxel;
   s.sightMap = methodInfo(method).hypotheses || fillHoles;
   return s;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "rangefuse/surface/DepthSmoothing.h"
 #include "rangefuse/surface/GridMerging.h"
 
 namespace rangefuse {
@@ -50,15 +51,23 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
   const int k = options.mergeTarget > 0 ? mergeFactor(lateralSpacing(grid), options.mergeTarget,
                                                       std::min(grid.cols, grid.rows))
                                         : 1;
+  // Noise is measured on the grid as read; a merged cell keeps 1 / k of it.
+  const RangeNoise noise = options.smoothTarget > 0 ? RangeNoise::measure(grid) : RangeNoise{};
+  DepthSmoothing smoothing{options.smoothTarget, 0, 1.0 / k};
   if (k > 1) {
     const double fineStep = gridSpacing(grid);
     std::vector<Texel> texels;
     const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor, &texels);
     GridTriangulation rules = gridTriangulation(coarse, options);
     rules.maxEdge = mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor);
-    return surfaceOf(coarse, rules, pose, options.normalPasses, k, &texels);
+    smoothing.edge = rules.maxEdge;
+    return surfaceOf(smoothDepths(coarse, noise, smoothing), rules, pose, options.normalPasses, k,
+                     &texels);
   }
-  return surfaceOf(grid, gridTriangulation(grid, options), pose, options.normalPasses);
+  // The rules come from the grid as read: smoothing shortens its median step.
+  const GridTriangulation rules = gridTriangulation(grid, options);
+  smoothing.edge = rules.maxEdge;
+  return surfaceOf(smoothDepths(grid, noise, smoothing), rules, pose, options.normalPasses);
 }
 
 ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,

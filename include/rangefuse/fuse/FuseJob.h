@@ -39,6 +39,7 @@ struct FuseOptions {
   bool verbose = false;         ///< print every registration fit and tracked frame
   SurfaceOptions surface;       ///< mergeTarget is set from mergeCells: see surfaceOptions
   double mergeCells = 1;        ///< merge grid cells up to this many voxels (0: never)
+  double smoothNoise = 1;       ///< smooth depths noisier than this many voxels (0: never)
   double bandCells = 4e6;       ///< PTX scans of more cells are read in bands by several ranks
   double quorum = -1;           ///< consensus: summed confidence needed; -1: autoQuorum
   int minViews = 2;             ///< consensus: views a consensus needs (1: the quorum alone)

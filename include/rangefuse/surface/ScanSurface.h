@@ -18,6 +18,8 @@ struct SurfaceOptions {
   /// Merge blocks of k x k grid cells while k cells span no more than this (world units; 0:
   /// never), so that dense grids reach the field at about the voxel's scale.
   double mergeTarget = 0;
+  /// Smooth depths whose measured noise exceeds this (world units; 0: never): DepthSmoothing.h.
+  double smoothTarget = 0;
   bool sightMap = false;  ///< also map what the scan saw along its lines of sight (robust)
 };
 
