@@ -21,7 +21,8 @@ FuseOptions changed() {
   o.registerField = RegistrationFieldMode::Rebuild, o.registerSolve = RegistrationSolve::PerScan;
   o.voxel = 0.00125, o.envelope = 2.5, o.brick = 16, o.minWeight = 0.25f, o.normals = false;
   o.surface.normalPasses = 3, o.surface.maxEdgeFactor = 5, o.surface.minCosine = 0.3;
-  o.mergeCells = 1.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60, o.sameDistance = 1.5;
+  o.mergeCells = 1.5, o.smoothNoise = 0.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60,
+  o.sameDistance = 1.5;
   o.sameAngle = 30, o.freeMargin = INFINITY, o.fillHoles = true, o.controlStride = 4;
   o.maxIterations = 7;
   o.maxRounds = 2, o.roundTolerance = 0.05, o.checkpointEvery = 30, o.scanMemory = 0;
