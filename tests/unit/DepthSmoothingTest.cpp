@@ -3,40 +3,26 @@
 #include <cmath>
 #include <random>
 
+#include "FloorGrid.h"
 #include "rangefuse/surface/DepthSmoothing.h"
 
 namespace rangefuse {
 namespace {
 
-/// A pinhole camera 1.5 above a plane floor, looking down it at 30 degrees (depths about 2 to
-/// 6), and, when `box` is set, a box top 0.3 above the floor over the middle third of the
-/// columns: a depth step. Depths move along their rays by `sigma(depth)` deviations.
+/// floorGrid's floor 1.5 below a 240 x 180 camera (f = 300) and, when `box` is set, a box top
+/// 0.3 above it over the middle third of the columns: a depth step. Depths move along their
+/// rays by `sigma(depth)` deviations.
 RangeGrid cameraOverFloor(double (*sigma)(double), bool box, int seed = 5) {
-  RangeGrid g;
-  g.cols = 240, g.rows = 180;
-  g.pinhole = Pinhole{300, 300, 119.5, 89.5};
-  g.cell.assign(g.cols * g.rows, -1);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0, 1);
-  const double tilt = 30 * M_PI / 180;
-  for (int r = 0; r < g.rows; ++r)
-    for (int c = 0; c < g.cols; ++c) {
-      const Eigen::Vector3d ray((c - 119.5) / 300, (r - 89.5) / 300, -1);
-      const double up = ray.y() * std::cos(tilt) + ray.z() * std::sin(tilt);
-      if (!(up < -0.05)) continue;
-      const double height = box && c >= 80 && c < 160 ? 1.2 : 1.5;
-      const double t = -height / up;
-      g.cell[r * g.cols + c] = static_cast<int32_t>(g.points.size());
-      g.points.push_back((t + sigma(t) * normal(rng)) * ray);
-    }
-  return g;
+  return test::floorGrid(
+      240, 180, 300, [&](int c) { return box && c >= 80 && c < 160 ? 1.2 : 1.5; },
+      [&](double t) { return t + sigma(t) * normal(rng); });
 }
 
 /// Distance of a scan-frame point from the floor (or the box top) it was made on.
 double offSurface(const Eigen::Vector3d& p, bool onBox) {
-  const double tilt = 30 * M_PI / 180;
-  const double up = p.y() * std::cos(tilt) + p.z() * std::sin(tilt);
-  return up + (onBox ? 1.2 : 1.5);
+  return test::aboveFloor(p, onBox ? 1.2 : 1.5);
 }
 
 double noiseGrowingWithDepth(double z) {

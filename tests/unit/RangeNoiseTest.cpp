@@ -3,37 +3,25 @@
 #include <cmath>
 #include <random>
 
+#include "FloorGrid.h"
 #include "rangefuse/robust/RangeNoise.h"
 #include "rangefuse/robust/SightMap.h"
 
 namespace rangefuse {
 namespace {
 
-/// A pinhole camera 1.5 above a floor, looking down it at 30 degrees: depths from about 2 to
-/// 6. Each range is moved along its ray by `noise(depth)` deviations of a normal variable and,
-/// when `step` > 0, rounded to a multiple of step * depth^2 (a structured-light camera's steps).
+/// floorGrid's floor 1.5 below the camera (320 x 240, f = 400). Each range is moved along its
+/// ray by `noise(depth)` deviations of a normal variable and, when `step` > 0, rounded to a
+/// multiple of step * depth^2 (a structured-light camera's steps).
 RangeGrid floorGrid(double (*noise)(double), double step, int seed = 3) {
-  RangeGrid g;
-  g.cols = 320, g.rows = 240;
-  g.pinhole = Pinhole{400, 400, 159.5, 119.5};
-  g.cell.assign(g.cols * g.rows, -1);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0, 1);
-  const double tilt = 30 * M_PI / 180;
-  for (int r = 0; r < g.rows; ++r)
-    for (int c = 0; c < g.cols; ++c) {
-      // The ray in the camera frame (rows go with y, as the lens has it); the floor is where
-      // the height along the camera tilted up by 30 degrees reaches -1.5.
-      const Eigen::Vector3d ray((c - 159.5) / 400, (r - 119.5) / 400, -1);
-      const double up = ray.y() * std::cos(tilt) + ray.z() * std::sin(tilt);
-      if (!(up < -0.05)) continue;
-      double t = -1.5 / up;  // the ray's parameter at the floor; depth (-z) is t
-      t += noise(t) * normal(rng);
-      if (step > 0) t = std::round(t / (step * t * t)) * step * t * t;
-      g.cell[r * g.cols + c] = static_cast<int32_t>(g.points.size());
-      g.points.push_back(t * ray);
-    }
-  return g;
+  return test::floorGrid(
+      320, 240, 400, [](int) { return 1.5; },
+      [&](double t) {
+        t += noise(t) * normal(rng);
+        return step > 0 ? std::round(t / (step * t * t)) * step * t * t : t;
+      });
 }
 
 double depthSquared(double z) {
