@@ -15,7 +15,8 @@ namespace rangefuse {
 namespace {
 
 /// What the scan saw, on cells of about the merged grid's (the voxel's) scale.
-SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const SurfaceOptions& o) {
+SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const SurfaceOptions& o,
+                    const RangeNoise& noise) {
   const double spacing = lateralSpacing(grid);
   const int shortSide = std::min(grid.cols, grid.rows);
   const int k = o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1;
@@ -25,7 +26,7 @@ SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const Surfa
                      ? SightMap::fromPinholeGrid(grid, k)
                      : SightMap::fromSurface(local, std::max(o.mergeTarget, spacing), &grid);
   // A merged point is the mean of k x k cells: 1 / k of their noise.
-  map.setNoise(RangeNoise::measure(grid), 1.0 / k);
+  map.setNoise(noise, 1.0 / k);
   return map;
 }
 
@@ -51,9 +52,13 @@ PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
   if (c.bands > 1) return prepareBand(c, options, eps);
   PrismScan s;
   const RangeGrid grid = io::readScanGrid(c, limits);
-  s.surface = buildScanSurface(grid, Pose{}, options);
+  // Measured once: smoothing and the sight map's tests read the same curve.
+  const bool needsNoise = options.sightMap || options.smoothTarget > 0;
+  const RangeNoise noise = needsNoise ? RangeNoise::measure(grid) : RangeNoise{};
+  s.surface = buildScanSurface(grid, Pose{}, options, &noise);
   s.limits = computePrismLimits(s.surface, eps);
-  if (options.sightMap) s.sight = std::make_shared<SightMap>(sightMapOf(grid, s.surface, options));
+  if (options.sightMap)
+    s.sight = std::make_shared<SightMap>(sightMapOf(grid, s.surface, options, noise));
   return s;
 }
 

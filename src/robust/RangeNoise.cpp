@@ -10,10 +10,6 @@ constexpr int kBins = 16;
 constexpr size_t kMinSamples = 64;  // a bin's figure needs this many second differences
 constexpr double kStep = 0.05;      // neighbours this far apart (share of depth) are an edge
 
-double depthOf(const RangeGrid& grid, const Eigen::Vector3d& p) {
-  return grid.spherical ? p.norm() : -p.z();
-}
-
 /// One bin's deviation from the absolute second differences `a` (reordered).
 double binSigma(std::vector<double>& a) {
   const size_t mid = a.size() / 2, keep = a.size() * 9 / 10;
@@ -34,7 +30,7 @@ RangeNoise RangeNoise::measure(const RangeGrid& grid) {
   double lo = INFINITY, hi = 0;
   for (size_t i = 0; i < grid.cell.size(); ++i)
     if (grid.cell[i] >= 0) {
-      const double z = depthOf(grid, grid.points[grid.cell[i]]);
+      const double z = RangeNoise::depthOf(grid, grid.points[grid.cell[i]]);
       if (!(z > 0)) continue;
       depth[i] = z, lo = std::min(lo, z), hi = std::max(hi, z);
     }

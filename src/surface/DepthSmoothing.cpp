@@ -7,9 +7,9 @@ namespace rangefuse {
 namespace {
 
 /// What a smoothing pass reads and writes per cell: the fitted value (inverse depth or depth),
-/// the depth, and the window's half-width; NaN where the grid has no point.
+/// the depth, its noise and the window's half-width; NaN where the grid has no point.
 struct CellDepths {
-  std::vector<double> value, depth;
+  std::vector<double> value, depth, sigma;
   std::vector<int> half;
 };
 
@@ -17,21 +17,19 @@ bool fitsInverse(const RangeGrid& grid) {
   return grid.pinhole.has_value() || grid.spherical;
 }
 
-double depthOf(const RangeGrid& grid, const Eigen::Vector3d& p) {
-  return grid.spherical ? p.norm() : -p.z();
-}
-
 CellDepths cellDepths(const RangeGrid& grid, const RangeNoise& noise, const DepthSmoothing& how) {
-  CellDepths d{std::vector<double>(grid.cell.size(), NAN),
-               std::vector<double>(grid.cell.size(), NAN), std::vector<int>(grid.cell.size(), 0)};
+  const size_t n = grid.cell.size();
+  CellDepths d{std::vector<double>(n, NAN), std::vector<double>(n, NAN),
+               std::vector<double>(n, NAN), std::vector<int>(n, 0)};
   const bool inverse = fitsInverse(grid);
   for (size_t i = 0; i < grid.cell.size(); ++i) {
     if (grid.cell[i] < 0) continue;
-    const double z = depthOf(grid, grid.points[grid.cell[i]]);
+    const double z = RangeNoise::depthOf(grid, grid.points[grid.cell[i]]);
     if (inverse && !(z > 0)) continue;
     d.depth[i] = z;
     d.value[i] = inverse ? 1 / z : z;
-    d.half[i] = smoothingHalfWidth(noise.at(std::abs(z)) * how.scale, how.target, how.maxHalfWidth);
+    d.sigma[i] = noise.at(std::abs(z)) * how.scale;
+    d.half[i] = smoothingHalfWidth(d.sigma[i], how.target, how.maxHalfWidth);
   }
   return d;
 }
@@ -73,8 +71,8 @@ void addSide(const CellDepths& in, const CellLine& line, int here, int dir, int 
 }
 
 /// One pass along rows or down columns: each cell's value from a line fitted over its window.
-std::vector<double> fitAlong(const RangeGrid& grid, const CellDepths& in, const RangeNoise& noise,
-                             const DepthSmoothing& how, bool alongRows) {
+std::vector<double> fitAlong(const RangeGrid& grid, const CellDepths& in, double edge,
+                             bool alongRows) {
   std::vector<double> out = in.value;
   const bool inverse = fitsInverse(grid);
   const int lines = alongRows ? grid.rows : grid.cols;
@@ -85,8 +83,7 @@ std::vector<double> fitAlong(const RangeGrid& grid, const CellDepths& in, const 
       const size_t i = line.first + here * line.step;
       if (in.half[i] == 0 || std::isnan(in.value[i])) continue;
       // Neighbours on the same surface differ by the edge limit plus the noise of two depths.
-      const double jump =
-          how.edge + 3 * std::sqrt(2.0) * noise.at(std::abs(in.depth[i])) * how.scale;
+      const double jump = edge + 3 * std::sqrt(2.0) * in.sigma[i];
       LineFit fit;
       fit.add(0, in.value[i]);
       for (const int dir : {-1, 1}) addSide(in, line, here, dir, in.half[i], jump, fit);
@@ -108,8 +105,8 @@ RangeGrid smoothDepths(const RangeGrid& grid, const RangeNoise& noise, const Dep
   if (noise.empty() || !(how.target > 0)) return grid;
   CellDepths d = cellDepths(grid, noise, how);
   if (std::all_of(d.half.begin(), d.half.end(), [](int h) { return h == 0; })) return grid;
-  d.value = fitAlong(grid, d, noise, how, true);
-  d.value = fitAlong(grid, d, noise, how, false);
+  d.value = fitAlong(grid, d, how.edge, true);
+  d.value = fitAlong(grid, d, how.edge, false);
   RangeGrid out = grid;
   const bool inverse = fitsInverse(grid);
   for (size_t i = 0; i < grid.cell.size(); ++i) {

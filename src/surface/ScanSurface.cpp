@@ -46,13 +46,15 @@ ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, con
 
 }  // namespace
 
-ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
-                             const SurfaceOptions& options) {
+ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const SurfaceOptions& options,
+                             const RangeNoise* measured) {
   const int k = options.mergeTarget > 0 ? mergeFactor(lateralSpacing(grid), options.mergeTarget,
                                                       std::min(grid.cols, grid.rows))
                                         : 1;
   // Noise is measured on the grid as read; a merged cell keeps 1 / k of it.
-  const RangeNoise noise = options.smoothTarget > 0 ? RangeNoise::measure(grid) : RangeNoise{};
+  const RangeNoise noise = measured                   ? *measured
+                           : options.smoothTarget > 0 ? RangeNoise::measure(grid)
+                                                      : RangeNoise{};
   DepthSmoothing smoothing{options.smoothTarget, 0, 1.0 / k};
   if (k > 1) {
     const double fineStep = gridSpacing(grid);

@@ -23,6 +23,11 @@ class RangeNoise {
   /// estimate, so that quantised depths, whose median step is zero, still count.
   static RangeNoise measure(const RangeGrid& grid);
 
+  /// A point's depth as the curve counts it: the range for stations, -z for other grids.
+  static double depthOf(const RangeGrid& grid, const Eigen::Vector3d& p) {
+    return grid.spherical ? p.norm() : -p.z();
+  }
+
   /// The noise at `depth`.
   double at(double depth) const;
 

@@ -11,6 +11,8 @@
 
 namespace rangefuse {
 
+class RangeNoise;
+
 struct SurfaceOptions {
   double maxEdgeFactor = 4.0;  ///< drop triangles with an edge longer than this x grid spacing
   double minCosine = 0.15;     ///< drop triangles seen more obliquely than acos(this)
@@ -100,8 +102,10 @@ ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector
 /// averaging with the neighbouring vertices' normals.
 std::vector<Eigen::Vector3d> filteredVertexNormals(const TriangleMesh& mesh, int passes);
 
-/// Triangulates, filters normals, computes confidence and moves everything to world.
-ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose,
-                             const SurfaceOptions& options);
+/// Triangulates, filters normals, computes confidence and moves everything to world; depths
+/// are smoothed first where `options.smoothTarget` asks (DepthSmoothing.h), against `noise`,
+/// the grid's measured noise, when the caller already has it (else it is measured here).
+ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const SurfaceOptions& options,
+                             const RangeNoise* noise = nullptr);
 
 }  // namespace rangefuse
