@@ -189,6 +189,7 @@ ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
 }
 
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
+  if (scan.grid) return *scan.grid;
   if (scan.ptx) return readPtxScan(scan.path, *scan.ptx);
   if (scan.e57) return readE57Scan(scan.path, *scan.e57);
   if (scan.depth) {

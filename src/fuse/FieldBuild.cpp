@@ -49,7 +49,7 @@ void placeAndKeep(io::ConfFile& conf, const std::vector<Pose>* poses, const std:
 bool readList(const ReadSettings& read, MPI_Comm comm, const std::vector<Pose>* poses,
               const std::vector<char>* lost, bool needPoses, io::ConfFile& conf) {
   return collectively(comm, [&] {
-    conf = io::readScanList(read.scans, read.limits, read.source);
+    conf = read.list ? *read.list : io::readScanList(read.scans, read.limits, read.source);
     if (needPoses && !conf.posed && !poses)
       throw InputError(read.scans +
                        ": a depth stream without a trajectory has no poses to place its "

@@ -87,23 +87,31 @@ bool writeFieldCheckpoint(const CheckpointWriting& c, MPI_Comm comm, Progress& p
   return true;
 }
 
-int finish(const RunSettings& s, MPI_Comm comm, Progress& progress, const LoadedScans& scans,
-           FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
-  const OutputSettings& o = s.outputs;
-  MeshStats ms;
-  if (s.mesh.fillHoles && !collectively(comm, [&] {
-        if (field.sights.empty())
-          throw InputError("--fill-holes: this run has no sight maps to carve with");
-      }))
-    return 1;
-  const SpaceCarving carving(field.sights, s.mesh.carveMargin);
+MeshPart meshField(const MeshSettings& m, MPI_Comm comm, const FusedField& field, MeshStats& ms) {
+  mpi::collectivelyOrThrow(comm, [&] {
+    if (m.fillHoles && field.sights.empty())
+      throw InputError("--fill-holes: this run has no sight maps to carve with");
+  });
+  const SpaceCarving carving(field.sights, m.carveMargin);
   const HoleFill fill{
       [&](const Eigen::AlignedBox3d& box, const std::vector<Eigen::Vector3d>& points) {
         return carving.inside(box, points);
       },
       static_cast<float>(field.layout.grid.voxel)};
-  MeshPart mesh = extractDistributedMesh(*field.store, s.mesh.minWeight, comm, &ms, s.mesh.threads,
-                                         s.mesh.fillHoles ? &fill : nullptr);
+  return extractDistributedMesh(*field.store, m.minWeight, comm, &ms, m.threads,
+                                m.fillHoles ? &fill : nullptr);
+}
+
+int finish(const RunSettings& s, MPI_Comm comm, Progress& progress, const LoadedScans& scans,
+           FusedField& field, RankCounters& counters, const std::vector<RegistrationStep>& steps) {
+  const OutputSettings& o = s.outputs;
+  MeshStats ms;
+  MeshPart mesh;
+  try {
+    mesh = meshField(s.mesh, comm, field, ms);
+  } catch (const mpi::Reported&) {
+    return 1;
+  }
   counters.haloBricks = ms.haloBricksReceived;
   counters.triangles = ms.localTriangles;
   progress.stage("mesh", std::to_string(mesh.totalFaces) + " triangles, " +

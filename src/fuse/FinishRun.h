@@ -9,6 +9,7 @@
 
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse::internal {
@@ -22,6 +23,11 @@ std::function<void(const BrickLayout&)> storageWarner(const RunSettings& setting
 bool writeFieldCheckpoint(const CheckpointWriting& checkpoints, MPI_Comm comm, Progress& progress,
                           const LoadedScans& scans, const FusedField& field);
 
+/// Collective: this rank's part of a finished field's mesh, closed across holes when `mesh`
+/// asks (carving with the field's sight maps). Throws mpi::Reported on every rank when the
+/// field has no sight maps to carve with (printed once).
+MeshPart meshField(const MeshSettings& mesh, MPI_Comm comm, const FusedField& field,
+                   MeshStats& stats);
 /// Collective: the mesh of a finished field, its outputs, the poses and the report. Returns
 /// the run's exit code.
 int finish(const RunSettings& settings, MPI_Comm comm, Progress& progress, const LoadedScans& scans,

@@ -6,11 +6,6 @@
 namespace rangefuse {
 namespace {
 
-/// How far (voxels) before what a scan saw a point must lie for carving to call it looked
-/// through. A voxel, not --free-margin's envelope: the fill across a gap at a grazing angle
-/// lies within this of where the views saw past it.
-constexpr double kCarveMarginVoxels = 1;
-
 ReadSettings readSettings(const FuseOptions& o) {
   ReadSettings r;
   r.scans = o.scans;

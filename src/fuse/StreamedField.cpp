@@ -41,6 +41,10 @@ std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
       bytes.push_back(c.e57->records * bits / 8 / static_cast<uint64_t>(c.bands));
       continue;
     }
+    if (c.grid) {
+      bytes.push_back(c.grid->points.size() * sizeof(Eigen::Vector3d));
+      continue;
+    }
     std::error_code ec;
     const auto n = std::filesystem::file_size(c.path, ec);
     bytes.push_back(ec ? 0 : static_cast<uint64_t>(n));  // unreadable: the read says why

@@ -64,10 +64,37 @@ uint64_t chunkBytes() {
              : fallback;
 }
 
+namespace {
+thread_local CapturedFailure* capture = nullptr;
+}  // namespace
+
+CapturedFailure::CapturedFailure() : outer_(capture) {
+  capture = this;
+}
+CapturedFailure::~CapturedFailure() {
+  capture = outer_;
+}
+CapturedFailure* CapturedFailure::current() {
+  return capture;
+}
+
+void CapturedFailure::keep(const std::string& message) {
+  if (message_.empty()) message_ = message;
+}
+
 bool agree(bool ok, const std::string& message, MPI_Comm comm) {
   int mine = ok ? size(comm) : rank(comm), first = 0;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
   if (first == size(comm)) return true;
+  if (capture) {
+    std::string text = first == rank(comm) ? message : std::string();
+    uint64_t length = text.size();
+    MPI_Bcast(&length, 1, MPI_UINT64_T, first, comm);
+    text.resize(length);
+    MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, first, comm);
+    if (!text.empty()) capture->keep(text);
+    return false;
+  }
   if (first == rank(comm) && !message.empty())
     std::cerr << "rangefuse: error: " << message << std::endl;
   return false;

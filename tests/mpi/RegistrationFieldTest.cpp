@@ -17,7 +17,7 @@ using namespace rangefuse;
 
 namespace {
 
-constexpr double kVoxel = 0.002;  // 2 mm: the real bunny scans, quickly
+constexpr double kFieldVoxel = 0.002;  // 2 mm: the real bunny scans, quickly
 
 using VoxelKey = std::pair<uint64_t, uint32_t>;  // brick code, voxel within the brick
 using VoxelValues = std::map<VoxelKey, std::array<float, 6>>;
@@ -62,7 +62,7 @@ void expectIdentical(const VoxelValues& a, const VoxelValues& b) {
 RunSettings bunnySettings() {
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = kVoxel;
+  o.voxel = kFieldVoxel;
   return runSettings(o);
 }
 
@@ -96,9 +96,9 @@ TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
   grown->fixLattice({}, poses);
   grown->build({0}, poses);
   grown->add(1, poses);  // the bricks it reaches join the field
-  poses[3] = moved(poses[3], Eigen::Vector3d(3, -2, 1) * kVoxel, 1);
+  poses[3] = moved(poses[3], Eigen::Vector3d(3, -2, 1) * kFieldVoxel, 1);
   grown->add(3, poses);
-  poses[5] = moved(poses[5], Eigen::Vector3d(0, 20, 0) * kVoxel, 2);
+  poses[5] = moved(poses[5], Eigen::Vector3d(0, 20, 0) * kFieldVoxel, 2);
   const BrickStore& fast = grown->add(5, poses);  // far from the others: many new bricks
 
   auto fresh = growingField(o, scans);

@@ -4,12 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/fuse/FieldMethod.h"
+#include "rangefuse/fuse/FieldSettings.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/surface/ScanSurface.h"
 
@@ -21,6 +23,8 @@ struct FuseOptions;
 struct ReadSettings {
   std::string scans;             ///< .conf, .ptx or depth-sequence folder
   io::ScanSourceOptions source;  ///< how to read it (format, depth cameras)
+  /// Set: the scan list itself (the library's frames, held in memory), read instead of `scans`.
+  std::shared_ptr<const io::ConfFile> list;
   InputLimits limits;
   SurfaceOptions surface;  ///< merge target in the scans' units; sight maps for robust fusion
   double eps = 0;          ///< prism envelope, in the scans' units
@@ -28,28 +32,6 @@ struct ReadSettings {
   uint64_t bandCells = 0;  ///< PTX scans of more cells are read in bands of columns
   uint64_t keepBytes = 0;  ///< prepared scans a rank keeps between passes
   int threads = 1;         ///< threads of this rank
-};
-
-/// The field: its lattice, its method and the method's parameters.
-struct FieldSettings {
-  FieldMethod method = FieldMethod::Prism;
-  double voxel = 0;        ///< in the scans' units
-  double envelope = 3;     ///< prism half-thickness, in voxels
-  int brick = 8;           ///< voxels per brick edge
-  uint64_t maxVoxels = 0;  ///< refuse fields needing more
-  int threads = 1;
-  std::string colour = "auto";  ///< auto, rgb, intensity or none
-  double quorum = -1;           ///< consensus: summed confidence needed (-1: autoQuorum)
-  int minViews = 2;             ///< consensus and robust: views an agreement needs
-  double edgeAngle = 78;        ///< consensus: degrees from the normal beside an edge
-  double sameDistance = 2;      ///< consensus and robust: delta_d, voxels
-  double sameAngle = 45;        ///< consensus and robust: theta_n, degrees
-  double freeMargin = -1;       ///< robust: looked-through depth, voxels (-1: the envelope)
-  bool fillHoles = false;       ///< every scan's sight map kept on every rank, for carving
-
-  double eps() const { return envelope * voxel; }
-  /// How far before what a scan saw a point must lie for the scan to have looked through it.
-  double lookedThroughMargin() const { return (freeMargin == -1 ? envelope : freeMargin) * voxel; }
 };
 
 /// Registration (--register) and its fits.
@@ -77,6 +59,11 @@ struct TrackSettings {
 };
 
 /// The mesh taken from the field.
+/// How far (voxels) before what a scan saw a point must lie for carving to call it looked
+/// through. A voxel, not --free-margin's envelope: the fill across a gap at a grazing angle
+/// lies within this of where the views saw past it.
+inline constexpr double kCarveMarginVoxels = 1;
+
 struct MeshSettings {
   float minWeight = 0;  ///< voxels with summed weight not above this are unobserved
   bool normals = true;

@@ -2,11 +2,13 @@
 #pragma once
 
 #include <istream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "rangefuse/core/Pose.h"
+#include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/E57.h"
 #include "rangefuse/io/Ptx.h"
@@ -29,6 +31,8 @@ struct ConfScan {
   std::string colour = {};
   /// Set for one scan of an E57 file (named FILE.e57#K in a .conf; `path` is then the file's).
   std::optional<E57Scan> e57 = std::nullopt;
+  /// Set for a scan handed over in memory (the library's frames): read from here, not `path`.
+  std::shared_ptr<const RangeGrid> grid = nullptr;
 };
 
 struct ConfFile {

@@ -21,6 +21,27 @@ int size(MPI_Comm comm = MPI_COMM_WORLD);
 /// false.
 bool agree(bool ok, const std::string& message, MPI_Comm comm = MPI_COMM_WORLD);
 
+/// While one lives on this thread of every rank, agree() gives every rank the lowest failing
+/// rank's message (the first failure's, kept) instead of printing it: the library throws it.
+class CapturedFailure {
+ public:
+  CapturedFailure();
+  ~CapturedFailure();
+  CapturedFailure(const CapturedFailure&) = delete;
+  CapturedFailure& operator=(const CapturedFailure&) = delete;
+
+  /// Keeps `message` unless an earlier failure left one.
+  void keep(const std::string& message);
+  /// The first failure's message; empty when none.
+  const std::string& message() const { return message_; }
+  /// The capture of this thread, or null.
+  static CapturedFailure* current();
+
+ private:
+  std::string message_;
+  CapturedFailure* outer_;
+};
+
 /// Thrown on every rank after a failure all ranks agreed on and one rank already printed:
 /// unwinds a collective stage without another message.
 struct Reported : std::exception {

@@ -1,0 +1,74 @@
+// rangefuse as a library: range grids and depth images handed over in memory, fused on the
+// ranks of an MPI communicator into the mesh the `rangefuse fuse` command would make of the
+// same scans. One header; docs/api.md has an example.
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+#include <string>
+
+#include "rangefuse/core/Image.h"
+#include "rangefuse/core/MeshPart.h"
+#include "rangefuse/core/Pose.h"
+#include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/fuse/FieldSettings.h"
+#include "rangefuse/io/DepthCamera.h"
+#include "rangefuse/surface/ScanSurface.h"
+
+namespace rangefuse {
+
+/// The library's version, "MAJOR.MINOR.PATCH".
+const char* libraryVersion();
+
+/// How frames are prepared before they reach the field, as the command prepares its scans by
+/// default (--merge-cells 1, --smooth-noise 1): grid cells merged up to a voxel, depths noisier
+/// than a voxel smoothed, sight maps kept when the method or hole filling needs them.
+SurfaceOptions defaultSurface(const FieldSettings& field);
+
+/// One fusion. Every call is collective over the communicator: each rank makes the same calls
+/// with the same frames, in the same order, and the ranks share the work of preparing them
+/// and of the field. Errors throw std::runtime_error (InputError for bad input) on every rank,
+/// with the message the command prints.
+class Fusion {
+ public:
+  /// `field.voxel` must be positive; `field.threads` 0 shares the node's CPUs among its ranks.
+  /// With MPI_COMM_NULL the fusion runs in this process alone (MPI is started if no one has:
+  /// no mpirun needed).
+  explicit Fusion(const FieldSettings& field, MPI_Comm comm = MPI_COMM_NULL);
+  /// As above, with frames prepared by `surface` instead of defaultSurface(field).
+  Fusion(const FieldSettings& field, const SurfaceOptions& surface, MPI_Comm comm = MPI_COMM_NULL);
+  ~Fusion();
+  Fusion(Fusion&&) noexcept;
+  Fusion& operator=(Fusion&&) noexcept;
+
+  /// Adds a range grid in its sensor's frame (a pinhole camera or a station at the origin,
+  /// else a sensor looking along -z) placed by `pose` (scan to world). `name` heads the
+  /// messages about it (default "frame_N").
+  void addGrid(RangeGrid grid, const Pose& pose, const std::string& name = "");
+
+  /// Adds a depth image (counts of camera.unit, 0 where nothing was measured) taken by
+  /// `camera` at `cameraToWorld` (OpenCV axes: x right, y down, z forward), with an optional
+  /// RGB image registered to it (the same size).
+  void addDepth(const io::DepthImage& depth, const io::DepthCamera& camera,
+                const Pose& cameraToWorld, const Image* colour = nullptr,
+                const std::string& name = "");
+
+  /// Frames added so far.
+  size_t frames() const;
+
+  /// Collective: fuses every frame added and extracts the mesh; this rank's part of it, as
+  /// MeshPart describes (concatenated in rank order they are the whole mesh).
+  MeshPart meshPart();
+
+  /// Collective: the whole mesh, with vertex normals, on rank 0 (empty on the others): the
+  /// vertices and faces the command writes for the same scans.
+  TriangleMesh mesh();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace rangefuse

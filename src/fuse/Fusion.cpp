@@ -1,0 +1,180 @@
+#include <cmath>
+#include <cstdlib>
+
+#include "FinishRun.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FieldBuild.h"
+#include "rangefuse/mesh/PartStitching.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
+#include "rangefuse/rangefuse.h"
+
+namespace rangefuse {
+namespace {
+
+// The command's defaults (FuseParameters.cpp) for what the library does not let callers set.
+constexpr double kKeepMiB = 1024;  // --scan-memory
+
+/// This process alone, MPI started first when no one has (and finished when the program ends).
+MPI_Comm selfComm() {
+  int started = 0;
+  MPI_Initialized(&started);
+  if (!started) {
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    std::atexit([] {
+      int finished = 0;
+      MPI_Finalized(&finished);
+      if (!finished) MPI_Finalize();
+    });
+  }
+  return MPI_COMM_SELF;
+}
+
+void checkField(const FieldSettings& f) {
+  if (!(f.voxel > 0) || !std::isfinite(f.voxel))
+    throw InputError("Fusion: the voxel must be a positive size in the scans' units");
+  if (!(f.envelope > 0) || !(f.envelope <= 1000))
+    throw InputError("Fusion: the envelope must be in (0, 1000] voxels");
+  if (f.brick < 2 || f.brick > 64) throw InputError("Fusion: a brick must have 2 to 64 voxels");
+}
+
+void checkPose(const Pose& pose, const std::string& name) {
+  if (!pose.R.allFinite() || !pose.t.allFinite())
+    throw InputError(name + ": the pose is not finite");
+  const double off = (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).norm();
+  if (!(off < 1e-6) || !(pose.R.determinant() > 0))
+    throw InputError(name + ": the pose's rotation is not a rotation (RᵀR off the identity by " +
+                     std::to_string(off) + ")");
+}
+
+/// The grid's shape and indices, so that a grid made by hand cannot lead the field astray.
+void checkGrid(const RangeGrid& g, const std::string& name) {
+  if (g.rows <= 0 || g.cols <= 0 || g.cell.size() != size_t(g.rows) * size_t(g.cols))
+    throw InputError(name + ": the grid's cells are not rows x cols (" + std::to_string(g.rows) +
+                     " x " + std::to_string(g.cols) + ", " + std::to_string(g.cell.size()) +
+                     " cells)");
+  for (const int32_t c : g.cell)
+    if (c < -1 || c >= static_cast<int64_t>(g.points.size()))
+      throw InputError(name + ": a cell names point " + std::to_string(c) + " of " +
+                       std::to_string(g.points.size()));
+  for (const Eigen::Vector3d& p : g.points)
+    if (!p.allFinite()) throw InputError(name + ": a point is not finite");
+  if (!g.colours.empty() && g.colours.size() != g.points.size())
+    throw InputError(name + ": " + std::to_string(g.colours.size()) + " colours for " +
+                     std::to_string(g.points.size()) + " points");
+}
+
+}  // namespace
+
+struct Fusion::State {
+  FieldSettings field;
+  SurfaceOptions surface;
+  MPI_Comm comm = MPI_COMM_SELF;
+  std::shared_ptr<io::ConfFile> list = std::make_shared<io::ConfFile>();
+
+  ReadSettings read() const {
+    ReadSettings r;
+    r.scans = "frames";
+    r.list = list;
+    r.limits.maxVoxels = field.maxVoxels;  // the command sets both from --max-voxels
+    r.surface = surface;
+    r.eps = field.eps();
+    r.voxel = field.voxel;
+    r.keepBytes = static_cast<uint64_t>(kKeepMiB * 1024 * 1024);
+    r.threads = field.threads;
+    return r;
+  }
+
+  std::string nameOf(const std::string& given) const {
+    return given.empty() ? "frame_" + std::to_string(list->scans.size()) : given;
+  }
+
+  void add(RangeGrid&& grid, const Pose& pose, const std::string& name) {
+    io::ConfScan scan;
+    scan.name = scan.path = name;
+    scan.pose = pose;
+    scan.grid = std::make_shared<const RangeGrid>(std::move(grid));
+    list->scans.push_back(std::move(scan));
+  }
+};
+
+const char* libraryVersion() {
+  return RANGEFUSE_VERSION;
+}
+
+SurfaceOptions defaultSurface(const FieldSettings& field) {
+  return surfaceOptions(SurfaceOptions{}, 1, 1, field.voxel, field.method, field.fillHoles);
+}
+
+Fusion::Fusion(const FieldSettings& field, MPI_Comm comm)
+    : Fusion(field, defaultSurface(field), comm) {}
+
+Fusion::Fusion(const FieldSettings& field, const SurfaceOptions& surface, MPI_Comm comm)
+    : state_(std::make_unique<State>()) {
+  checkField(field);
+  State& s = *state_;
+  s.comm = comm == MPI_COMM_NULL ? selfComm() : comm;
+  s.field = field;
+  if (s.field.threads <= 0) s.field.threads = threadsPerRank(s.comm);
+  s.surface = surface;
+}
+
+Fusion::~Fusion() = default;
+Fusion::Fusion(Fusion&&) noexcept = default;
+Fusion& Fusion::operator=(Fusion&&) noexcept = default;
+
+void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) {
+  const std::string n = state_->nameOf(name);
+  checkGrid(grid, n);
+  checkPose(pose, n);
+  state_->add(std::move(grid), pose, n);
+}
+
+void Fusion::addDepth(const io::DepthImage& depth, const io::DepthCamera& camera,
+                      const Pose& cameraToWorld, const Image* colour, const std::string& name) {
+  const std::string n = state_->nameOf(name);
+  checkPose(cameraToWorld, n);
+  if (depth.width <= 0 || depth.height <= 0 ||
+      depth.counts.size() != size_t(depth.width) * size_t(depth.height))
+    throw InputError(n + ": the depth image's counts are not width x height");
+  RangeGrid grid = io::depthGrid(depth, camera, n);
+  if (colour) {
+    if (colour->rgb.size() != size_t(colour->width) * size_t(colour->height) * 3)
+      throw InputError(n + ": the colour image's bytes are not width x height x 3");
+    io::colourFromImage(grid, *colour, n);
+  }
+  state_->add(std::move(grid), io::scanPose(cameraToWorld), n);
+}
+
+size_t Fusion::frames() const {
+  return state_->list->scans.size();
+}
+
+MeshPart Fusion::meshPart() {
+  const State& s = *state_;
+  if (s.list->scans.empty()) throw InputError("Fusion: no frames to fuse");
+  mpi::CapturedFailure failure;
+  Progress quiet(s.comm, Verbosity::quiet);
+  LoadedScans scans;
+  FusedField field;
+  RankCounters counters;
+  if (!buildStreamed(s.read(), s.field, s.comm, quiet, scans, field, counters))
+    throw InputError(failure.message());
+  const MeshSettings m{0, true, s.field.threads, s.field.fillHoles,
+                       kCarveMarginVoxels * s.field.voxel};
+  MeshStats stats;
+  try {
+    return internal::meshField(m, s.comm, field, stats);
+  } catch (const mpi::Reported&) {
+    throw InputError(failure.message());
+  }
+}
+
+TriangleMesh Fusion::mesh() {
+  MeshPart part = meshPart();
+  addPartNormals(part, state_->comm);
+  return gatherMesh(part, 0, state_->comm);
+}
+
+}  // namespace rangefuse

@@ -1,0 +1,131 @@
+// The library's API (rangefuse/rangefuse.h) against the command: the same scans handed over in
+// memory give the command's mesh; bad input throws the command's kind of message on every rank.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "SharedTemp.h"
+#include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Conf.h"
+#include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/rangefuse.h"
+
+using namespace rangefuse;
+using test::sharedTempPath;
+
+namespace {
+
+constexpr double kApiVoxel = 0.002;  // 2 mm: the bunny in a second
+
+/// The bunny's scans, read as the command reads them, added to a fusion on `comm`.
+TriangleMesh bunnyThroughTheApi(MPI_Comm comm) {
+  FieldSettings field;
+  field.voxel = kApiVoxel;
+  Fusion fusion(field, comm);
+  for (const io::ConfScan& c : io::readConf(RANGEFUSE_TEST_DATA "/bunny/bun.conf").scans)
+    fusion.addGrid(io::readRangeGridPly(c.path), c.pose, c.name);
+  EXPECT_EQ(fusion.frames(), 10u);
+  return fusion.mesh();
+}
+
+/// What a throwing call said, on this rank ("" when it did not throw).
+template <class Fn>
+std::string messageOf(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+Pose turned(double degrees) {
+  Pose p;
+  p.R = Eigen::AngleAxisd(degrees * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return p;
+}
+
+}  // namespace
+
+TEST(FusionApi, FusesTheBunnyToTheCommandsMeshOnAnyRankCount) {
+  FuseOptions o;
+  o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
+  o.voxel = kApiVoxel;
+  o.quiet = true;
+  o.out = sharedTempPath("api-bunny.ply");
+  ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+  const TriangleMesh both = bunnyThroughTheApi(MPI_COMM_WORLD);
+  const TriangleMesh alone = bunnyThroughTheApi(MPI_COMM_SELF);
+  if (mpi::rank() != 0) {
+    EXPECT_TRUE(both.vertices.empty());
+    return;
+  }
+  const TriangleMesh command = io::readMeshPly(o.out);
+  std::filesystem::remove(o.out);
+  ASSERT_GT(command.faces.size(), 10000u);
+  ASSERT_EQ(both.vertices.size(), command.vertices.size());
+  EXPECT_EQ(both.faces, command.faces);
+  EXPECT_EQ(both.vertices, alone.vertices);  // bit for bit on one rank and on all
+  EXPECT_EQ(both.faces, alone.faces);
+  EXPECT_EQ(both.normals.size(), both.vertices.size());
+  for (size_t i = 0; i < both.vertices.size(); ++i)  // the PLY holds floats
+    ASSERT_EQ(both.vertices[i].cast<float>(), command.vertices[i].cast<float>()) << i;
+}
+
+TEST(FusionApi, DepthImagesOfAWallGiveItsPlaneAndColour) {
+  FieldSettings field;
+  field.voxel = 0.01;
+  Fusion fusion(field, MPI_COMM_WORLD);
+  io::DepthCamera camera{100, 100, 39.5, 29.5, 80, 60, 1e-3, 0};
+  io::DepthImage depth{80, 60, std::vector<uint16_t>(80 * 60, 2000)};  // 2 m ahead
+  Image colour(80, 60, 0);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 80; ++x) colour.set(x, y, 200, 100, 50);
+  // The plane z = 2 seen by cameras at the origin turned about y: pixel ray (x, y, 1) meets it
+  // at camera depth 2 / (cos a - x sin a).
+  for (const double deg : {-10.0, 0.0, 10.0}) {
+    io::DepthImage d = depth;
+    for (int u = 0; u < 80; ++u) {
+      const double x = (u - camera.cx) / camera.fx, a = deg * M_PI / 180;
+      const double z = 2.0 / (std::cos(a) - x * std::sin(a));
+      for (int v = 0; v < 60; ++v) d.counts[v * 80 + u] = static_cast<uint16_t>(z * 1000 + 0.5);
+    }
+    fusion.addDepth(d, camera, turned(deg), &colour);
+  }
+  const TriangleMesh mesh = fusion.mesh();
+  if (mpi::rank() != 0) return;
+  ASSERT_GT(mesh.vertices.size(), 100u);
+  ASSERT_EQ(mesh.colours.size(), mesh.vertices.size());
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    ASSERT_NEAR(mesh.vertices[i].z(), 2.0, 0.5 * field.voxel) << i;
+    ASSERT_NEAR(mesh.colours[i].x(), 200 / 255.0, 0.01) << i;
+    ASSERT_NEAR(mesh.colours[i].z(), 50 / 255.0, 0.01) << i;
+  }
+}
+
+TEST(FusionApi, BadInputThrowsTheCommandsMessageOnEveryRank) {
+  FieldSettings field;
+  EXPECT_NE(messageOf([&] { Fusion f(field, MPI_COMM_WORLD); }).find("voxel"), std::string::npos);
+  field.voxel = 0.002;
+  Fusion fusion(field, MPI_COMM_WORLD);
+  EXPECT_EQ(messageOf([&] { fusion.meshPart(); }), "Fusion: no frames to fuse");
+  RangeGrid grid = io::readRangeGridPly(RANGEFUSE_TEST_DATA "/bunny/bun000.ply");
+  Pose bad;
+  bad.t.x() = NAN;
+  EXPECT_EQ(messageOf([&] { fusion.addGrid(grid, bad, "front"); }),
+            "front: the pose is not finite");
+  RangeGrid broken = grid;
+  broken.cell[7] = static_cast<int32_t>(grid.points.size());
+  EXPECT_NE(messageOf([&] { fusion.addGrid(broken, Pose{}); }).find("frame_0: a cell names point"),
+            std::string::npos);
+  EXPECT_EQ(fusion.frames(), 0u);
+  // A failure inside the collective stages: every rank gets the message one rank printed.
+  field.maxVoxels = 1000;
+  Fusion tiny(field, MPI_COMM_WORLD);
+  tiny.addGrid(grid, Pose{});
+  const std::string message = messageOf([&] { tiny.mesh(); });
+  EXPECT_NE(message.find("voxels"), std::string::npos) << message;
+}
