@@ -7,7 +7,9 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev
           libeigen3-dev libnanoflann-dev libboost-program-options-dev libgtest-dev
-          libpng-dev libjpeg-dev nlohmann-json3-dev ${RANGEFUSE_EXTRA_PACKAGES:-})
+          libpng-dev libjpeg-dev nlohmann-json3-dev
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-mpi4py
+          ${RANGEFUSE_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -21,5 +23,7 @@ if ((${#missing[@]})); then
 fi
 
 # A unity build (sources compiled eight to a unit) halves a fresh build on two cores.
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON >/dev/null
+# The Python module is built for Debian's interpreter, where apt put numpy, pytest and mpi4py.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 >/dev/null
 cmake --build build -j "$(nproc)"

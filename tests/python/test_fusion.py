@@ -1,0 +1,145 @@
+"""The Python module against the command and against known answers (run by ctest's python_tests
+with PYTHONPATH at the built module, RANGEFUSE_BIN at the command, RANGEFUSE_TEST_DATA at
+tests/data)."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import rangefuse
+
+BIN = os.environ.get("RANGEFUSE_BIN", "rangefuse")
+DATA = os.environ.get("RANGEFUSE_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data"))
+BUNNY = os.path.join(DATA, "bunny", "bun.conf")
+VOXEL = 0.002  # 2 mm: the bunny in a second
+
+
+def read_ply(path):
+    """Vertices (float32) and faces of a binary PLY as the command writes it."""
+    with open(path, "rb") as f:
+        header = []
+        while True:
+            line = f.readline().decode("ascii").strip()
+            header.append(line)
+            if line == "end_header":
+                break
+        body = f.read()
+    counts = {l.split()[1]: int(l.split()[2]) for l in header if l.startswith("element")}
+    props = [l.split()[-1] for l in header if l.startswith("property float")]
+    nv, nf = counts["vertex"], counts["face"]
+    vertices = np.frombuffer(body, "<f4", nv * len(props)).reshape(nv, len(props))[:, :3]
+    faces = np.frombuffer(body, np.dtype([("n", "u1"), ("i", "<i4", 3)]), nf, nv * len(props) * 4)
+    assert (faces["n"] == 3).all()
+    return vertices, faces["i"]
+
+
+def fuse_bunny(comm=None):
+    fusion = rangefuse.Fusion(voxel=VOXEL, comm=comm)
+    for path, pose in rangefuse.read_conf(BUNNY):
+        points, colours = rangefuse.read_grid(path)
+        fusion.add_grid(points, pose, colours=colours, name=os.path.basename(path))
+    assert fusion.frames == 10
+    return fusion.mesh()
+
+
+def test_bunny_gives_the_commands_mesh(tmp_path):
+    out = tmp_path / "bunny.ply"
+    subprocess.run([BIN, "fuse", "--scans", BUNNY, "--voxel", str(VOXEL), "--out", str(out),
+                    "--quiet"], check=True)
+    vertices, faces, colours = fuse_bunny()
+    ply_vertices, ply_faces = read_ply(out)
+    assert len(faces) > 10000 and colours is None
+    assert vertices.dtype == np.float64 and vertices.shape == (len(ply_vertices), 3)
+    assert np.array_equal(faces, ply_faces)
+    assert np.array_equal(vertices.astype(np.float32), ply_vertices)
+
+
+def sphere_depth(K, pose, size, radius):
+    """Depths (metres) of a sphere at the origin seen by a camera at pose (OpenCV axes)."""
+    u, v = np.meshgrid(np.arange(size), np.arange(size))
+    rays = np.stack([(u - K[0, 2]) / K[0, 0], (v - K[1, 2]) / K[1, 1], np.ones_like(u, float)], -1)
+    d = rays @ pose[:3, :3].T
+    eye = pose[:3, 3]
+    a, b, c = (d * d).sum(-1), 2 * d @ eye, eye @ eye - radius**2
+    disc = b * b - 4 * a * c
+    s = (-b - np.sqrt(np.maximum(disc, 0))) / (2 * a)
+    return np.where(disc > 0, s, 0.0)
+
+
+def looking_at_origin(eye):
+    z = -eye / np.linalg.norm(eye)
+    up = np.array([1.0, 0, 0]) if abs(z[1]) > 0.9 else np.array([0, 1.0, 0])
+    x = np.cross(up, z)
+    x /= np.linalg.norm(x)
+    pose = np.eye(4)
+    pose[:3, :3] = np.stack([x, np.cross(z, x), z], 1)
+    pose[:3, 3] = eye
+    return pose
+
+
+def test_depth_images_of_a_sphere_give_the_sphere_and_its_colour():
+    K = np.array([[150.0, 0, 59.5], [0, 150, 59.5], [0, 0, 1]])
+    fusion = rangefuse.Fusion(voxel=0.01, method="robust")
+    colour = np.zeros((120, 120, 3), np.uint8)
+    colour[:] = (30, 120, 240)
+    for eye in np.vstack([np.eye(3), -np.eye(3)]) * 2.0:
+        pose = looking_at_origin(eye)
+        fusion.add_depth(sphere_depth(K, pose, 120, 0.5), K, pose, colour=colour)
+    vertices, faces, colours = fusion.mesh()
+    radii = np.linalg.norm(vertices, axis=1)
+    assert len(faces) > 1000
+    assert np.abs(radii - 0.5).max() < 0.01  # within a voxel everywhere
+    assert np.abs(colours * 255 - (30, 120, 240)).max() < 2
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda f: f.add_grid(np.zeros((4, 4)), np.eye(4)), "points must be (rows, cols, 3), not shape (4, 4)"),
+    (lambda f: f.add_grid(np.zeros((4, 4, 3)), np.diag([1, 1, 1, 1.0]) + np.diag([np.nan], 3)),
+     "the pose is not finite"),
+    (lambda f: f.add_depth(np.zeros((4, 4), np.uint16), np.eye(3), np.eye(4)[:3]),
+     "a pose must be a 4 x 4 matrix, not shape (3, 4)"),
+    (lambda f: f.add_depth(np.full((4, 4), -1.0), np.eye(3), np.eye(4)), "is not a measurement"),
+    (lambda f: f.mesh(), "Fusion: no frames to fuse"),
+])
+def test_bad_input_raises_the_commands_message(call, message):
+    fusion = rangefuse.Fusion(voxel=0.01)
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        call(fusion)
+    assert fusion.frames == 0
+
+
+def test_bad_settings_raise():
+    with pytest.raises(rangefuse.InputError, match="voxel"):
+        rangefuse.Fusion(voxel=0)
+    with pytest.raises(ValueError, match="unknown setting 'envelop'"):
+        rangefuse.Fusion(voxel=0.01, envelop=2)
+    with pytest.raises(ValueError, match="method"):
+        rangefuse.Fusion(voxel=0.01, method="tsdf")
+
+
+TWO_RANKS = """
+import sys
+from mpi4py import MPI
+import numpy as np
+sys.path.insert(0, {here!r})
+import test_fusion
+vertices, faces, colours = test_fusion.fuse_bunny(MPI.COMM_WORLD)
+if MPI.COMM_WORLD.rank == 0:
+    np.savez({out!r}, vertices=vertices, faces=faces)
+else:
+    assert len(vertices) == 0 and len(faces) == 0
+"""
+
+
+def test_two_ranks_under_mpirun_give_the_same_mesh(tmp_path):
+    pytest.importorskip("mpi4py")
+    script = tmp_path / "two.py"
+    out = tmp_path / "two.npz"
+    script.write_text(TWO_RANKS.format(here=os.path.dirname(os.path.abspath(__file__)), out=str(out)))
+    subprocess.run(["mpirun", "-np", "2", sys.executable, str(script)], check=True, env=os.environ)
+    vertices, faces, _ = fuse_bunny()
+    got = np.load(out)
+    assert np.array_equal(got["faces"], faces)
+    assert np.array_equal(got["vertices"], vertices)
