@@ -10,7 +10,10 @@
 #include <string>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/Limits.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/io/DepthPng.h"
+#include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/rangefuse.h"
 
@@ -221,6 +224,15 @@ py::tuple meshOf(Fusion& f) {
                         viewOf<int32_t>(std::move(m.faces), 3), colours);
 }
 
+/// A 4 x 4 numpy matrix of a pose.
+py::array_t<double> matrixOf(const Pose& p) {
+  py::array_t<double> out({4, 4});
+  auto m = out.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = r == 3 ? (c == 3) : c == 3 ? p.t[r] : p.R(r, c);
+  return out;
+}
+
 /// A scan file's grid as points (rows, cols, 3), NaN where it has none, and colours (rows,
 /// cols, 3) bytes or None: what add_grid takes.
 py::tuple readGrid(const std::string& path) {
@@ -246,13 +258,44 @@ py::tuple readGrid(const std::string& path) {
 /// A .conf's scans: (path, 4 x 4 pose) each, paths resolved against its folder.
 py::list readConf(const std::string& path) {
   py::list out;
-  for (const io::ConfScan& s : io::readConf(path).scans) {
-    py::array_t<double> pose({4, 4});
-    auto m = pose.mutable_unchecked<2>();
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c)
-        m(r, c) = r == 3 ? (c == 3) : c == 3 ? s.pose.t[r] : s.pose.R(r, c);
-    out.append(py::make_tuple(s.path, pose));
+  for (const io::ConfScan& s : io::readConf(path).scans)
+    out.append(py::make_tuple(s.path, matrixOf(s.pose)));
+  return out;
+}
+
+/// A 16-bit depth PNG's counts, (height, width) uint16.
+py::array_t<uint16_t> readDepth(const std::string& path) {
+  io::DepthImage d = io::readDepthPng(path, InputLimits{}.maxGridCells);
+  py::array_t<uint16_t> out({d.height, d.width});
+  std::copy(d.counts.begin(), d.counts.end(), out.mutable_data());
+  return out;
+}
+
+/// An 8-bit colour image (PNG or JPEG), (height, width, 3) bytes.
+py::array_t<uint8_t> readColour(const std::string& path) {
+  const Image c = io::readColourImage(path, InputLimits{}.maxGridCells);
+  py::array_t<uint8_t> out({c.height, c.width, 3});
+  std::copy(c.rgb.begin(), c.rgb.end(), out.mutable_data());
+  return out;
+}
+
+/// A depth folder's frames (TUM or Redwood, with a trajectory): (depth path, colour path or
+/// None, 3 x 3 intrinsics, depth_scale, camera-to-world 4 x 4) each, as add_depth takes them.
+py::list readFrames(const std::string& folder) {
+  const io::ConfFile conf = io::readScanList(folder);
+  if (!conf.posed)
+    throw InputError(folder + ": has no trajectory; the module adds frames at known poses");
+  py::list out;
+  for (const io::ConfScan& s : conf.scans) {
+    if (!s.depth) throw InputError(folder + ": " + s.path + " is not a depth image");
+    const io::DepthCamera& k = *s.depth;
+    py::array_t<double> K({3, 3});
+    auto m = K.mutable_unchecked<2>();
+    const double v[3][3] = {{k.fx, 0, k.cx}, {0, k.fy, k.cy}, {0, 0, 1}};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m(r, c) = v[r][c];
+    const py::object colour = s.colour.empty() ? py::object(py::none()) : py::str(s.colour);
+    out.append(py::make_tuple(s.path, colour, K, 1 / k.unit, matrixOf(io::cameraPose(s.pose))));
   }
   return out;
 }
@@ -292,6 +335,12 @@ PYBIND11_MODULE(rangefuse, m) {
   m.def("read_grid", &readGrid, py::arg("path"),
         "A PLY range grid (as the Stanford scans): (points (rows, cols, 3) with NaN where "
         "nothing was measured, colours (rows, cols, 3) bytes or None), as add_grid takes them");
+  m.def("read_depth", &readDepth, py::arg("path"), "A 16-bit depth PNG: (height, width) uint16");
+  m.def("read_colour", &readColour, py::arg("path"),
+        "An 8-bit colour PNG or JPEG: (height, width, 3) bytes");
+  m.def("read_frames", &readFrames, py::arg("folder"),
+        "A TUM or Redwood depth folder with its trajectory: [(depth path, colour path or None, "
+        "intrinsics 3 x 3, depth_scale, camera-to-world 4 x 4)], as add_depth takes them");
   m.def("read_conf", &readConf, py::arg("path"),
         "A Stanford .conf: [(scan path, 4 x 4 pose)], paths resolved against its folder");
 }

@@ -16,23 +16,27 @@ BUNNY = os.path.join(DATA, "bunny", "bun.conf")
 VOXEL = 0.002  # 2 mm: the bunny in a second
 
 
+PLY_TYPES = {"float": "<f4", "double": "<f8", "uchar": "u1", "int": "<i4", "uint": "<u4"}
+
+
 def read_ply(path):
     """Vertices (float32) and faces of a binary PLY as the command writes it."""
     with open(path, "rb") as f:
         header = []
         while True:
             line = f.readline().decode("ascii").strip()
-            header.append(line)
+            header.append(line.split())
             if line == "end_header":
                 break
         body = f.read()
-    counts = {l.split()[1]: int(l.split()[2]) for l in header if l.startswith("element")}
-    props = [l.split()[-1] for l in header if l.startswith("property float")]
-    nv, nf = counts["vertex"], counts["face"]
-    vertices = np.frombuffer(body, "<f4", nv * len(props)).reshape(nv, len(props))[:, :3]
-    faces = np.frombuffer(body, np.dtype([("n", "u1"), ("i", "<i4", 3)]), nf, nv * len(props) * 4)
+    counts = {w[1]: int(w[2]) for w in header if w[0] == "element"}
+    faces_at = next(i for i, w in enumerate(header) if w[:2] == ["element", "face"])
+    vertex = np.dtype([(w[2], PLY_TYPES[w[1]]) for w in header[:faces_at] if w[0] == "property"])
+    v = np.frombuffer(body, vertex, counts["vertex"])
+    faces = np.frombuffer(body, np.dtype([("n", "u1"), ("i", "<i4", 3)]), counts["face"],
+                          counts["vertex"] * vertex.itemsize)
     assert (faces["n"] == 3).all()
-    return vertices, faces["i"]
+    return np.stack([v["x"], v["y"], v["z"]], 1), faces["i"]
 
 
 def fuse_bunny(comm=None):
@@ -143,3 +147,26 @@ def test_two_ranks_under_mpirun_give_the_same_mesh(tmp_path):
     got = np.load(out)
     assert np.array_equal(got["faces"], faces)
     assert np.array_equal(got["vertices"], vertices)
+
+
+def test_a_depth_folder_gives_the_commands_mesh(tmp_path):
+    seq, out = tmp_path / "seq", tmp_path / "seq.ply"
+    subprocess.run([BIN, "scan", "--mesh", os.path.join(DATA, "bunny", "bun_zipper.ply"),
+                    "--scale", "10", "--views", "8", "--width", "96",
+                    "--height", "72", "--voxel", "0.02", "--noise", "0.5", "--path", "orbit",
+                    "--texture", "1", "--format", "tum", "--out", str(seq)],
+                   check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([BIN, "fuse", "--scans", str(seq), "--voxel", "0.02", "--out", str(out),
+                    "--quiet"], check=True)
+    fusion = rangefuse.Fusion(voxel=0.02)
+    frames = rangefuse.read_frames(str(seq))
+    assert len(frames) == 8
+    for depth, colour, K, scale, pose in frames:
+        assert colour is not None
+        fusion.add_depth(rangefuse.read_depth(depth), K, pose, colour=rangefuse.read_colour(colour),
+                         depth_scale=scale)
+    vertices, faces, colours = fusion.mesh()
+    ply_vertices, ply_faces = read_ply(out)
+    assert len(faces) > 1000 and colours is not None and colours.shape == vertices.shape
+    assert np.array_equal(faces, ply_faces)
+    assert np.array_equal(vertices.astype(np.float32), ply_vertices)
