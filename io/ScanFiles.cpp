@@ -189,7 +189,12 @@ ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
 }
 
 RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
-  if (scan.grid) return *scan.grid;
+  if (scan.memory) {
+    if (!scan.depth) return scan.memory->grid;
+    RangeGrid g = depthGrid(scan.memory->depth, *scan.depth, scan.path);
+    if (!scan.memory->colour.rgb.empty()) colourFromImage(g, scan.memory->colour, scan.path);
+    return g;
+  }
   if (scan.ptx) return readPtxScan(scan.path, *scan.ptx);
   if (scan.e57) return readE57Scan(scan.path, *scan.e57);
   if (scan.depth) {

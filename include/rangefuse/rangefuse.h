@@ -50,10 +50,10 @@ class Fusion {
 
   /// Adds a depth image (counts of camera.unit, 0 where nothing was measured) taken by
   /// `camera` at `cameraToWorld` (OpenCV axes: x right, y down, z forward), with an optional
-  /// RGB image registered to it (the same size).
-  void addDepth(const io::DepthImage& depth, const io::DepthCamera& camera,
-                const Pose& cameraToWorld, const Image* colour = nullptr,
-                const std::string& name = "");
+  /// RGB image registered to it (the same size). The images are kept as they are and made a
+  /// grid when the field is built, each by the rank whose share it is, in parallel.
+  void addDepth(io::DepthImage depth, const io::DepthCamera& camera, const Pose& cameraToWorld,
+                const Image* colour = nullptr, const std::string& name = "");
 
   /// Frames added so far.
   size_t frames() const;

@@ -1,5 +1,6 @@
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 #include "FinishRun.h"
 #include "rangefuse/core/Error.h"
@@ -90,11 +91,14 @@ struct Fusion::State {
     return given.empty() ? "frame_" + std::to_string(list->scans.size()) : given;
   }
 
-  void add(RangeGrid&& grid, const Pose& pose, const std::string& name) {
+  /// A frame read when the field is built, by the rank whose share it is.
+  void add(io::MemoryScan&& frame, std::optional<io::DepthCamera> camera, const Pose& pose,
+           const std::string& name) {
     io::ConfScan scan;
     scan.name = scan.path = name;
     scan.pose = pose;
-    scan.grid = std::make_shared<const RangeGrid>(std::move(grid));
+    scan.depth = camera;
+    scan.memory = std::make_shared<const io::MemoryScan>(std::move(frame));
     list->scans.push_back(std::move(scan));
   }
 };
@@ -128,23 +132,35 @@ void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) 
   const std::string n = state_->nameOf(name);
   checkGrid(grid, n);
   checkPose(pose, n);
-  state_->add(std::move(grid), pose, n);
+  io::MemoryScan frame;
+  frame.grid = std::move(grid);
+  state_->add(std::move(frame), std::nullopt, pose, n);
 }
 
-void Fusion::addDepth(const io::DepthImage& depth, const io::DepthCamera& camera,
+void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
                       const Pose& cameraToWorld, const Image* colour, const std::string& name) {
   const std::string n = state_->nameOf(name);
   checkPose(cameraToWorld, n);
   if (depth.width <= 0 || depth.height <= 0 ||
       depth.counts.size() != size_t(depth.width) * size_t(depth.height))
     throw InputError(n + ": the depth image's counts are not width x height");
-  RangeGrid grid = io::depthGrid(depth, camera, n);
-  if (colour) {
-    if (colour->rgb.size() != size_t(colour->width) * size_t(colour->height) * 3)
-      throw InputError(n + ": the colour image's bytes are not width x height x 3");
-    io::colourFromImage(grid, *colour, n);
-  }
-  state_->add(std::move(grid), io::scanPose(cameraToWorld), n);
+  if ((camera.width && camera.width != depth.width) ||
+      (camera.height && camera.height != depth.height))
+    throw InputError(n + ": the depth image is " + std::to_string(depth.width) + " x " +
+                     std::to_string(depth.height) + ", the camera's " +
+                     std::to_string(camera.width) + " x " + std::to_string(camera.height));
+  if (!(camera.fx > 0) || !(camera.fy > 0) || !(camera.unit > 0))
+    throw InputError(n + ": the camera needs positive focal lengths and depth unit");
+  if (colour && (colour->width != depth.width || colour->height != depth.height ||
+                 colour->rgb.size() != size_t(colour->width) * size_t(colour->height) * 3))
+    throw InputError(n + ": the colour image is " + std::to_string(colour->width) + " x " +
+                     std::to_string(colour->height) + " (" + std::to_string(colour->rgb.size()) +
+                     " bytes), the depth image " + std::to_string(depth.width) + " x " +
+                     std::to_string(depth.height));
+  io::MemoryScan frame;
+  frame.depth = std::move(depth);
+  if (colour) frame.colour = *colour;
+  state_->add(std::move(frame), camera, io::scanPose(cameraToWorld), n);
 }
 
 size_t Fusion::frames() const {

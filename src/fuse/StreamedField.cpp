@@ -41,8 +41,9 @@ std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
       bytes.push_back(c.e57->records * bits / 8 / static_cast<uint64_t>(c.bands));
       continue;
     }
-    if (c.grid) {
-      bytes.push_back(c.grid->points.size() * sizeof(Eigen::Vector3d));
+    if (c.memory) {
+      bytes.push_back(c.memory->grid.points.size() * sizeof(Eigen::Vector3d) +
+                      c.memory->depth.counts.size() * sizeof(uint16_t));
       continue;
     }
     std::error_code ec;

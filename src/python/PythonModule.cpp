@@ -201,14 +201,14 @@ void addDepth(Fusion& f, const py::handle& depth, const py::handle& intrinsics,
               const std::string& name) {
   const std::string n = nameOr(name, f);
   if (!(scale > 0)) throw InputError(n + ": depth_scale must be positive counts per unit");
-  const io::DepthImage d = depthOf(depth, scale, n);
+  io::DepthImage d = depthOf(depth, scale, n);
   const Pinhole k = pinholeOf(intrinsics, n);
   const io::DepthCamera camera{k.fx, k.fy, k.cx, k.cy, d.width, d.height, 1 / scale, trunc};
   const Pose p = poseOf(pose, n);
   std::unique_ptr<Image> c;
   if (!colour.is_none()) c = std::make_unique<Image>(imageOf(colour, n));
   py::gil_scoped_release free;
-  f.addDepth(d, camera, p, c.get(), n);
+  f.addDepth(std::move(d), camera, p, c.get(), n);
 }
 
 py::tuple meshOf(Fusion& f) {
@@ -238,7 +238,11 @@ py::array_t<double> matrixOf(const Pose& p) {
 py::tuple readGrid(const std::string& path) {
   io::ConfScan scan;
   scan.name = scan.path = path;
-  const RangeGrid g = io::readScanGrid(scan);
+  RangeGrid g;
+  {
+    py::gil_scoped_release free;  // threads may read several files at once
+    g = io::readScanGrid(scan);
+  }
   py::array_t<double> points({g.rows, g.cols, 3});
   double* p = points.mutable_data();
   std::fill(p, p + points.size(), NAN);
@@ -265,7 +269,11 @@ py::list readConf(const std::string& path) {
 
 /// A 16-bit depth PNG's counts, (height, width) uint16.
 py::array_t<uint16_t> readDepth(const std::string& path) {
-  io::DepthImage d = io::readDepthPng(path, InputLimits{}.maxGridCells);
+  io::DepthImage d;
+  {
+    py::gil_scoped_release free;
+    d = io::readDepthPng(path, InputLimits{}.maxGridCells);
+  }
   py::array_t<uint16_t> out({d.height, d.width});
   std::copy(d.counts.begin(), d.counts.end(), out.mutable_data());
   return out;
@@ -273,7 +281,11 @@ py::array_t<uint16_t> readDepth(const std::string& path) {
 
 /// An 8-bit colour image (PNG or JPEG), (height, width, 3) bytes.
 py::array_t<uint8_t> readColour(const std::string& path) {
-  const Image c = io::readColourImage(path, InputLimits{}.maxGridCells);
+  Image c;
+  {
+    py::gil_scoped_release free;
+    c = io::readColourImage(path, InputLimits{}.maxGridCells);
+  }
   py::array_t<uint8_t> out({c.height, c.width, 3});
   std::copy(c.rgb.begin(), c.rgb.end(), out.mutable_data());
   return out;

@@ -15,6 +15,15 @@
 
 namespace rangefuse::io {
 
+/// A scan handed over in memory: a grid as it is or, for a scan with a depth camera, a depth
+/// image (and a colour image registered to it, or none) that becomes a grid when read, so that
+/// the ranks' readers convert frames in parallel as they convert files.
+struct MemoryScan {
+  RangeGrid grid;
+  DepthImage depth;
+  Image colour;
+};
+
 struct ConfScan {
   std::string name;  ///< as written in the .conf
   std::string path;  ///< resolved against the .conf's folder
@@ -32,7 +41,7 @@ struct ConfScan {
   /// Set for one scan of an E57 file (named FILE.e57#K in a .conf; `path` is then the file's).
   std::optional<E57Scan> e57 = std::nullopt;
   /// Set for a scan handed over in memory (the library's frames): read from here, not `path`.
-  std::shared_ptr<const RangeGrid> grid = nullptr;
+  std::shared_ptr<const MemoryScan> memory = nullptr;
 };
 
 struct ConfFile {
