@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "FollowedFolder.h"
+#include "PixelMotion.h"
 #include "TrackingField.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
@@ -51,8 +52,6 @@ Pose parseCameraPose(const std::string& text) {
   return Pose{q.normalized().toRotationMatrix(), Eigen::Vector3d(v[0], v[1], v[2])};
 }
 
-namespace {
-
 TrackingSettings trackingSettings(const TrackSettings& t, int controlStride, double voxel,
                                   double eps) {
   TrackingSettings s;
@@ -69,6 +68,8 @@ TrackingSettings trackingSettings(const TrackSettings& t, int controlStride, dou
   return s;
 }
 
+namespace {
+
 /// Every frame at the first camera's pose, or (a trajectory guides the tracking) the given poses
 /// moved so that the first is there: the guide's relative motion is kept.
 std::vector<Pose> startingPoses(const std::string& firstPose, const LoadedScans& scans) {
@@ -81,76 +82,6 @@ std::vector<Pose> startingPoses(const std::string& firstPose, const LoadedScans&
     poses[i] = Pose{shift.R * scans.poses[i].R, shift.R * scans.poses[i].t + shift.t};
   return poses;
 }
-
-/// Half a turn about x: between the scan frame (looking toward -z) and the camera's.
-Pose flipped(const Pose& p) {
-  const Eigen::Matrix3d F = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  return Pose{F * p.R * F, F * p.t};
-}
-
-/// The motion between two frames from their pixels (projective ICP), computed by rank 0 alone
-/// and shared: the same bits on any number of ranks, and each image decoded once (the later
-/// frame is the earlier one of the next pair).
-class PixelMotion {
- public:
-  PixelMotion(const ReadSettings& read, double voxel, MPI_Comm comm)
-      : comm_(comm),
-        maxPixels_(read.limits.maxGridCells),
-        scansPath_(read.scans),
-        limits_(read.limits),
-        source_(read.source) {
-    list_ = io::readScanList(read.scans, read.limits, read.source);
-    settings_.maxDistance = 10 * voxel;
-    settings_.huber = voxel;
-  }
-
-  Pose operator()(size_t last, size_t next, const Pose& guess) {
-    const int root = 0;
-    double packed[12];
-    mpi::collectivelyOrThrow(comm_, [&] {
-      if (mpi::rank(comm_) != root) return;
-      const Pose found =
-          flipped(alignFrames(depthMap(last), depthMap(next), flipped(guess), settings_).motion);
-      std::copy(found.R.data(), found.R.data() + 9, packed);
-      std::copy(found.t.data(), found.t.data() + 3, packed + 9);
-    });
-    MPI_Bcast(packed, 12, MPI_DOUBLE, root, comm_);
-    Pose out;
-    out.R = Eigen::Map<const Eigen::Matrix3d>(packed);
-    out.t = Eigen::Vector3d(packed[9], packed[10], packed[11]);
-    return out;
-  }
-
- private:
-  /// Frame i's depths in its camera (the last two kept: each frame is asked for twice).
-  const DepthMap& depthMap(size_t i) {
-    for (auto& [index, map] : cache_)
-      if (index == i) return map;
-    if (i >= list_.scans.size()) list_ = io::readScanList(scansPath_, limits_, source_);
-    const io::ConfScan& scan = list_.scans[i];
-    const io::DepthCamera& c = *scan.depth;
-    const io::DepthImage image = io::readDepthPng(scan.path, maxPixels_);
-    DepthMap map{image.width, image.height, c.fx, c.fy, c.cx, c.cy, {}};
-    map.depth.resize(image.counts.size());
-    for (size_t k = 0; k < image.counts.size(); ++k) {
-      const double d = image.counts[k] * c.unit;
-      map.depth[k] = c.maxDepth > 0 && d > c.maxDepth ? 0.0f : static_cast<float>(d);
-    }
-    cache_[next_] = {i, std::move(map)};
-    next_ = 1 - next_;
-    return cache_[1 - next_].second;
-  }
-
-  MPI_Comm comm_;
-  uint64_t maxPixels_;
-  std::string scansPath_;  ///< the list, read again when a followed stream grows
-  InputLimits limits_;
-  io::ScanSourceOptions source_;
-  io::ConfFile list_;
-  ProjectiveIcpSettings settings_;
-  std::pair<size_t, DepthMap> cache_[2] = {{SIZE_MAX, {}}, {SIZE_MAX, {}}};
-  int next_ = 0;
-};
 
 /// The frames of a stream on their readers: each read once, the next one this rank reads
 /// prepared on a thread of its own while the frames before it are tracked (reading is a
@@ -395,8 +326,9 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
   FrameLines lines(scans, f.voxel, progress.shows(Verbosity::verbose));
   FrameReader reader(scans, comm);
   internal::FollowedFolder folder(s.read, t.followTimeout, comm);
-  std::unique_ptr<PixelMotion> pixels;
-  if (!collectively(comm, [&] { pixels = std::make_unique<PixelMotion>(s.read, f.voxel, comm); }))
+  std::unique_ptr<internal::PixelMotion> pixels;
+  if (!collectively(comm,
+                    [&] { pixels = std::make_unique<internal::PixelMotion>(s.read, f.voxel, comm); }))
     return false;
   size_t lostCount = 0, fused = 0;
   bool ok = false;

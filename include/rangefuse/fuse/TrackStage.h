@@ -21,6 +21,11 @@ bool tracksFrames(const std::string& track, bool posed, const std::string& scans
 /// The camera pose "tx,ty,tz,qx,qy,qz,qw" (camera to world). Throws InputError naming --first-pose.
 Pose parseCameraPose(const std::string& text);
 
+/// How each frame is fitted: the stream's settings, the control points' stride, the voxel and
+/// the prism envelope (world units).
+TrackingSettings trackingSettings(const TrackSettings& track, int controlStride, double voxel,
+                                  double eps);
+
 /// Collective: the frames of the stream listed in `scans` (names, paths, times, readers), none
 /// read yet: each is read by its reader when tracking comes to it. False on failure (printed).
 bool openStream(const RunSettings& settings, MPI_Comm comm, Progress& progress, LoadedScans& scans);
