@@ -41,7 +41,7 @@ if sys.argv[3] == "mpi":
 fusion = rangefuse.Fusion(voxel=float(sys.argv[2]), comm=comm)
 frames = rangefuse.read_frames(sys.argv[1])
 with ThreadPoolExecutor(os.cpu_count()) as pool:  # the readers release the GIL
-    for (_, _, K, scale, pose), depth in zip(frames, pool.map(rangefuse.read_depth, [f[0] for f in frames])):
+    for (_, _, K, scale, pose, _), depth in zip(frames, pool.map(rangefuse.read_depth, [f[0] for f in frames])):
         fusion.add_depth(depth, K, pose, depth_scale=scale)
 vertices, faces, colours = fusion.mesh()
 PY

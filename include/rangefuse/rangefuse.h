@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -26,6 +27,15 @@ const char* libraryVersion();
 /// default (--merge-cells 1, --smooth-noise 1): grid cells merged up to a voxel, depths noisier
 /// than a voxel smoothed, sight maps kept when the method or hole filling needs them.
 SurfaceOptions defaultSurface(const FieldSettings& field);
+
+/// What became of a tracked frame.
+struct TrackedFrame {
+  Pose cameraToWorld;  ///< where it was taken (OpenCV axes); a lost frame keeps the last good one
+  bool fused = false;  ///< fitted and fused; false: lost, and left out of the field
+  double inliers = 0;  ///< share of its control points that found the field
+  double rms = 0;      ///< RMS residual of its last fit, world units
+  std::string why;     ///< why it was lost (empty when fused)
+};
 
 /// One fusion. Every call is collective over the communicator: each rank makes the same calls
 /// with the same frames, in the same order, and the ranks share the work of preparing them
@@ -55,11 +65,25 @@ class Fusion {
   void addDepth(io::DepthImage depth, const io::DepthCamera& camera, const Pose& cameraToWorld,
                 const Image* colour = nullptr, const std::string& name = "");
 
-  /// Frames added so far.
+  /// Adds a depth image whose pose is not known: tracked against the field of the frames
+  /// tracked before it (the first fixes the world frame: its camera at the origin, OpenCV
+  /// axes) and fused into it when the fit holds, as `rangefuse fuse` tracks a depth folder
+  /// without a trajectory. A frame that does not fit is reported and left out; after 30 in a
+  /// row the stream is given up (an error, and this fusion tracks no more). A fusion either
+  /// tracks its frames or is given their poses (addGrid, addDepth), not both.
+  /// `time` (seconds; NaN: the frame's index / 30) scales the motion predicted from the frames
+  /// before.
+  TrackedFrame track(io::DepthImage depth, const io::DepthCamera& camera,
+                     const Image* colour = nullptr, double time = NAN,
+                     const std::string& name = "");
+
+  /// Frames added or tracked so far.
   size_t frames() const;
 
   /// Collective: fuses every frame added and extracts the mesh; this rank's part of it, as
-  /// MeshPart describes (concatenated in rank order they are the whole mesh).
+  /// MeshPart describes (concatenated in rank order they are the whole mesh). Tracked frames:
+  /// the tracking field's mesh (prism), or the frames not lost fused again at their tracked
+  /// poses by the method asked for.
   MeshPart meshPart();
 
   /// Collective: the whole mesh, with vertex normals, on rank 0 (empty on the others): the

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "FinishRun.h"
+#include "TrackedFrames.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/mesh/PartStitching.h"
@@ -73,6 +74,8 @@ struct Fusion::State {
   SurfaceOptions surface;
   MPI_Comm comm = MPI_COMM_SELF;
   std::shared_ptr<io::ConfFile> list = std::make_shared<io::ConfFile>();
+  std::unique_ptr<internal::TrackedFrames> stream;  ///< set once a frame is tracked
+  bool givenUp = false;                             ///< the stream was given up
 
   ReadSettings read() const {
     ReadSettings r;
@@ -130,6 +133,7 @@ Fusion& Fusion::operator=(Fusion&&) noexcept = default;
 
 void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) {
   const std::string n = state_->nameOf(name);
+  if (state_->stream) throw InputError(n + ": this fusion tracks its frames; add none with a pose");
   checkGrid(grid, n);
   checkPose(pose, n);
   io::MemoryScan frame;
@@ -137,10 +141,11 @@ void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) 
   state_->add(std::move(frame), std::nullopt, pose, n);
 }
 
-void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
-                      const Pose& cameraToWorld, const Image* colour, const std::string& name) {
-  const std::string n = state_->nameOf(name);
-  checkPose(cameraToWorld, n);
+namespace {
+
+/// A depth image (and its colour, when given) checked against its camera, kept as a frame.
+io::MemoryScan depthFrame(io::DepthImage&& depth, const io::DepthCamera& camera,
+                          const Image* colour, const std::string& n) {
   if (depth.width <= 0 || depth.height <= 0 ||
       depth.counts.size() != size_t(depth.width) * size_t(depth.height))
     throw InputError(n + ": the depth image's counts are not width x height");
@@ -160,7 +165,58 @@ void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
   io::MemoryScan frame;
   frame.depth = std::move(depth);
   if (colour) frame.colour = *colour;
+  return frame;
+}
+
+/// The colour a tracking field fuses, from its first frame: as the command decides for a
+/// stream whose frames arrive as it runs.
+ColourKind streamColour(const FieldSettings& f, bool coloured, const std::string& n) {
+  if (f.colour == "none" || f.method != FieldMethod::Prism) return ColourKind::none;
+  if (f.colour == "intensity")
+    throw InputError(n + ": colour intensity: depth frames carry colour images (rgb)");
+  if (f.colour == "rgb" && !coloured)
+    throw InputError(n + ": has no colour image, but colour rgb asks every frame");
+  return coloured ? ColourKind::rgb : ColourKind::none;
+}
+
+}  // namespace
+
+void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
+                      const Pose& cameraToWorld, const Image* colour, const std::string& name) {
+  const std::string n = state_->nameOf(name);
+  checkPose(cameraToWorld, n);
+  if (state_->stream) throw InputError(n + ": this fusion tracks its frames; add none with a pose");
+  io::MemoryScan frame = depthFrame(std::move(depth), camera, colour, n);
   state_->add(std::move(frame), camera, io::scanPose(cameraToWorld), n);
+}
+
+TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, const Image* colour,
+                           double time, const std::string& name) {
+  State& s = *state_;
+  const std::string n = s.nameOf(name);
+  if (s.givenUp) throw InputError(n + ": this fusion's stream was given up; start another");
+  if (!s.stream && !s.list->scans.empty())
+    throw InputError(n + ": this fusion was given frames with their poses; track in another");
+  const ColourKind kind = streamColour(s.field, colour != nullptr, n);
+  if (s.stream && kind == ColourKind::rgb && !colour)
+    throw InputError(n + ": has no colour image, but the stream's first frame had one");
+  io::MemoryScan frame =
+      depthFrame(std::move(depth), camera, kind == ColourKind::rgb ? colour : nullptr, n);
+  s.add(std::move(frame), camera, Pose{}, n);
+  s.list->scans.back().time = std::isnan(time) ? double(s.list->scans.size() - 1) / 30 : time;
+  mpi::CapturedFailure failure;
+  try {
+    if (!s.stream)
+      s.stream = std::make_unique<internal::TrackedFrames>(s.read(), s.field, kind, s.comm);
+    const FrameReport r = s.stream->track();
+    const size_t i = s.list->scans.size() - 1;
+    s.list->scans[i].pose = s.stream->poses()[i];
+    return TrackedFrame{io::cameraPose(s.stream->poses()[i]), r.fused, r.inliers, r.rms, r.why};
+  } catch (const mpi::Reported&) {
+    s.givenUp = true;
+    throw InputError(failure.message().empty() ? n + ": " + s.stream->failure()
+                                               : failure.message());
+  }
 }
 
 size_t Fusion::frames() const {
@@ -170,12 +226,18 @@ size_t Fusion::frames() const {
 MeshPart Fusion::meshPart() {
   const State& s = *state_;
   if (s.list->scans.empty()) throw InputError("Fusion: no frames to fuse");
+  if (s.givenUp) throw InputError("Fusion: the stream was given up; its field is not kept");
   mpi::CapturedFailure failure;
+  if (s.stream && s.field.fillHoles)
+    throw InputError("Fusion: fillHoles: tracked frames have no sight maps to carve with");
+  if (s.stream && s.field.method == FieldMethod::Prism) return s.stream->meshPart(s.field.threads);
   Progress quiet(s.comm, Verbosity::quiet);
   LoadedScans scans;
   FusedField field;
   RankCounters counters;
-  if (!buildStreamed(s.read(), s.field, s.comm, quiet, scans, field, counters))
+  const std::vector<Pose>* poses = s.stream ? &s.stream->poses() : nullptr;
+  const std::vector<char>* lost = s.stream ? &s.stream->lost() : nullptr;
+  if (!buildStreamed(s.read(), s.field, s.comm, quiet, scans, field, counters, poses, lost))
     throw InputError(failure.message());
   const MeshSettings m{0, true, s.field.threads, s.field.fillHoles,
                        kCarveMarginVoxels * s.field.voxel};

@@ -172,6 +172,15 @@ FieldSettings fieldOf(double voxel, const std::string& method, const py::kwargs&
   return f;
 }
 
+/// A 4 x 4 numpy matrix of a pose.
+py::array_t<double> matrixOf(const Pose& p) {
+  py::array_t<double> out({4, 4});
+  auto m = out.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = r == 3 ? (c == 3) : c == 3 ? p.t[r] : p.R(r, c);
+  return out;
+}
+
 /// An mpi4py communicator (anything with py2f()) as an MPI_Comm; None: this process alone.
 MPI_Comm commOf(const py::object& comm) {
   if (comm.is_none()) return MPI_COMM_NULL;
@@ -211,6 +220,31 @@ void addDepth(Fusion& f, const py::handle& depth, const py::handle& intrinsics,
   f.addDepth(std::move(d), camera, p, c.get(), n);
 }
 
+py::dict trackDepth(Fusion& f, const py::handle& depth, const py::handle& intrinsics,
+                    const py::handle& colour, double scale, double trunc, const py::object& time,
+                    const std::string& name) {
+  const std::string n = nameOr(name, f);
+  if (!(scale > 0)) throw InputError(n + ": depth_scale must be positive counts per unit");
+  io::DepthImage d = depthOf(depth, scale, n);
+  const Pinhole k = pinholeOf(intrinsics, n);
+  const io::DepthCamera camera{k.fx, k.fy, k.cx, k.cy, d.width, d.height, 1 / scale, trunc};
+  std::unique_ptr<Image> c;
+  if (!colour.is_none()) c = std::make_unique<Image>(imageOf(colour, n));
+  const double t = time.is_none() ? NAN : time.cast<double>();
+  TrackedFrame r;
+  {
+    py::gil_scoped_release free;
+    r = f.track(std::move(d), camera, c.get(), t, n);
+  }
+  py::dict out;
+  out["pose"] = matrixOf(r.cameraToWorld);
+  out["fused"] = r.fused;
+  out["inliers"] = r.inliers;
+  out["rms"] = r.rms;
+  out["why"] = r.why;
+  return out;
+}
+
 py::tuple meshOf(Fusion& f) {
   TriangleMesh m;
   {
@@ -222,15 +256,6 @@ py::tuple meshOf(Fusion& f) {
   if (coloured) colours = viewOf<float>(std::move(m.colours), 3);
   return py::make_tuple(viewOf<double>(std::move(m.vertices), 3),
                         viewOf<int32_t>(std::move(m.faces), 3), colours);
-}
-
-/// A 4 x 4 numpy matrix of a pose.
-py::array_t<double> matrixOf(const Pose& p) {
-  py::array_t<double> out({4, 4});
-  auto m = out.mutable_unchecked<2>();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) m(r, c) = r == 3 ? (c == 3) : c == 3 ? p.t[r] : p.R(r, c);
-  return out;
 }
 
 /// A scan file's grid as points (rows, cols, 3), NaN where it has none, and colours (rows,
@@ -291,12 +316,11 @@ py::array_t<uint8_t> readColour(const std::string& path) {
   return out;
 }
 
-/// A depth folder's frames (TUM or Redwood, with a trajectory): (depth path, colour path or
-/// None, 3 x 3 intrinsics, depth_scale, camera-to-world 4 x 4) each, as add_depth takes them.
+/// A depth folder's frames (TUM or Redwood): (depth path, colour path or None, 3 x 3
+/// intrinsics, depth_scale, camera-to-world 4 x 4 or None without a trajectory, time) each, as
+/// add_depth and track take them.
 py::list readFrames(const std::string& folder) {
   const io::ConfFile conf = io::readScanList(folder);
-  if (!conf.posed)
-    throw InputError(folder + ": has no trajectory; the module adds frames at known poses");
   py::list out;
   for (const io::ConfScan& s : conf.scans) {
     if (!s.depth) throw InputError(folder + ": " + s.path + " is not a depth image");
@@ -307,7 +331,8 @@ py::list readFrames(const std::string& folder) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) m(r, c) = v[r][c];
     const py::object colour = s.colour.empty() ? py::object(py::none()) : py::str(s.colour);
-    out.append(py::make_tuple(s.path, colour, K, 1 / k.unit, matrixOf(io::cameraPose(s.pose))));
+    const py::object pose = conf.posed ? py::object(matrixOf(io::cameraPose(s.pose))) : py::none();
+    out.append(py::make_tuple(s.path, colour, K, 1 / k.unit, pose, s.time));
   }
   return out;
 }
@@ -340,6 +365,12 @@ PYBIND11_MODULE(rangefuse, m) {
            py::arg("depth_trunc") = 0.0, py::arg("name") = "",
            "Adds a depth image (height, width): uint16 counts or depths in metres, depth_scale "
            "counts a unit; intrinsics a 3 x 3 camera matrix; pose camera to world (OpenCV axes)")
+      .def("track", &trackDepth, py::arg("depth"), py::arg("intrinsics"),
+           py::arg("colour") = py::none(), py::arg("depth_scale") = 1000.0,
+           py::arg("depth_trunc") = 0.0, py::arg("time") = py::none(), py::arg("name") = "",
+           "Tracks a depth image whose pose is unknown against the field of the frames before and "
+           "fuses it when the fit holds: {'pose': camera to world 4 x 4, 'fused', 'inliers', "
+           "'rms', 'why'}; the first frame's camera is the world frame")
       .def("mesh", &meshOf,
            "Fuses every frame added: (vertices (N, 3), faces (M, 3), colours (N, 3) or None) on "
            "rank 0, empty arrays on the others")
@@ -351,8 +382,8 @@ PYBIND11_MODULE(rangefuse, m) {
   m.def("read_colour", &readColour, py::arg("path"),
         "An 8-bit colour PNG or JPEG: (height, width, 3) bytes");
   m.def("read_frames", &readFrames, py::arg("folder"),
-        "A TUM or Redwood depth folder with its trajectory: [(depth path, colour path or None, "
-        "intrinsics 3 x 3, depth_scale, camera-to-world 4 x 4)], as add_depth takes them");
+        "A TUM or Redwood depth folder: [(depth path, colour path or None, intrinsics 3 x 3, "
+        "depth_scale, camera-to-world 4 x 4 or None without a trajectory, time)]");
   m.def("read_conf", &readConf, py::arg("path"),
         "A Stanford .conf: [(scan path, 4 x 4 pose)], paths resolved against its folder");
 }

@@ -218,108 +218,134 @@ Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide,
   return compose(poses[last], motion);
 }
 
+FrameTracker::FrameTracker(const ScanSource& frames, std::vector<Pose>& poses,
+                           const std::vector<double>& times, const std::vector<Pose>* guide,
+                           const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
+                           TrackingState& state, const StreamCalls& calls)
+    : frames_(frames),
+      poses_(poses),
+      times_(times),
+      guide_(guide),
+      s_(s),
+      field_(field),
+      comm_(comm),
+      state_(state),
+      calls_(calls),
+      control_(std::make_unique<ControlRouting>(frames, s.fit.controlStride, comm, true)) {}
+
+FrameTracker::~FrameTracker() = default;
+
+bool FrameTracker::start() {
+  state_.lost.resize(frames_.size(), 0);
+  calls_.frame(0, false);
+  control_->learn({0});
+  if (control_->count(0) == 0) {
+    state_.failure = "the first frame has no depth to start the field from";
+    state_.failedFrame = 0;
+    return false;
+  }
+  state_.latticeOrigin = field_.fixLattice(state_.latticeOrigin, poses_);
+  if (state_.nextFrame == 0) {  // the first frame defines the world frame
+    store_ = &field_.build({0}, poses_);
+    calls_.frame(0, true);
+    state_.nextFrame = 1;
+    FrameReport first;
+    first.fused = true;
+    first.inliers = 1;
+    calls_.onFrame(first);
+    calls_.onBoundary(state_);
+  } else {
+    store_ = &field_.build(fusedBefore(state_), poses_);
+  }
+  fused_ = fusedBefore(state_);
+  return true;
+}
+
+void FrameTracker::grew() {
+  // New frames start where the last one was; tracking puts them where they belong.
+  poses_.resize(frames_.size(), poses_[fused_.back()]);
+  state_.lost.resize(frames_.size(), 0);
+  control_->follow();
+}
+
+bool FrameTracker::next() {
+  const size_t i = state_.nextFrame;
+  const size_t last = fused_.back();
+  const long prev = fused_.size() > 1 ? static_cast<long>(fused_[fused_.size() - 2]) : -1;
+  calls_.frame(i, false);
+  FrameReport report;
+  report.frame = i;
+  // The start: the motion so far continued. When that is a weak guess (no motion known yet),
+  // or the fit from it failed or went farther than the field's band reaches, the pixels of
+  // the last frame and this one give a second start (they reach farther, but are blind along
+  // directions the view does not pin down), and the field decides between the two.
+  const Pose predicted = predictPose(poses_, guide_, prev, last, i, times_);
+  FrameFit fit(s_, *control_, *store_, predicted, comm_);
+  report = fit.fit(i, poses_, predicted, last, report);
+  Pose chosen = poses_[i];
+  const Pose moved = between(predicted, chosen);
+  const bool doubtful =
+      prev < 0 || !report.why.empty() || moved.t.norm() > s_.fit.correspondences.maxDistance;
+  auto tryFrom = [&](const Pose& other) {
+    if (samePlace(other, predicted, s_.fit)) return;
+    FrameReport alternative = fit.fit(i, poses_, other, last, report);
+    alternative.fits += report.fits;
+    if (better(alternative, report)) {
+      report = alternative;
+      chosen = poses_[i];
+    } else {
+      report.fits = alternative.fits;
+    }
+  };
+  if (calls_.motion && doubtful)
+    tryFrom(compose(poses_[last], calls_.motion(last, i, between(poses_[last], predicted))));
+  if (!report.why.empty()) {  // re-localise from where the camera last was
+    tryFrom(poses_[last]);
+    report.recovered = report.why.empty();
+  }
+  poses_[i] = chosen;
+  control_->release(i);
+  report.fused = report.why.empty();
+  state_.nextFrame = i + 1;
+  if (report.fused) {
+    fused_.push_back(i);
+    store_ = &field_.add(i, poses_);
+    state_.latticeOrigin = field_.latticeOrigin();
+    state_.lostInRow = 0;
+  } else {
+    poses_[i] = poses_[last];
+    state_.lost[i] = 1;
+    ++state_.lostInRow;
+  }
+  calls_.frame(i, true);
+  calls_.onFrame(report);
+  if (!report.fused && !s_.skipLost) {
+    state_.failure = "frame " + std::to_string(i) + ": tracking lost: " + report.why;
+    state_.failedFrame = i;
+    return false;
+  }
+  if (state_.lostInRow > s_.maxLostInRow) {
+    state_.failure = "frame " + std::to_string(i) + ": tracking lost for " +
+                     std::to_string(state_.lostInRow) + " frames in a row: " + report.why;
+    state_.failedFrame = i;
+    return false;
+  }
+  calls_.onBoundary(state_);
+  return true;
+}
+
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
                  const std::vector<double>& times, const std::vector<Pose>* guide,
                  const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
                  TrackingState& state, const StreamCalls& calls) {
-  const FrameHook& frameHook = calls.frame;
-  const FrameMotion& frameMotion = calls.motion;
-  const auto& onFrame = calls.onFrame;
-  const auto& onBoundary = calls.onBoundary;
-  state.lost.resize(frames.size(), 0);
-  frameHook(0, false);
-  ControlRouting control(frames, s.fit.controlStride, comm, true);
-  control.learn({0});
-  if (control.count(0) == 0) {
-    state.failure = "the first frame has no depth to start the field from";
-    state.failedFrame = 0;
-    return false;
-  }
-  state.latticeOrigin = field.fixLattice(state.latticeOrigin, poses);
-  const BrickStore* store = nullptr;
-  if (state.nextFrame == 0) {  // the first frame defines the world frame
-    store = &field.build({0}, poses);
-    frameHook(0, true);
-    state.nextFrame = 1;
-    FrameReport first;
-    first.fused = true;
-    first.inliers = 1;
-    onFrame(first);
-    onBoundary(state);
-  } else {
-    store = &field.build(fusedBefore(state), poses);
-  }
-  std::vector<size_t> fused = fusedBefore(state);
-  for (size_t i = state.nextFrame;; ++i) {
-    if (i == frames.size()) {
-      if (!calls.moreFrames || !calls.moreFrames() || i == frames.size()) break;
-      // New frames start where the last one was; tracking puts them where they belong.
-      poses.resize(frames.size(), poses[fused.back()]);
-      state.lost.resize(frames.size(), 0);
-      control.follow();
+  FrameTracker tracker(frames, poses, times, guide, s, field, comm, state, calls);
+  if (!tracker.start()) return false;
+  for (;;) {
+    if (state.nextFrame == frames.size()) {
+      if (!calls.moreFrames || !calls.moreFrames() || state.nextFrame == frames.size()) break;
+      tracker.grew();
     }
-    const size_t last = fused.back();
-    const long prev = fused.size() > 1 ? static_cast<long>(fused[fused.size() - 2]) : -1;
-    frameHook(i, false);
-    FrameReport report;
-    report.frame = i;
-    // The start: the motion so far continued, then what the pixels say.
-    // The start: the motion so far continued. When that is a weak guess (no motion known yet),
-    // or the fit from it failed or went farther than the field's band reaches, the pixels of
-    // the last frame and this one give a second start (they reach farther, but are blind along
-    // directions the view does not pin down), and the field decides between the two.
-    const Pose predicted = predictPose(poses, guide, prev, last, i, times);
-    FrameFit fit(s, control, *store, predicted, comm);
-    report = fit.fit(i, poses, predicted, last, report);
-    Pose chosen = poses[i];
-    const Pose moved = between(predicted, chosen);
-    const bool doubtful =
-        prev < 0 || !report.why.empty() || moved.t.norm() > s.fit.correspondences.maxDistance;
-    auto tryFrom = [&](const Pose& other) {
-      if (samePlace(other, predicted, s.fit)) return;
-      FrameReport alternative = fit.fit(i, poses, other, last, report);
-      alternative.fits += report.fits;
-      if (better(alternative, report)) {
-        report = alternative;
-        chosen = poses[i];
-      } else {
-        report.fits = alternative.fits;
-      }
-    };
-    if (frameMotion && doubtful)
-      tryFrom(compose(poses[last], frameMotion(last, i, between(poses[last], predicted))));
-    if (!report.why.empty()) {  // re-localise from where the camera last was
-      tryFrom(poses[last]);
-      report.recovered = report.why.empty();
-    }
-    poses[i] = chosen;
-    control.release(i);
-    report.fused = report.why.empty();
-    state.nextFrame = i + 1;
-    if (report.fused) {
-      fused.push_back(i);
-      store = &field.add(i, poses);
-      state.latticeOrigin = field.latticeOrigin();
-      state.lostInRow = 0;
-    } else {
-      poses[i] = poses[last];
-      state.lost[i] = 1;
-      ++state.lostInRow;
-    }
-    frameHook(i, true);
-    onFrame(report);
-    if (!report.fused && !s.skipLost) {
-      state.failure = "frame " + std::to_string(i) + ": tracking lost: " + report.why;
-      state.failedFrame = i;
-      return false;
-    }
-    if (state.lostInRow > s.maxLostInRow) {
-      state.failure = "frame " + std::to_string(i) + ": tracking lost for " +
-                      std::to_string(state.lostInRow) + " frames in a row: " + report.why;
-      state.failedFrame = i;
-      return false;
-    }
-    onBoundary(state);
+    if (!tracker.next()) return false;
   }
   return true;
 }

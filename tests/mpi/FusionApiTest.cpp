@@ -12,6 +12,7 @@
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/rangefuse.h"
+#include "rangefuse/scan/SyntheticScanner.h"
 
 using namespace rangefuse;
 using test::sharedTempPath;
@@ -48,7 +49,66 @@ Pose turned(double degrees) {
   return p;
 }
 
+/// The first frames of a hand-held camera's depth frames of the bunny scaled to 1.5 m (160 x 120,
+/// noise growing with depth), and the frames' true camera poses.
+struct HandheldFrames {
+  std::vector<io::DepthImage> depth;
+  std::vector<Pose> truth;
+  io::DepthCamera camera;
+};
+
+HandheldFrames handheldFrames(int views, size_t first) {
+  TriangleMesh bunny = io::readMeshPly(RANGEFUSE_TEST_DATA "/bunny/bun_zipper.ply");
+  for (Eigen::Vector3d& v : bunny.vertices) v *= 10;
+  ScanSettings s;
+  s.views = views, s.width = 160, s.height = 120, s.voxel = 0.01, s.noise = 0.5;
+  s.depthNoise = true, s.path = ViewPath::Handheld;
+  HandheldFrames out;
+  const SyntheticSet set = scanMesh(bunny, s);
+  for (size_t i = 0; i < first; ++i) {
+    const SyntheticScan& sc = set.scans[i];
+    out.depth.push_back(io::depthImage(sc.grid, 1e-3));
+    out.truth.push_back(io::cameraPose(sc.truth));
+    out.camera = io::depthCamera(sc.grid, 1e-3);
+  }
+  return out;
+}
+
+/// Every frame tracked on `comm`: their camera poses and the mesh.
+std::pair<std::vector<Pose>, TriangleMesh> tracked(const HandheldFrames& frames, MPI_Comm comm) {
+  FieldSettings field;
+  field.voxel = 0.01;
+  Fusion fusion(field, comm);
+  std::vector<Pose> poses;
+  for (const io::DepthImage& d : frames.depth) {
+    const TrackedFrame r = fusion.track(d, frames.camera);
+    EXPECT_TRUE(r.fused) << poses.size() << ": " << r.why;
+    poses.push_back(r.cameraToWorld);
+  }
+  return {poses, fusion.mesh()};
+}
+
 }  // namespace
+
+TEST(FusionApi, TracksAStreamTheSameOnAnyRankCountAndCloseToTheTruth) {
+  const HandheldFrames frames = handheldFrames(240, 30);  // the first eighth of the path
+  const auto [both, bothMesh] = tracked(frames, MPI_COMM_WORLD);
+  const auto [alone, aloneMesh] = tracked(frames, MPI_COMM_SELF);
+  double sum = 0;
+  const Pose first = frames.truth[0].inverse();
+  for (size_t i = 0; i < both.size(); ++i) {
+    ASSERT_EQ(both[i].R, alone[i].R) << i;
+    ASSERT_EQ(both[i].t, alone[i].t) << i;
+    sum += (first.apply(frames.truth[i].t) - both[i].t).squaredNorm();
+  }
+  const double ate = std::sqrt(sum / both.size());
+  std::printf("API tracking, 30 frames: ATE %.4f m\n", ate);
+  EXPECT_LT(ate, 0.006);  // the command's bound on its stream (0.6 voxel)
+  if (mpi::rank() != 0) return;
+  ASSERT_GT(bothMesh.faces.size(), 1000u);
+  EXPECT_EQ(bothMesh.faces, aloneMesh.faces);
+  EXPECT_EQ(bothMesh.vertices, aloneMesh.vertices);
+}
 
 TEST(FusionApi, FusesTheBunnyToTheCommandsMeshOnAnyRankCount) {
   FuseOptions o;

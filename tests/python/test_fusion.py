@@ -161,7 +161,7 @@ def test_a_depth_folder_gives_the_commands_mesh(tmp_path):
     fusion = rangefuse.Fusion(voxel=0.02)
     frames = rangefuse.read_frames(str(seq))
     assert len(frames) == 8
-    for depth, colour, K, scale, pose in frames:
+    for depth, colour, K, scale, pose, _ in frames:
         assert colour is not None
         fusion.add_depth(rangefuse.read_depth(depth), K, pose, colour=rangefuse.read_colour(colour),
                          depth_scale=scale)
@@ -170,3 +170,61 @@ def test_a_depth_folder_gives_the_commands_mesh(tmp_path):
     assert len(faces) > 1000 and colours is not None and colours.shape == vertices.shape
     assert np.array_equal(faces, ply_faces)
     assert np.array_equal(vertices.astype(np.float32), ply_vertices)
+
+
+def quaternion_matrix(q):
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def test_tracks_a_depth_stream_as_the_command_does(tmp_path):
+    truth, stream = tmp_path / "truth", tmp_path / "stream"
+    subprocess.run([BIN, "scan", "--mesh", os.path.join(DATA, "bunny", "bun_zipper.ply"),
+                    "--scale", "10", "--views", "240", "--width", "160", "--height", "120",
+                    "--voxel", "0.01", "--path", "handheld", "--noise", "0.5", "--depth-noise",
+                    "--format", "tum", "--out", str(truth)], check=True, stdout=subprocess.DEVNULL)
+    stream.mkdir()
+    for name in ["depth", "camera_intrinsic.json"]:  # no trajectory: tracked
+        os.symlink(truth / name, stream / name)
+    # The first 40 frames of the hand-held path (a sixth of it).
+    lines = (truth / "depth.txt").read_text().splitlines()
+    header = [l for l in lines if l.startswith("#")]
+    (stream / "depth.txt").write_text("\n".join(header + [l for l in lines if not l.startswith("#")][:40]) + "\n")
+    subprocess.run([BIN, "fuse", "--scans", str(stream), "--voxel", "0.01", "--quiet",
+                    "--out", str(tmp_path / "c.ply"), "--trajectory-out", str(tmp_path / "c.txt")],
+                   check=True)
+    fusion = rangefuse.Fusion(voxel=0.01)
+    tracked = []
+    for depth, colour, K, scale, pose, time in rangefuse.read_frames(str(stream)):
+        assert pose is None
+        r = fusion.track(rangefuse.read_depth(depth), K, depth_scale=scale, time=time)
+        assert r["fused"], r["why"]
+        tracked.append(r["pose"])
+    command = np.loadtxt(tmp_path / "c.txt")
+    assert len(command) == len(tracked) == 40
+    for row, pose in zip(command, tracked):  # the command's trajectory, to rounding in its text
+        assert np.abs(row[1:4] - pose[:3, 3]).max() < 1e-5
+        assert np.abs(quaternion_matrix(row[4:]) - pose[:3, :3]).max() < 1e-5
+    # Against the truth, in the first camera's frame: within the command's bound (0.6 voxel).
+    gt = np.loadtxt(truth / "groundtruth.txt")[:40]
+    first = np.eye(4)
+    first[:3, :3], first[:3, 3] = quaternion_matrix(gt[0, 4:]), gt[0, 1:4]
+    errors = []
+    for row, pose in zip(gt, tracked):
+        t = np.linalg.inv(first) @ np.append(row[1:4], 1)
+        errors.append(np.linalg.norm(t[:3] - pose[:3, 3]))
+    assert np.sqrt(np.mean(np.square(errors))) < 0.006
+    vertices, faces, _ = fusion.mesh()
+    ply_vertices, ply_faces = read_ply(tmp_path / "c.ply")
+    assert np.array_equal(faces, ply_faces)
+    assert np.array_equal(vertices.astype(np.float32), ply_vertices)
+
+
+def test_a_stream_is_tracked_or_posed_not_both():
+    K = np.array([[100.0, 0, 39.5], [0, 100, 29.5], [0, 0, 1]])
+    fusion = rangefuse.Fusion(voxel=0.01)
+    fusion.add_depth(np.full((60, 80), 2000, np.uint16), K, np.eye(4))
+    with pytest.raises(ValueError, match="given frames with their poses; track in another"):
+        fusion.track(np.full((60, 80), 2000, np.uint16), K)

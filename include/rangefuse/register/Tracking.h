@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,45 @@ struct StreamCalls {
   /// Optional: once every frame is tracked, whether more have joined `frames` (and `times`);
   /// false ends the stream.
   std::function<bool()> moreFrames;
+};
+
+class ControlRouting;
+
+/// Tracks a stream frame by frame (trackFrames is its loop; the library's Fusion calls it as
+/// frames arrive). Every call is collective; the references must outlive it.
+class FrameTracker {
+ public:
+  FrameTracker(const ScanSource& frames, std::vector<Pose>& poses, const std::vector<double>& times,
+               const std::vector<Pose>* guide, const TrackingSettings& settings,
+               RegistrationField& field, MPI_Comm comm, TrackingState& state,
+               const StreamCalls& calls);
+  ~FrameTracker();
+  FrameTracker(const FrameTracker&) = delete;
+  FrameTracker& operator=(const FrameTracker&) = delete;
+
+  /// Starts the field from frame 0 (which fixes the world frame at poses[0]), or rebuilds it
+  /// from the frames before state.nextFrame when resuming. False (state.failure set) when the
+  /// first frame has no depth.
+  bool start();
+  /// Frames were appended to `frames` (and `times`): they start where the last fused one was.
+  void grew();
+  /// Tracks frame state.nextFrame (which `frames` must hold) and fuses it when the fit holds.
+  /// False, with state.failure set, when the stream is to be given up.
+  bool next();
+
+ private:
+  const ScanSource& frames_;
+  std::vector<Pose>& poses_;
+  const std::vector<double>& times_;
+  const std::vector<Pose>* guide_;
+  const TrackingSettings& s_;
+  RegistrationField& field_;
+  MPI_Comm comm_;
+  TrackingState& state_;
+  const StreamCalls& calls_;
+  std::unique_ptr<ControlRouting> control_;
+  const BrickStore* store_ = nullptr;
+  std::vector<size_t> fused_;  ///< frames fused so far, in order
 };
 
 /// Collective: tracks frames nextFrame.. of `frames` (taken at `times`) into `field`, starting from
