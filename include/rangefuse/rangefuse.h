@@ -86,12 +86,25 @@ class Fusion {
   /// poses by the method asked for.
   MeshPart meshPart();
 
+  /// Collective: fuses every frame added (for tracked frames, takes the tracking field) and
+  /// writes the field to an HDF5 checkpoint at `path` (stage "field": docs/checkpoints.md),
+  /// atomically, with the frames' names, content hashes and poses, and the settings. `rangefuse
+  /// mesh` and `rangefuse info` read it, and Fusion::resume.
+  void saveCheckpoint(const std::string& path);
+
+  /// Collective: a fusion holding the finished field of a checkpoint (written by
+  /// saveCheckpoint or by `rangefuse fuse --checkpoint`), on `comm`'s ranks however many wrote
+  /// it. Its mesh() is that field's; it takes no more frames.
+  static Fusion resume(const std::string& path, MPI_Comm comm = MPI_COMM_NULL);
+
   /// Collective: the whole mesh, with vertex normals, on rank 0 (empty on the others): the
   /// vertices and faces the command writes for the same scans.
   TriangleMesh mesh();
 
  private:
   struct State;
+  explicit Fusion(std::unique_ptr<State> state);
+  void refuseResumed(const std::string& name) const;
   std::unique_ptr<State> state_;
 };
 

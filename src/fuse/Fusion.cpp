@@ -5,7 +5,11 @@
 #include "FinishRun.h"
 #include "TrackedFrames.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/Checkpointing.h"
 #include "rangefuse/fuse/FieldBuild.h"
+#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/io/Digest.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -67,6 +71,30 @@ void checkGrid(const RangeGrid& g, const std::string& name) {
                      std::to_string(g.points.size()) + " points");
 }
 
+/// The content hash of a frame held in memory, as checkpoints record a scan file's.
+std::string frameHash(const io::ConfScan& c) {
+  uint64_t h = io::kFnvOffset;
+  const io::MemoryScan& m = *c.memory;
+  h = io::fnv1a64(m.grid.points.data(), m.grid.points.size() * sizeof(Eigen::Vector3d), h);
+  h = io::fnv1a64(m.grid.cell.data(), m.grid.cell.size() * sizeof(int32_t), h);
+  h = io::fnv1a64(m.depth.counts.data(), m.depth.counts.size() * sizeof(uint16_t), h);
+  h = io::fnv1a64(m.colour.rgb.data(), m.colour.rgb.size(), h);
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+/// The settings as the command's checkpoints record its options.
+nlohmann::json recordedSettings(const FieldSettings& f, const SurfaceOptions& surface) {
+  FuseOptions o;
+  o.voxel = f.voxel, o.method = f.method, o.envelope = f.envelope, o.brick = f.brick;
+  o.colour = f.colour, o.quorum = f.quorum, o.minViews = f.minViews, o.edgeAngle = f.edgeAngle;
+  o.sameDistance = f.sameDistance, o.sameAngle = f.sameAngle, o.freeMargin = f.freeMargin;
+  o.fillHoles = f.fillHoles;
+  o.mergeCells = surface.mergeTarget / f.voxel, o.smoothNoise = surface.smoothTarget / f.voxel;
+  return resultParameters(o);
+}
+
 }  // namespace
 
 struct Fusion::State {
@@ -76,6 +104,7 @@ struct Fusion::State {
   std::shared_ptr<io::ConfFile> list = std::make_shared<io::ConfFile>();
   std::unique_ptr<internal::TrackedFrames> stream;  ///< set once a frame is tracked
   bool givenUp = false;                             ///< the stream was given up
+  std::unique_ptr<BrickStore> resumed;              ///< a checkpoint's finished field
 
   ReadSettings read() const {
     ReadSettings r;
@@ -88,6 +117,20 @@ struct Fusion::State {
     r.keepBytes = static_cast<uint64_t>(kKeepMiB * 1024 * 1024);
     r.threads = field.threads;
     return r;
+  }
+
+  /// Collective: the field of every frame at its pose (tracked frames at their tracked poses,
+  /// the lost left out). Throws InputError with the failing rank's message.
+  FusedField fuse(const mpi::CapturedFailure& failure) const {
+    Progress quiet(comm, Verbosity::quiet);
+    LoadedScans scans;
+    FusedField fused;
+    RankCounters counters;
+    const std::vector<Pose>* poses = stream ? &stream->poses() : nullptr;
+    const std::vector<char>* lost = stream ? &stream->lost() : nullptr;
+    if (!buildStreamed(read(), field, comm, quiet, scans, fused, counters, poses, lost))
+      throw InputError(failure.message());
+    return fused;
   }
 
   std::string nameOf(const std::string& given) const {
@@ -133,6 +176,7 @@ Fusion& Fusion::operator=(Fusion&&) noexcept = default;
 
 void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) {
   const std::string n = state_->nameOf(name);
+  refuseResumed(n);
   if (state_->stream) throw InputError(n + ": this fusion tracks its frames; add none with a pose");
   checkGrid(grid, n);
   checkPose(pose, n);
@@ -184,6 +228,7 @@ ColourKind streamColour(const FieldSettings& f, bool coloured, const std::string
 void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
                       const Pose& cameraToWorld, const Image* colour, const std::string& name) {
   const std::string n = state_->nameOf(name);
+  refuseResumed(n);
   checkPose(cameraToWorld, n);
   if (state_->stream) throw InputError(n + ": this fusion tracks its frames; add none with a pose");
   io::MemoryScan frame = depthFrame(std::move(depth), camera, colour, n);
@@ -194,6 +239,7 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
                            double time, const std::string& name) {
   State& s = *state_;
   const std::string n = s.nameOf(name);
+  refuseResumed(n);
   if (s.givenUp) throw InputError(n + ": this fusion's stream was given up; start another");
   if (!s.stream && !s.list->scans.empty())
     throw InputError(n + ": this fusion was given frames with their poses; track in another");
@@ -219,26 +265,83 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
   }
 }
 
+Fusion::Fusion(std::unique_ptr<State> state) : state_(std::move(state)) {}
+
+void Fusion::saveCheckpoint(const std::string& path) {
+  State& s = *state_;
+  if (s.resumed)
+    throw InputError(path + ": this fusion was resumed; its checkpoint is the one it read");
+  if (s.list->scans.empty()) throw InputError("Fusion: no frames to checkpoint");
+  mpi::CapturedFailure failure;
+  FusedField field;
+  const BrickStore* store = nullptr;
+  if (s.stream && s.field.method == FieldMethod::Prism) {
+    store = &s.stream->store();
+  } else {
+    field = s.fuse(failure);
+    store = field.store.get();
+  }
+  io::CheckpointMeta meta;
+  meta.parameters = recordedSettings(s.field, s.surface);
+  for (const io::ConfScan& c : s.list->scans) {
+    meta.scanNames.push_back(c.name);
+    meta.scanHashes.push_back(frameHash(c));
+    meta.poses.push_back(c.pose);
+  }
+  meta.progress = {{"stage", "field"}};
+  meta.hasField = true;
+  meta.grid = store->layout().grid;
+  if (!mpi::collectively(s.comm, [&] { io::writeCheckpoint(path, meta, store, s.comm); }))
+    throw InputError(failure.message());
+}
+
+Fusion Fusion::resume(const std::string& path, MPI_Comm comm) {
+  auto s = std::make_unique<State>();
+  s->comm = comm == MPI_COMM_NULL ? selfComm() : comm;
+  mpi::CapturedFailure failure;
+  io::CheckpointMeta meta;
+  BrickLayout layout;
+  if (!mpi::collectively(s->comm, [&] {
+        meta = io::readCheckpointMeta(path, s->comm);
+        if (!meta.hasField || meta.progress.value("stage", "") != "field")
+          throw InputError(path + ": holds no finished field (stage '" +
+                           meta.progress.value("stage", "") + "'); resume it with rangefuse fuse");
+        s->resumed = io::readCheckpointField(path, meta, layout, s->comm);
+      }))
+    throw InputError(failure.message());
+  s->field.voxel = meta.grid.voxel;
+  s->field.threads = threadsPerRank(s->comm);
+  if (meta.parameters.contains("method"))
+    s->field.method = parseFieldMethod("method", meta.parameters["method"].get<std::string>());
+  for (size_t i = 0; i < meta.scanNames.size(); ++i) {
+    io::ConfScan c;
+    c.name = c.path = meta.scanNames[i];
+    c.pose = meta.poses[i];
+    s->list->scans.push_back(std::move(c));
+  }
+  return Fusion(std::move(s));
+}
+
+void Fusion::refuseResumed(const std::string& name) const {
+  if (state_->resumed)
+    throw InputError(name +
+                     ": this fusion holds a checkpoint's finished field; it takes no frames");
+}
+
 size_t Fusion::frames() const {
   return state_->list->scans.size();
 }
 
 MeshPart Fusion::meshPart() {
   const State& s = *state_;
+  if (s.resumed) return extractDistributedMesh(*s.resumed, 0, s.comm, nullptr, s.field.threads);
   if (s.list->scans.empty()) throw InputError("Fusion: no frames to fuse");
   if (s.givenUp) throw InputError("Fusion: the stream was given up; its field is not kept");
   mpi::CapturedFailure failure;
   if (s.stream && s.field.fillHoles)
     throw InputError("Fusion: fillHoles: tracked frames have no sight maps to carve with");
   if (s.stream && s.field.method == FieldMethod::Prism) return s.stream->meshPart(s.field.threads);
-  Progress quiet(s.comm, Verbosity::quiet);
-  LoadedScans scans;
-  FusedField field;
-  RankCounters counters;
-  const std::vector<Pose>* poses = s.stream ? &s.stream->poses() : nullptr;
-  const std::vector<char>* lost = s.stream ? &s.stream->lost() : nullptr;
-  if (!buildStreamed(s.read(), s.field, s.comm, quiet, scans, field, counters, poses, lost))
-    throw InputError(failure.message());
+  const FusedField field = s.fuse(failure);
   const MeshSettings m{0, true, s.field.threads, s.field.fillHoles,
                        kCarveMarginVoxels * s.field.voxel};
   MeshStats stats;

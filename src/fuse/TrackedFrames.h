@@ -33,6 +33,8 @@ class TrackedFrames {
   /// Each frame's scan pose (a lost frame keeps the last good one) and whether it was lost.
   const std::vector<Pose>& poses() const { return scans_.poses; }
   const std::vector<char>& lost() const { return state_.lost; }
+  /// The tracking field as it stands (valid until the next frame).
+  const BrickStore& store() const { return tracked_->store(); }
   /// Collective: this rank's part of the tracking field's mesh.
   MeshPart meshPart(int threads);
 

@@ -374,6 +374,25 @@ PYBIND11_MODULE(rangefuse, m) {
       .def("mesh", &meshOf,
            "Fuses every frame added: (vertices (N, 3), faces (M, 3), colours (N, 3) or None) on "
            "rank 0, empty arrays on the others")
+      .def(
+          "save_checkpoint",
+          [](Fusion& f, const std::string& path) {
+            py::gil_scoped_release free;
+            f.saveCheckpoint(path);
+          },
+          py::arg("path"),
+          "Fuses the frames and writes the field to an HDF5 checkpoint (rangefuse mesh and info "
+          "read it, and Fusion.resume)")
+      .def_static(
+          "resume",
+          [](const std::string& path, const py::object& comm) {
+            const MPI_Comm c = commOf(comm);
+            py::gil_scoped_release free;
+            return Fusion::resume(path, c);
+          },
+          py::arg("path"), py::arg("comm") = py::none(),
+          "A fusion holding a checkpoint's finished field (saved here or by rangefuse fuse "
+          "--checkpoint): its mesh(); it takes no more frames")
       .def_property_readonly("frames", &Fusion::frames, "frames added so far");
   m.def("read_grid", &readGrid, py::arg("path"),
         "A PLY range grid (as the Stanford scans): (points (rows, cols, 3) with NaN where "

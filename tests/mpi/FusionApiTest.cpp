@@ -189,3 +189,38 @@ TEST(FusionApi, BadInputThrowsTheCommandsMessageOnEveryRank) {
   const std::string message = messageOf([&] { tiny.mesh(); });
   EXPECT_NE(message.find("voxels"), std::string::npos) << message;
 }
+
+TEST(FusionApi, CheckpointsResumeToTheSameMeshEitherWay) {
+  const std::string mine = sharedTempPath("api-fusion.h5"), theirs = sharedTempPath("api-cmd.h5");
+  FieldSettings field;
+  field.voxel = kApiVoxel;
+  Fusion fusion(field, MPI_COMM_WORLD);
+  for (const io::ConfScan& c : io::readConf(RANGEFUSE_TEST_DATA "/bunny/bun.conf").scans)
+    fusion.addGrid(io::readRangeGridPly(c.path), c.pose, c.name);
+  fusion.saveCheckpoint(mine);
+  const TriangleMesh fused = fusion.mesh();
+  // Resumed on the other rank count: the same mesh, and no more frames.
+  Fusion resumed = Fusion::resume(mine, MPI_COMM_SELF);
+  EXPECT_EQ(resumed.frames(), 10u);
+  const TriangleMesh again = resumed.mesh();
+  RangeGrid grid = io::readRangeGridPly(RANGEFUSE_TEST_DATA "/bunny/bun000.ply");
+  EXPECT_NE(messageOf([&] { resumed.addGrid(grid, Pose{}); }).find("finished field"),
+            std::string::npos);
+  // The command's checkpoint of the same scans resumes through the API to the command's mesh.
+  FuseOptions o;
+  o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
+  o.voxel = kApiVoxel;
+  o.quiet = true;
+  o.out = sharedTempPath("api-cmd.ply");
+  o.checkpoint = theirs;
+  ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
+  const TriangleMesh command = Fusion::resume(theirs, MPI_COMM_WORLD).mesh();
+  EXPECT_EQ(messageOf([&] { Fusion::resume(o.out, MPI_COMM_WORLD); }).find(o.out), 0u);
+  if (mpi::rank() != 0) return;
+  for (const std::string& p : {mine, theirs, o.out}) std::filesystem::remove(p);
+  ASSERT_GT(fused.faces.size(), 10000u);
+  EXPECT_EQ(again.faces, fused.faces);
+  EXPECT_EQ(again.vertices, fused.vertices);
+  EXPECT_EQ(command.faces, fused.faces);
+  EXPECT_EQ(command.vertices, fused.vertices);
+}

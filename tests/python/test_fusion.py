@@ -228,3 +228,25 @@ def test_a_stream_is_tracked_or_posed_not_both():
     fusion.add_depth(np.full((60, 80), 2000, np.uint16), K, np.eye(4))
     with pytest.raises(ValueError, match="given frames with their poses; track in another"):
         fusion.track(np.full((60, 80), 2000, np.uint16), K)
+
+
+def test_a_checkpoint_resumes_and_the_command_meshes_it(tmp_path):
+    K = np.array([[150.0, 0, 59.5], [0, 150, 59.5], [0, 0, 1]])
+    fusion = rangefuse.Fusion(voxel=0.01)
+    for eye in np.vstack([np.eye(3), -np.eye(3)]) * 2.0:
+        pose = looking_at_origin(eye)
+        fusion.add_depth(sphere_depth(K, pose, 120, 0.5), K, pose)
+    checkpoint = tmp_path / "sphere.h5"
+    fusion.save_checkpoint(str(checkpoint))
+    vertices, faces, _ = fusion.mesh()
+    resumed = rangefuse.Fusion.resume(str(checkpoint))
+    assert resumed.frames == 6
+    again, again_faces, _ = resumed.mesh()
+    assert np.array_equal(again, vertices) and np.array_equal(again_faces, faces)
+    with pytest.raises(ValueError, match="finished field"):
+        resumed.add_depth(np.full((120, 120), 1000, np.uint16), K, np.eye(4))
+    subprocess.run([BIN, "mesh", str(checkpoint), "--out", str(tmp_path / "m.ply")], check=True,
+                   stdout=subprocess.DEVNULL)
+    ply_vertices, ply_faces = read_ply(tmp_path / "m.ply")
+    assert np.array_equal(ply_faces, faces)
+    assert np.array_equal(ply_vertices, vertices.astype(np.float32))
