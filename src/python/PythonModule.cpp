@@ -6,6 +6,8 @@
 #include <pybind11/pybind11.h>
 
 #include <cmath>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -135,6 +137,32 @@ py::array viewOf(std::vector<Vector>&& values, py::ssize_t width) {
                              reinterpret_cast<const Scalar*>(owned->data()), free);
 }
 
+/// Sets one FieldSettings member from a Python value.
+using Setter = std::function<void(FieldSettings&, const py::handle&)>;
+
+template <class T>
+Setter setter(T FieldSettings::*member) {
+  return [member](FieldSettings& f, const py::handle& v) { f.*member = v.cast<T>(); };
+}
+
+/// The field's settings by their Python names (the command's option names).
+const std::map<std::string, Setter>& fieldSetters() {
+  static const std::map<std::string, Setter> setters = {
+      {"envelope", setter(&FieldSettings::envelope)},
+      {"brick", setter(&FieldSettings::brick)},
+      {"colour", setter(&FieldSettings::colour)},
+      {"quorum", setter(&FieldSettings::quorum)},
+      {"min_views", setter(&FieldSettings::minViews)},
+      {"edge_angle", setter(&FieldSettings::edgeAngle)},
+      {"same_distance", setter(&FieldSettings::sameDistance)},
+      {"same_angle", setter(&FieldSettings::sameAngle)},
+      {"free_margin", setter(&FieldSettings::freeMargin)},
+      {"fill_holes", setter(&FieldSettings::fillHoles)},
+      {"threads", setter(&FieldSettings::threads)},
+      {"max_voxels", setter(&FieldSettings::maxVoxels)}};
+  return setters;
+}
+
 FieldSettings fieldOf(double voxel, const std::string& method, const py::kwargs& more) {
   FieldSettings f;
   f.voxel = voxel;
@@ -142,32 +170,9 @@ FieldSettings fieldOf(double voxel, const std::string& method, const py::kwargs&
   f.threads = 0;
   for (const auto& [key, value] : more) {
     const std::string k = py::str(key);
-    if (k == "envelope")
-      f.envelope = value.cast<double>();
-    else if (k == "brick")
-      f.brick = value.cast<int>();
-    else if (k == "colour")
-      f.colour = value.cast<std::string>();
-    else if (k == "quorum")
-      f.quorum = value.cast<double>();
-    else if (k == "min_views")
-      f.minViews = value.cast<int>();
-    else if (k == "edge_angle")
-      f.edgeAngle = value.cast<double>();
-    else if (k == "same_distance")
-      f.sameDistance = value.cast<double>();
-    else if (k == "same_angle")
-      f.sameAngle = value.cast<double>();
-    else if (k == "free_margin")
-      f.freeMargin = value.cast<double>();
-    else if (k == "fill_holes")
-      f.fillHoles = value.cast<bool>();
-    else if (k == "threads")
-      f.threads = value.cast<int>();
-    else if (k == "max_voxels")
-      f.maxVoxels = value.cast<uint64_t>();
-    else
-      throw InputError("Fusion: unknown setting '" + k + "'");
+    const auto found = fieldSetters().find(k);
+    if (found == fieldSetters().end()) throw InputError("Fusion: unknown setting '" + k + "'");
+    found->second(f, value);
   }
   return f;
 }
