@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "rangefuse/core/Error.h"
 #include "rangefuse/core/Image.h"
 #include "rangefuse/core/MeshPart.h"
 #include "rangefuse/core/Pose.h"

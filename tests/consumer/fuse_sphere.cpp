@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 namespace {
 
@@ -57,17 +58,25 @@ int run() {
     const rangefuse::Pose pose = lookingAtTheOrigin(kDistance * e);
     fusion.addDepth(sphereDepth(camera, pose), camera, pose);
   }
+  int failed = 0;
+  try {  // the library's exceptions reach the caller as its own type
+    rangefuse::Pose bad = lookingAtTheOrigin(kDistance * eyes[0]);
+    bad.t.x() = NAN;
+    fusion.addDepth(sphereDepth(camera, lookingAtTheOrigin(kDistance * eyes[0])), camera, bad);
+    failed = 1;
+  } catch (const rangefuse::InputError& e) {
+    if (std::string(e.what()) != "frame_6: the pose is not finite") failed = 1;
+  }
   const rangefuse::TriangleMesh mesh = fusion.mesh();
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  int failed = 0;
   if (rank == 0) {
     double worst = 0;
     for (const Eigen::Vector3d& p : mesh.vertices)
       worst = std::max(worst, std::abs(p.norm() - kRadius));
     std::printf("rangefuse %s: %zu vertices, %zu faces, farthest %.4f from the sphere\n",
                 rangefuse::libraryVersion(), mesh.vertices.size(), mesh.faces.size(), worst);
-    failed = mesh.faces.size() < 1000 || !(worst < kVoxel);
+    failed |= mesh.faces.size() < 1000 || !(worst < kVoxel);
   }
   MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
   MPI_Finalize();
