@@ -103,6 +103,7 @@ struct Fusion::State {
   MPI_Comm comm = MPI_COMM_SELF;
   std::shared_ptr<io::ConfFile> list = std::make_shared<io::ConfFile>();
   std::unique_ptr<internal::TrackedFrames> stream;  ///< set once a frame is tracked
+  ColourKind trackedColour = ColourKind::none;      ///< what the tracked frames carry
   bool givenUp = false;                             ///< the stream was given up
   std::unique_ptr<BrickStore> resumed;              ///< a checkpoint's finished field
 
@@ -243,8 +244,9 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
   if (s.givenUp) throw InputError(n + ": this fusion's stream was given up; start another");
   if (!s.stream && !s.list->scans.empty())
     throw InputError(n + ": this fusion was given frames with their poses; track in another");
-  const ColourKind kind = streamColour(s.field, colour != nullptr, n);
-  if (s.stream && kind == ColourKind::rgb && !colour)
+  // The stream's colour is its first frame's: every later frame brings it too.
+  const ColourKind kind = s.stream ? s.trackedColour : streamColour(s.field, colour != nullptr, n);
+  if (kind == ColourKind::rgb && !colour)
     throw InputError(n + ": has no colour image, but the stream's first frame had one");
   io::MemoryScan frame =
       depthFrame(std::move(depth), camera, kind == ColourKind::rgb ? colour : nullptr, n);
@@ -252,16 +254,19 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
   s.list->scans.back().time = std::isnan(time) ? double(s.list->scans.size() - 1) / 30 : time;
   mpi::CapturedFailure failure;
   try {
-    if (!s.stream)
+    if (!s.stream) {
       s.stream = std::make_unique<internal::TrackedFrames>(s.read(), s.field, kind, s.comm);
+      s.trackedColour = kind;
+    }
     const FrameReport r = s.stream->track();
     const size_t i = s.list->scans.size() - 1;
     s.list->scans[i].pose = s.stream->poses()[i];
     return TrackedFrame{io::cameraPose(s.stream->poses()[i]), r.fused, r.inliers, r.rms, r.why};
   } catch (const mpi::Reported&) {
     s.givenUp = true;
-    throw InputError(failure.message().empty() ? n + ": " + s.stream->failure()
-                                               : failure.message());
+    throw InputError(!failure.message().empty() ? failure.message()
+                     : s.stream                 ? n + ": " + s.stream->failure()
+                                                : n + ": tracking failed");
   }
 }
 

@@ -250,3 +250,13 @@ def test_a_checkpoint_resumes_and_the_command_meshes_it(tmp_path):
     ply_vertices, ply_faces = read_ply(tmp_path / "m.ply")
     assert np.array_equal(ply_faces, faces)
     assert np.array_equal(ply_vertices, vertices.astype(np.float32))
+
+
+def test_a_coloured_stream_needs_colour_in_every_frame():
+    K = np.array([[100.0, 0, 39.5], [0, 100, 29.5], [0, 0, 1]])
+    fusion = rangefuse.Fusion(voxel=0.01)
+    depth = np.full((60, 80), 2000, np.uint16)
+    first = fusion.track(depth, K, colour=np.full((60, 80, 3), 200, np.uint8))
+    assert first["fused"] and np.array_equal(first["pose"], np.eye(4))
+    with pytest.raises(ValueError, match="frame_1: has no colour image, but the stream's first"):
+        fusion.track(depth, K)
