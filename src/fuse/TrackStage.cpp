@@ -327,8 +327,8 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
   FrameReader reader(scans, comm);
   internal::FollowedFolder folder(s.read, t.followTimeout, comm);
   std::unique_ptr<internal::PixelMotion> pixels;
-  if (!collectively(comm,
-                    [&] { pixels = std::make_unique<internal::PixelMotion>(s.read, f.voxel, comm); }))
+  if (!collectively(
+          comm, [&] { pixels = std::make_unique<internal::PixelMotion>(s.read, f.voxel, comm); }))
     return false;
   size_t lostCount = 0, fused = 0;
   bool ok = false;

@@ -27,8 +27,10 @@ namespace {
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Bytes = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>;
 
+/// "shape (4, 4)" of an array, or "of that type" for what could not become one.
 std::string shapeOf(const py::array& a) {
-  std::string s = "(";
+  if (!a) return "of that type";
+  std::string s = "shape (";
   for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
@@ -37,8 +39,7 @@ std::string shapeOf(const py::array& a) {
 Pose poseOf(const py::handle& given, const std::string& what) {
   const Doubles m = Doubles::ensure(given);
   if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4)
-    throw InputError(what + ": a pose must be a 4 x 4 matrix, not shape " +
-                     (m ? shapeOf(m) : std::string("of that type")));
+    throw InputError(what + ": a pose must be a 4 x 4 matrix, not " + shapeOf(m));
   const auto v = m.unchecked<2>();
   Pose p;
   for (int r = 0; r < 3; ++r) {
@@ -54,8 +55,7 @@ Pose poseOf(const py::handle& given, const std::string& what) {
 Pinhole pinholeOf(const py::handle& given, const std::string& what) {
   const Doubles k = Doubles::ensure(given);
   if (!k || k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3)
-    throw InputError(what + ": intrinsics must be a 3 x 3 camera matrix, not shape " +
-                     (k ? shapeOf(k) : std::string("of that type")));
+    throw InputError(what + ": intrinsics must be a 3 x 3 camera matrix, not " + shapeOf(k));
   const auto v = k.unchecked<2>();
   const Pinhole p{v(0, 0), v(1, 1), v(0, 2), v(1, 2)};
   if (!(p.fx > 0) || !(p.fy > 0) || !std::isfinite(p.cx) || !std::isfinite(p.cy))
@@ -67,8 +67,7 @@ Pinhole pinholeOf(const py::handle& given, const std::string& what) {
 Image imageOf(const py::handle& given, const std::string& what) {
   const Bytes a = Bytes::ensure(given);
   if (!a || a.ndim() != 3 || a.shape(2) != 3)
-    throw InputError(what + ": a colour image must be (height, width, 3) bytes, not shape " +
-                     (a ? shapeOf(a) : std::string("of that type")));
+    throw InputError(what + ": a colour image must be (height, width, 3) bytes, not " + shapeOf(a));
   Image image;
   image.width = static_cast<int>(a.shape(1)), image.height = static_cast<int>(a.shape(0));
   image.rgb.assign(a.data(), a.data() + a.size());
@@ -80,8 +79,7 @@ Image imageOf(const py::handle& given, const std::string& what) {
 RangeGrid gridOf(const py::handle& points, const py::handle& colours, const std::string& what) {
   const Doubles a = Doubles::ensure(points);
   if (!a || a.ndim() != 3 || a.shape(2) != 3)
-    throw InputError(what + ": points must be (rows, cols, 3), not shape " +
-                     (a ? shapeOf(a) : std::string("of that type")));
+    throw InputError(what + ": points must be (rows, cols, 3), not " + shapeOf(a));
   RangeGrid g;
   g.rows = static_cast<int>(a.shape(0)), g.cols = static_cast<int>(a.shape(1));
   g.cell.assign(a.size() / 3, -1);
@@ -106,8 +104,7 @@ RangeGrid gridOf(const py::handle& points, const py::handle& colours, const std:
 io::DepthImage depthOf(const py::handle& given, double scale, const std::string& what) {
   const py::array any = py::array::ensure(given);
   if (!any || any.ndim() != 2)
-    throw InputError(what + ": depth must be (height, width), not shape " +
-                     (any ? shapeOf(any) : std::string("of that type")));
+    throw InputError(what + ": depth must be (height, width), not " + shapeOf(any));
   io::DepthImage d;
   d.height = static_cast<int>(any.shape(0)), d.width = static_cast<int>(any.shape(1));
   if (any.dtype().is(py::dtype::of<uint16_t>())) {
