@@ -17,6 +17,7 @@
 #include "rangefuse/core/TriangleMesh.h"
 #include "rangefuse/fuse/FieldSettings.h"
 #include "rangefuse/io/DepthCamera.h"
+#include "rangefuse/io/ScanSourceOptions.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
@@ -66,6 +67,13 @@ class Fusion {
   void addDepth(io::DepthImage depth, const io::DepthCamera& camera, const Pose& cameraToWorld,
                 const Image* colour = nullptr, const std::string& name = "");
 
+  /// Collective: adds every scan `path` lists, as `rangefuse fuse --scans` reads it (a .conf of
+  /// range grids, PTX or E57 stations or depth images; a PTX file; a TUM or Redwood depth
+  /// folder with its trajectory), read as `source` says. Only the list is read now; each scan
+  /// is read when the field is built, by the rank whose share it is, so ranks do not read
+  /// each other's files. A depth folder without a trajectory is refused: track its frames.
+  void addScans(const std::string& path, const io::ScanSourceOptions& source = {});
+
   /// Adds a depth image whose pose is not known: tracked against the field of the frames
   /// tracked before it (the first fixes the world frame: its camera at the origin, OpenCV
   /// axes) and fused into it when the fit holds, as `rangefuse fuse` tracks a depth folder
@@ -78,7 +86,7 @@ class Fusion {
                      const Image* colour = nullptr, double time = NAN,
                      const std::string& name = "");
 
-  /// Frames added or tracked so far.
+  /// Frames (and scans) added or tracked so far.
   size_t frames() const;
 
   /// Collective: fuses every frame added and extracts the mesh; this rank's part of it, as

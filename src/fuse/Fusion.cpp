@@ -10,6 +10,7 @@
 #include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Digest.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -72,9 +73,8 @@ void checkGrid(const RangeGrid& g, const std::string& name) {
 }
 
 /// The content hash of a frame held in memory, as checkpoints record a scan file's.
-std::string frameHash(const io::ConfScan& c) {
+std::string frameHash(const io::MemoryScan& m) {
   uint64_t h = io::kFnvOffset;
-  const io::MemoryScan& m = *c.memory;
   h = io::fnv1a64(m.grid.points.data(), m.grid.points.size() * sizeof(Eigen::Vector3d), h);
   h = io::fnv1a64(m.grid.cell.data(), m.grid.cell.size() * sizeof(int32_t), h);
   h = io::fnv1a64(m.depth.counts.data(), m.depth.counts.size() * sizeof(uint16_t), h);
@@ -106,6 +106,10 @@ struct Fusion::State {
   ColourKind trackedColour = ColourKind::none;      ///< what the tracked frames carry
   bool givenUp = false;                             ///< the stream was given up
   std::unique_ptr<BrickStore> resumed;              ///< a checkpoint's finished field
+  /// Per frame: its content hash, taken when added (a tracked frame's images are let go of
+  /// once tracked); empty for a scan file, hashed when a checkpoint is written.
+  std::vector<std::string> hashes;
+  size_t lastFused = 0;  ///< the tracked frame whose images the next frame's motion needs
 
   ReadSettings read() const {
     ReadSettings r;
@@ -145,8 +149,32 @@ struct Fusion::State {
     scan.name = scan.path = name;
     scan.pose = pose;
     scan.depth = camera;
+    hashes.push_back(frameHash(frame));
     scan.memory = std::make_shared<const io::MemoryScan>(std::move(frame));
     list->scans.push_back(std::move(scan));
+  }
+
+  /// A prism stream's field is its mesh, so of its images only the last fused frame's are read
+  /// again (for the next frame's pixel motion); other methods fuse every frame again at the end.
+  void letGoOfTracked(size_t i, bool fused) {
+    if (field.method != FieldMethod::Prism || i == 0) return;
+    const size_t drop = fused ? lastFused : i;
+    if (fused) lastFused = i;
+    stream->forget(drop);
+    list->scans[drop].memory.reset();
+  }
+
+  /// Collective: each frame's content hash, the scan files' read now (each by one rank).
+  std::vector<std::string> contentHashes() const {
+    std::vector<std::string> out = hashes;
+    std::vector<std::string> paths;
+    std::vector<size_t> files;
+    for (size_t i = 0; i < out.size(); ++i)
+      if (out[i].empty()) files.push_back(i), paths.push_back(list->scans[i].path);
+    if (files.empty()) return out;
+    const std::vector<std::string> read = hashScans(paths, comm);
+    for (size_t k = 0; k < files.size(); ++k) out[files[k]] = read[k];
+    return out;
   }
 };
 
@@ -184,6 +212,26 @@ void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) 
   io::MemoryScan frame;
   frame.grid = std::move(grid);
   state_->add(std::move(frame), std::nullopt, pose, n);
+}
+
+void Fusion::addScans(const std::string& path, const io::ScanSourceOptions& source) {
+  State& s = *state_;
+  refuseResumed(path);
+  if (s.stream) throw InputError(path + ": this fusion tracks its frames; add none with a pose");
+  mpi::CapturedFailure failure;
+  io::ConfFile conf;
+  if (!mpi::collectively(s.comm, [&] {
+        conf = io::readScanList(path, s.read().limits, source);
+        if (!conf.posed)
+          throw InputError(path +
+                           ": a depth stream without a trajectory has no poses to place "
+                           "its frames: track them (Fusion::track)");
+      }))
+    throw InputError(failure.message());
+  for (io::ConfScan& c : conf.scans) {
+    s.list->scans.push_back(std::move(c));
+    s.hashes.emplace_back();
+  }
 }
 
 namespace {
@@ -261,6 +309,7 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
     const FrameReport r = s.stream->track();
     const size_t i = s.list->scans.size() - 1;
     s.list->scans[i].pose = s.stream->poses()[i];
+    s.letGoOfTracked(i, r.fused);
     return TrackedFrame{io::cameraPose(s.stream->poses()[i]), r.fused, r.inliers, r.rms, r.why};
   } catch (const mpi::Reported&) {
     s.givenUp = true;
@@ -288,9 +337,10 @@ void Fusion::saveCheckpoint(const std::string& path) {
   }
   io::CheckpointMeta meta;
   meta.parameters = recordedSettings(s.field, s.surface);
+  if (!mpi::collectively(s.comm, [&] { meta.scanHashes = s.contentHashes(); }))
+    throw InputError(failure.message());
   for (const io::ConfScan& c : s.list->scans) {
     meta.scanNames.push_back(c.name);
-    meta.scanHashes.push_back(frameHash(c));
     meta.poses.push_back(c.pose);
   }
   meta.progress = {{"stage", "field"}};

@@ -35,6 +35,9 @@ class TrackedFrames {
   const std::vector<char>& lost() const { return state_.lost; }
   /// The tracking field as it stands (valid until the next frame).
   const BrickStore& store() const { return tracked_->store(); }
+  /// Lets go of frame i's images (the caller drops its own hold on them too): a frame neither
+  /// fused last nor being tracked is not read again.
+  void forget(size_t i) { scans_.held->dropMemory(i); }
   /// Collective: this rank's part of the tracking field's mesh.
   MeshPart meshPart(int threads);
 

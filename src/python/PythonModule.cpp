@@ -367,6 +367,20 @@ PYBIND11_MODULE(rangefuse, m) {
            py::arg("depth_trunc") = 0.0, py::arg("name") = "",
            "Adds a depth image (height, width): uint16 counts or depths in metres, depth_scale "
            "counts a unit; intrinsics a 3 x 3 camera matrix; pose camera to world (OpenCV axes)")
+      .def(
+          "add_scans",
+          [](Fusion& f, const std::string& path, const std::string& format,
+             const std::string& intrinsics, double maxDepth, double depthScale) {
+            const io::ScanSourceOptions source{format, intrinsics, maxDepth, depthScale};
+            py::gil_scoped_release free;
+            f.addScans(path, source);
+          },
+          py::arg("path"), py::arg("format") = "auto", py::arg("intrinsics") = "",
+          py::arg("max_depth") = 0.0, py::arg("depth_scale") = 0.0,
+          "Adds every scan a list names, as rangefuse fuse --scans reads it (a .conf, a PTX "
+          "file, a posed TUM or Redwood depth folder); each file is read when the field is "
+          "built, by the rank whose share it is (under mpirun, ranks do not read each other's "
+          "files)")
       .def("track", &trackDepth, py::arg("depth"), py::arg("intrinsics"),
            py::arg("colour") = py::none(), py::arg("depth_scale") = 1000.0,
            py::arg("depth_trunc") = 0.0, py::arg("time") = py::none(), py::arg("name") = "",

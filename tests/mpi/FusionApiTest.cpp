@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <set>
 
 #include "SharedTemp.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"
@@ -85,6 +88,17 @@ std::pair<std::vector<Pose>, TriangleMesh> tracked(const HandheldFrames& frames,
     EXPECT_TRUE(r.fused) << poses.size() << ": " << r.why;
     poses.push_back(r.cameraToWorld);
   }
+  // The frames' images are let go of once tracked; their content hashes were kept.
+  // One file per fusion: on MPI_COMM_SELF every rank writes its own.
+  const int writer = comm == MPI_COMM_SELF ? mpi::rank() : 0;
+  const std::string checkpoint =
+      test::sharedTempPath("api-tracked") + "-" + std::to_string(writer) + ".h5";
+  fusion.saveCheckpoint(checkpoint);
+  const io::CheckpointMeta meta = io::readCheckpointMeta(checkpoint, comm);
+  EXPECT_EQ(std::set<std::string>(meta.scanHashes.begin(), meta.scanHashes.end()).size(),
+            frames.depth.size());
+  MPI_Barrier(comm);
+  if (mpi::rank(comm) == 0) std::filesystem::remove(checkpoint);
   return {poses, fusion.mesh()};
 }
 
@@ -223,4 +237,42 @@ TEST(FusionApi, CheckpointsResumeToTheSameMeshEitherWay) {
   EXPECT_EQ(again.vertices, fused.vertices);
   EXPECT_EQ(command.faces, fused.faces);
   EXPECT_EQ(command.vertices, fused.vertices);
+}
+
+TEST(FusionApi, ScansAddedByTheirListAreTheGridsAddedAndHashedAsTheCommandHashesThem) {
+  const std::string conf = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
+  FieldSettings field;
+  field.voxel = kApiVoxel;
+  Fusion fusion(field, MPI_COMM_WORLD);
+  fusion.addScans(conf);
+  EXPECT_EQ(fusion.frames(), 10u);
+  const std::string checkpoint = sharedTempPath("api-scans.h5");
+  fusion.saveCheckpoint(checkpoint);
+  const io::CheckpointMeta meta = io::readCheckpointMeta(checkpoint, MPI_COMM_WORLD);
+  const TriangleMesh listed = fusion.mesh(), added = bunnyThroughTheApi(MPI_COMM_WORLD);
+  const io::ConfFile scans = io::readConf(conf);
+  ASSERT_EQ(meta.scanHashes.size(), scans.scans.size());
+  for (size_t i = 0; i < scans.scans.size(); ++i) {
+    EXPECT_EQ(meta.scanNames[i], scans.scans[i].name);
+    EXPECT_EQ(meta.scanHashes[i], io::fileHash(scans.scans[i].path)) << i;
+  }
+  // A missing file is read by one rank when the field is built; every rank gets its message.
+  const std::string broken = sharedTempPath("api-broken.conf");
+  if (mpi::rank() == 0)
+    std::ofstream(broken) << "bmesh " << scans.scans[0].path << " 0 0 0 0 0 0 1\n"
+                          << "bmesh nowhere.ply 0 0 0 0 0 0 1\n";
+  MPI_Barrier(MPI_COMM_WORLD);
+  Fusion missing(field, MPI_COMM_WORLD);
+  missing.addScans(broken);
+  const std::string message = messageOf([&] { missing.mesh(); });
+  EXPECT_NE(message.find("nowhere.ply"), std::string::npos) << message;
+  EXPECT_NE(messageOf([&] { missing.addScans(sharedTempPath("absent.conf")); }).find("absent.conf"),
+            std::string::npos);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi::rank() != 0) return;
+  std::filesystem::remove(checkpoint);
+  std::filesystem::remove(broken);
+  ASSERT_GT(listed.faces.size(), 10000u);
+  EXPECT_EQ(listed.faces, added.faces);
+  EXPECT_EQ(listed.vertices, added.vertices);
 }

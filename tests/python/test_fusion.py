@@ -48,6 +48,14 @@ def fuse_bunny(comm=None):
     return fusion.mesh()
 
 
+def fuse_bunny_by_its_list(comm=None):
+    """The bunny's scans added by their list: each file read by the rank whose share it is."""
+    fusion = rangefuse.Fusion(voxel=VOXEL, comm=comm)
+    fusion.add_scans(BUNNY)
+    assert fusion.frames == 10
+    return fusion.mesh()
+
+
 def test_bunny_gives_the_commands_mesh(tmp_path):
     out = tmp_path / "bunny.ply"
     subprocess.run([BIN, "fuse", "--scans", BUNNY, "--voxel", str(VOXEL), "--out", str(out),
@@ -58,6 +66,9 @@ def test_bunny_gives_the_commands_mesh(tmp_path):
     assert vertices.dtype == np.float64 and vertices.shape == (len(ply_vertices), 3)
     assert np.array_equal(faces, ply_faces)
     assert np.array_equal(vertices.astype(np.float32), ply_vertices)
+    listed_vertices, listed_faces, _ = fuse_bunny_by_its_list()
+    assert np.array_equal(listed_faces, faces)
+    assert np.array_equal(listed_vertices, vertices)
 
 
 def sphere_depth(K, pose, size, radius):
@@ -130,10 +141,12 @@ import numpy as np
 sys.path.insert(0, {here!r})
 import test_fusion
 vertices, faces, colours = test_fusion.fuse_bunny(MPI.COMM_WORLD)
+listed = test_fusion.fuse_bunny_by_its_list(MPI.COMM_WORLD)
 if MPI.COMM_WORLD.rank == 0:
-    np.savez({out!r}, vertices=vertices, faces=faces)
+    np.savez({out!r}, vertices=vertices, faces=faces, listed_vertices=listed[0],
+             listed_faces=listed[1])
 else:
-    assert len(vertices) == 0 and len(faces) == 0
+    assert len(vertices) == 0 and len(faces) == 0 and len(listed[0]) == 0
 """
 
 
@@ -147,6 +160,8 @@ def test_two_ranks_under_mpirun_give_the_same_mesh(tmp_path):
     got = np.load(out)
     assert np.array_equal(got["faces"], faces)
     assert np.array_equal(got["vertices"], vertices)
+    assert np.array_equal(got["listed_faces"], faces)
+    assert np.array_equal(got["listed_vertices"], vertices)
 
 
 def test_a_depth_folder_gives_the_commands_mesh(tmp_path):
@@ -220,6 +235,9 @@ def test_tracks_a_depth_stream_as_the_command_does(tmp_path):
     ply_vertices, ply_faces = read_ply(tmp_path / "c.ply")
     assert np.array_equal(faces, ply_faces)
     assert np.array_equal(vertices.astype(np.float32), ply_vertices)
+    # A list without poses is not added: its frames are tracked.
+    with pytest.raises(ValueError, match="without a trajectory.*track them"):
+        rangefuse.Fusion(voxel=0.01).add_scans(str(stream))
 
 
 def test_a_stream_is_tracked_or_posed_not_both():

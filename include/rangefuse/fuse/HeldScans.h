@@ -61,6 +61,10 @@ class HeldScans : public ScanSource {
   /// Forgets scan i (a tracked frame once fused), returning its bytes to the budget.
   void release(size_t i);
 
+  /// Lets go of scan i's images handed over in memory (ConfScan::memory), for good: a tracked
+  /// frame no longer needed. Reading it again is then an error.
+  void dropMemory(size_t i) { scans_[i].memory.reset(); }
+
   size_t keptCount() const;
 
   /// Scans that joined the list since (a stream that is still being recorded), with their

@@ -8,16 +8,9 @@
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/io/ScanSourceOptions.h"
 
 namespace rangefuse::io {
-
-/// How to read a scan list beyond its own contents (`fuse --scan-format`, `--intrinsics`, ...).
-struct ScanSourceOptions {
-  std::string format = "auto";  ///< auto (from the path), conf, ptx, tum or redwood
-  std::string intrinsics;       ///< depth cameras: "fx,fy,cx,cy" or a json file ("": the folder's)
-  double maxDepth = 0;          ///< depth cameras: farther measurements are dropped (0: none)
-  double depthScale = 0;        ///< depth images: counts per metre (0: the layout's own)
-};
 
 /// The scans `path` lists: a .ptx file gives all its scans, named FILE.ptx#1, #2, ..., posed by
 /// their transforms; a folder is a depth-image sequence, one scan per frame, named by its image;
