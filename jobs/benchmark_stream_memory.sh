@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Memory of a depth stream tracked through the Python module, frame after frame: the process's
 # peak resident memory after 25, 50, 100 and FRAMES frames (640x480, the bunny scaled to 1.5 m
-# along the hand-held path, 1 cm), tracked with the prism method (the tracking field is the
+# along an orbit, 1 cm), tracked with the prism method (the tracking field is the
 # mesh: only the last fused frame's images are kept) and with robust (every frame kept, to be
 # fused again at the end). Usage: bash jobs/benchmark_stream_memory.sh [FRAMES]  (default 200)
 set -euo pipefail
@@ -13,7 +13,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export PYTHONPATH=$PWD/build/python
 build/rangefuse scan --mesh tests/data/bunny/bun_zipper.ply --scale 10 --views "$frames" \
-  --width 640 --height 480 --voxel 0.01 --noise 0.5 --depth-noise --path handheld \
+  --width 640 --height 480 --voxel 0.01 --noise 0.5 --depth-noise --path orbit \
   --format tum --out "$tmp/seq" >/dev/null
 rm "$tmp/seq/groundtruth.txt"  # a stream without a trajectory
 
