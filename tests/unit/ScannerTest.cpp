@@ -34,7 +34,8 @@ TEST(Bvh, FirstHitMatchesBruteForceOnRandomRays) {
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(-1, 1);
   int hits = 0;
-  for (int i = 0; i < 2000; ++i) {
+  // 800 rays: the brute force costs a minute per 2000 under the sanitizers.
+  for (int i = 0; i < 800; ++i) {
     Eigen::Vector3d o(80 * u(rng), 80 * u(rng), 80 * u(rng));
     Eigen::Vector3d target(40 * u(rng), 40 * u(rng), 30 * u(rng));
     Eigen::Vector3d d = (target - o).normalized();
@@ -46,7 +47,7 @@ TEST(Bvh, FirstHitMatchesBruteForceOnRandomRays) {
     ++hits;
     EXPECT_EQ(a.t, b.t);
   }
-  EXPECT_GT(hits, 500);
+  EXPECT_GT(hits, 200);
 }
 
 TEST(SyntheticScanner, NoiselessPointsLieOnTheMesh) {
