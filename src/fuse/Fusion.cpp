@@ -106,8 +106,8 @@ struct Fusion::State {
   ColourKind trackedColour = ColourKind::none;      ///< what the tracked frames carry
   bool givenUp = false;                             ///< the stream was given up
   std::unique_ptr<BrickStore> resumed;              ///< a checkpoint's finished field
-  /// Per frame: its content hash, taken when added (a tracked frame's images are let go of
-  /// once tracked); empty for a scan file, hashed when a checkpoint is written.
+  /// Per frame: the content hash of a tracked frame whose images were let go of; empty for
+  /// the others, hashed when a checkpoint is written (most fusions never write one).
   std::vector<std::string> hashes;
   size_t lastFused = 0;  ///< the tracked frame whose images the next frame's motion needs
 
@@ -149,7 +149,7 @@ struct Fusion::State {
     scan.name = scan.path = name;
     scan.pose = pose;
     scan.depth = camera;
-    hashes.push_back(frameHash(frame));
+    hashes.emplace_back();
     scan.memory = std::make_shared<const io::MemoryScan>(std::move(frame));
     list->scans.push_back(std::move(scan));
   }
@@ -160,6 +160,7 @@ struct Fusion::State {
     if (field.method != FieldMethod::Prism || i == 0) return;
     const size_t drop = fused ? lastFused : i;
     if (fused) lastFused = i;
+    hashes[drop] = frameHash(*list->scans[drop].memory);
     stream->forget(drop);
     list->scans[drop].memory.reset();
   }
@@ -169,8 +170,14 @@ struct Fusion::State {
     std::vector<std::string> out = hashes;
     std::vector<std::string> paths;
     std::vector<size_t> files;
-    for (size_t i = 0; i < out.size(); ++i)
-      if (out[i].empty()) files.push_back(i), paths.push_back(list->scans[i].path);
+    for (size_t i = 0; i < out.size(); ++i) {
+      if (!out[i].empty()) continue;
+      const io::ConfScan& c = list->scans[i];
+      if (c.memory)
+        out[i] = frameHash(*c.memory);
+      else
+        files.push_back(i), paths.push_back(c.path);
+    }
     if (files.empty()) return out;
     const std::vector<std::string> read = hashScans(paths, comm);
     for (size_t k = 0; k < files.size(); ++k) out[files[k]] = read[k];
