@@ -9,8 +9,12 @@
 
 namespace rangefuse::io {
 
+std::string temporaryPath(const std::string& path) {
+  return path + ".tmp";
+}
+
 void writeAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryPath(path);
   try {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot open for writing");

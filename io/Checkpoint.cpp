@@ -11,6 +11,7 @@
 
 #include "Hdf5Writing.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/io/Digest.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/OutputCheck.h"
@@ -282,7 +283,7 @@ uint64_t checkpointBytes(const CheckpointMeta& meta, const BrickStore* store) {
 
 void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const BrickStore* store,
                      MPI_Comm comm) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryPath(path);
   const std::string cause =
       internal::agreeOnWrite(tmp, comm, [&] { writeFile(tmp, meta, store, comm); });
   if (!cause.empty()) {

@@ -10,6 +10,7 @@
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
+#include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/parallel/FaultInjection.h"
 
 namespace rangefuse::io {
@@ -124,7 +125,7 @@ DepthImage readDepthPng(const std::string& path, uint64_t maxPixels) {
 }
 
 void writeDepthPng(const std::string& path, const DepthImage& image) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryPath(path);
   faultPoint("write", path);
   std::string problem;
   {

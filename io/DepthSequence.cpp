@@ -217,6 +217,23 @@ std::optional<SequenceLayout> sequenceLayout(const std::string& dir) {
   return std::nullopt;
 }
 
+std::string layoutContradiction(const std::string& dir, SequenceLayout forced) {
+  const fs::path d(dir);
+  if (forced == SequenceLayout::Redwood) {
+    for (const char* tum : {"depth.txt", "groundtruth.txt"})
+      if (present(d / tum)) return std::string("it holds ") + tum + ", a TUM RGB-D folder's file";
+    return "";
+  }
+  if (present(d / "depth.txt")) return "";
+  const std::vector<fs::path> images = depthImages(dir);
+  if (images.empty()) return "";
+  const std::string stem = images.front().stem().string();
+  if (stem.find('.') != std::string::npos) return "";
+  return "its depth images are numbered (depth/" + images.front().filename().string() +
+         ") and it has no depth.txt, as a Redwood or Open3D-recorder folder; TUM's are named "
+         "by timestamp";
+}
+
 std::string notASequence(const std::string& dir) {
   const fs::path d(dir);
   // A folder of range grids with their scan list: the list is what --scans wants.
@@ -303,7 +320,7 @@ ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading
   std::vector<std::string> files;
   std::vector<double> times;
   for (const fs::path& image : images) {
-    times.push_back(static_cast<double>(files.size()) / 30);
+    times.push_back(static_cast<double>(files.size()) / kRedwoodFrameRate);
     files.push_back("depth/" + image.filename().string());
   }
   const fs::path log = trajectoryLog(dir);

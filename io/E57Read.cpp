@@ -35,6 +35,7 @@ struct FieldRoles {
       if (n == "columnIndex") column = i;
       if (n == "intensity") intensity = i;
     }
+    if (scan.intensity && intensity >= 0) colour[0] = colour[1] = colour[2] = -1;
   }
 
   bool rgb() const { return colour[0] >= 0 && colour[1] >= 0 && colour[2] >= 0; }

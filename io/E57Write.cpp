@@ -99,7 +99,8 @@ std::vector<PackedField> prototype(const RangeGrid& g, const E57Writing& how) {
   if (g.colourKind == ColourKind::rgb) {
     for (const char* n : {"colorRed", "colorGreen", "colorBlue"})
       out.emplace_back(integerField(n, 0, 255));
-  } else {
+  }
+  if (g.colourKind != ColourKind::rgb || how.intensityToo) {
     E57Field f;
     f.name = "intensity", f.kind = E57Field::Kind::single;
     out.emplace_back(f);
@@ -133,10 +134,10 @@ std::vector<PackedField> pack(const RangeGrid& g, const E57Writing& how, uint64_
         fields[i++].put(r);
         fields[i++].put(c);
       }
-      if (g.colourKind == ColourKind::rgb)
+      const bool rgb = g.colourKind == ColourKind::rgb;
+      if (rgb)
         for (int a = 0; a < 3; ++a) fields[i++].put(colourByte(colour[a]));
-      else
-        fields[i++].put(colour[0]);
+      if (!rgb || how.intensityToo) fields[i++].put(rgb ? colour.mean() : colour[0]);
     }
   return fields;
 }
@@ -255,7 +256,7 @@ std::string scanXml(size_t k, const RangeGrid& g, const Pose& pose,
   if (g.colourKind == ColourKind::rgb)
     x << "<colorLimits type=\"Structure\"><colorRedMinimum type=\"Integer\">0</colorRedMinimum>"
       << "<colorRedMaximum type=\"Integer\">255</colorRedMaximum></colorLimits>";
-  else
+  if (g.colourKind != ColourKind::rgb || how.intensityToo)
     x << "<intensityLimits type=\"Structure\"><intensityMinimum type=\"Float\">0"
       << "</intensityMinimum><intensityMaximum type=\"Float\">1</intensityMaximum>"
       << "</intensityLimits>";

@@ -88,7 +88,7 @@ Image readJpeg(const std::string& path, uint64_t maxPixels) {
 }
 
 void writeJpeg(const std::string& path, const Image& image, int quality) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryPath(path);
   std::FILE* file = std::fopen(tmp.c_str(), "wb");
   if (!file) throw InputError(path + ": cannot write JPEG (cannot create " + tmp + ")");
   jpeg_compress_struct info{};

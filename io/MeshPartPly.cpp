@@ -11,6 +11,7 @@
 
 #include "PlyMeshFormat.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -119,7 +120,7 @@ void writeBlocks(const std::string& tmp, const std::string& path,
 }  // namespace
 
 bool writeMeshPartPly(const std::string& path, const MeshPart& part, MPI_Comm comm) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryPath(path);
   const bool root = mpi::rank(comm) == 0;
   internal::PlyMeshFormat f;
   std::vector<std::pair<MPI_Offset, std::string>> blocks;

@@ -147,7 +147,7 @@ std::string xdmfDataPath(const std::string& xdmfPath) {
 }
 
 bool writeMeshPartXdmf(const std::string& path, const MeshPart& part, MPI_Comm comm) {
-  const std::string data = xdmfDataPath(path), tmp = data + ".tmp";
+  const std::string data = xdmfDataPath(path), tmp = temporaryPath(data);
   int normals = !part.mesh.normals.empty();
   MPI_Allreduce(MPI_IN_PLACE, &normals, 1, MPI_INT, MPI_MAX, comm);
   const std::string cause =

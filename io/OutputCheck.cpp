@@ -3,6 +3,7 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 
@@ -37,6 +38,19 @@ void checkWritable(const std::string& path, const std::string& what) {
   if (fs::is_directory(path, ec)) throw InputError(where + "it is a folder");
   if (fs::exists(path, ec) && ::access(path.c_str(), W_OK) != 0)
     throw InputError(where + "the file exists and is not writable");
+}
+
+void requireExtension(const std::string& path, const std::string& what,
+                      const std::vector<std::string>& extensions) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string list;
+  for (const std::string& e : extensions) {
+    if (ext == e) return;
+    list += (list.empty() ? "" : " or ") + e;
+  }
+  throw InputError(path + ": the " + what + " is written as " + list + "; name it so (" +
+                   (ext.empty() ? "no extension" : "'" + ext + "'") + " is not written)");
 }
 
 int64_t freeBytes(const std::string& path) {

@@ -12,7 +12,7 @@
 namespace rangefuse::io {
 
 void writePng(const std::string& path, const Image& image) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryPath(path);
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   png.width = image.width;

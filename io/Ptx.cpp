@@ -190,11 +190,11 @@ RangeGrid readPtxScan(const std::string& path, const PtxScan& scan) {
 
 namespace {
 
-/// A point line's colour: r g b (0-255) when the line has them, else its intensity as grey.
-/// Intensities in [0, 1] are taken as they are; others as the 12-bit signed range some
+/// A point line's colour: r g b (0-255) when the line has them and `rgb`, else its intensity
+/// as grey. Intensities in [0, 1] are taken as they are; others as the 12-bit signed range some
 /// exporters write ([-2048, 2047]), clamped.
-Colour ptxColour(const double* v, int n) {
-  if (n == 7)
+Colour ptxColour(const double* v, int n, bool rgb) {
+  if (n == 7 && rgb)
     return Colour(static_cast<float>(std::clamp(v[4] / 255, 0.0, 1.0)),
                   static_cast<float>(std::clamp(v[5] / 255, 0.0, 1.0)),
                   static_cast<float>(std::clamp(v[6] / 255, 0.0, 1.0)));
@@ -231,8 +231,8 @@ RangeGrid readPtxColumns(const std::string& path, const PtxScan& scan, int first
       if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;  // no return
       grid.cell[static_cast<size_t>(r) * count + c] = static_cast<int32_t>(grid.points.size());
       grid.points.emplace_back(v[0], v[1], v[2]);
-      grid.colours.push_back(ptxColour(v, n));
-      if (n == 7) grid.colourKind = ColourKind::rgb;
+      grid.colours.push_back(ptxColour(v, n, !scan.intensity));
+      if (n == 7 && !scan.intensity) grid.colourKind = ColourKind::rgb;
     }
   if (grid.colourKind == ColourKind::none && !grid.points.empty())
     grid.colourKind = ColourKind::intensity;

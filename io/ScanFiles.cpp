@@ -3,10 +3,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/DepthSequence.h"
 #include "rangefuse/io/Jpeg.h"
+#include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/surface/ColumnBands.h"
@@ -81,6 +83,11 @@ ConfFile readSequence(const std::string& dir, const std::string& format,
   if (format == "tum") layout = SequenceLayout::Tum;
   if (format == "redwood") layout = SequenceLayout::Redwood;
   if (!layout) throw InputError(dir + ": " + notASequence(dir));
+  if (format != "auto")
+    if (const std::string why = layoutContradiction(dir, *layout); !why.empty())
+      throw InputError(dir + ": --scan-format " + format + " does not fit the folder: " + why +
+                       "; leave --scan-format out to read it by its own files (--depth-scale "
+                       "sets the counts a metre)");
   const DepthReading reading{givenCamera(source), source.maxDepth, source.depthScale};
   return *layout == SequenceLayout::Tum ? readTumSequence(dir, reading)
                                         : readRedwoodSequence(dir, reading);
@@ -172,6 +179,39 @@ ConfFile readScanList(const std::string& path, const InputLimits& limits,
   return conf;
 }
 
+std::vector<std::string> scanListFiles(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return filesUnder(path);
+  std::vector<std::string> files = {path};
+  if (isPtx(path) || isE57(path) || !notAScanList(path).empty()) return files;
+  ConfFile conf;
+  try {
+    conf = readConf(path);
+  } catch (const InputError&) {
+    return files;
+  }
+  std::set<std::string> sequences;
+  for (const ConfScan& s : conf.scans) {
+    std::string file = s.path;
+    size_t k = 0;
+    scanReference(s.path, file, k);
+    files.push_back(file);
+    if (extension(file) == ".png")
+      sequences.insert(fs::path(file).parent_path().parent_path().string());
+  }
+  for (const std::string& dir : sequences)
+    for (std::string& f : filesUnder(dir)) files.push_back(std::move(f));
+  return files;
+}
+
+void preferIntensity(ConfFile& conf) {
+  for (ConfScan& s : conf.scans) {
+    if (s.ptx) s.ptx->intensity = true;
+    if (s.e57) s.e57->intensity = true;
+  }
+}
+
 ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
   ConfFile out;
   out.warnings = conf.warnings;
@@ -207,8 +247,9 @@ RangeGrid readScanGrid(const ConfScan& scan, const InputLimits& limits) {
 }
 
 SensorKind sensorKindOf(const std::string& path) {
-  if (isPtx(path) || isE57(path)) return SensorKind::station;
-  return extension(path) == ".png" ? SensorKind::camera : SensorKind::grid;
+  const std::string file = path.substr(0, path.rfind('#'));  // a scan's name: FILE.ptx#K
+  if (isPtx(file) || isE57(file)) return SensorKind::station;
+  return extension(file) == ".png" ? SensorKind::camera : SensorKind::grid;
 }
 
 }  // namespace rangefuse::io

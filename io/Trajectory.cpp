@@ -72,9 +72,13 @@ std::vector<TimedPose> readLog(const std::string& path) {
       for (int c = 0; c < 4; ++c) m(r, c) = row[c];
     }
     const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R.determinant() < 0)
+    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-3)
       throw InputError(at(path, lines[k + 1].first) + ": the matrix is not a rigid motion");
-    poses.push_back({static_cast<double>(poses.size()), Pose{R, m.topRightCorner<3, 1>()}});
+    if (R.determinant() < 0)
+      throw InputError(at(path, lines[k + 1].first) +
+                       ": the matrix is a reflection (determinant -1), not a rigid motion");
+    poses.push_back(
+        {static_cast<double>(poses.size()) / kRedwoodFrameRate, Pose{R, m.topRightCorner<3, 1>()}});
   }
   return poses;
 }

@@ -5,7 +5,12 @@
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/MeshPartPly.h"
+#include "rangefuse/io/MeshPartXdmf.h"
+#include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/io/OutputOverlap.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -39,6 +44,19 @@ int parseWithCheckpoint(int argc, char** argv, const po::options_description& d,
   return 0;
 }
 
+/// The mesh (and an XDMF mesh's data) checked against the checkpoint it is made from.
+void refuseOverwrite(const std::string& checkpoint, const std::string& out) {
+  io::FileRoles files;
+  files.inputs = {{"checkpoint", checkpoint}};
+  files.outputs = io::outputWithTemporary("mesh", out);
+  if (io::isXdmfPath(out))
+    for (io::RolePath& f : io::outputWithTemporary("mesh data", io::xdmfDataPath(out)))
+      files.outputs.push_back(std::move(f));
+  io::refuseOverlaps(files);
+  io::requireExtension(out, "mesh", {".ply", ".xdmf"});
+  for (const io::RolePath& f : files.outputs) io::checkWritable(f.path, f.role);
+}
+
 int meshFromCheckpoint(const std::string& path, const std::string& out, bool normals,
                        MPI_Comm comm) {
   io::CheckpointMeta meta;
@@ -46,6 +64,7 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
   std::unique_ptr<BrickStore> store;
   if (!mpi::collectively(comm, [&] {
         if (out.empty()) throw InputError("mesh: --out MESH.ply is required");
+        refuseOverwrite(path, out);
         meta = io::readCheckpointMeta(path, comm);
         store = io::readCheckpointField(path, meta, layout, comm);
       }))
@@ -53,7 +72,9 @@ int meshFromCheckpoint(const std::string& path, const std::string& out, bool nor
   const float minWeight = meta.parameters.value("min_weight", 0.0f);
   MeshPart part = extractDistributedMesh(*store, minWeight, comm, nullptr, threadsPerRank(comm));
   if (normals) addPartNormals(part, comm);
-  if (!io::writeMeshPartPly(out, part, comm)) return 1;
+  if (!(io::isXdmfPath(out) ? io::writeMeshPartXdmf(out, part, comm)
+                            : io::writeMeshPartPly(out, part, comm)))
+    return 1;
   if (mpi::rank(comm) == 0)
     std::printf("mesh: %llu triangles from %zu bricks -> %s\n",
                 static_cast<unsigned long long>(part.totalFaces), layout.totalBricks(),
@@ -78,18 +99,29 @@ std::string progressText(const nlohmann::json& progress) {
   return progress.dump();
 }
 
+/// A scan's pose as its own kind of file writes it: a depth frame's camera-to-world pose as a
+/// TUM trajectory line (t, then q as qx qy qz qw), any other scan's as its .conf line does
+/// (the conjugate rotation, the Stanford convention).
+std::string poseText(const std::string& name, const Pose& scanToWorld) {
+  const bool frame = io::sensorKindOf(name) == io::SensorKind::camera;
+  const Pose p = frame ? io::cameraPose(scanToWorld) : scanToWorld;
+  const Eigen::Quaterniond q(frame ? p.R : Eigen::Matrix3d(p.R.transpose()));
+  char text[160];
+  std::snprintf(text, sizeof text, "t %.6g %.6g %.6g  q %.6g %.6g %.6g %.6g (%s)", p.t.x(), p.t.y(),
+                p.t.z(), q.x(), q.y(), q.z(), q.w(),
+                frame ? "camera to world, as a TUM trajectory" : "as a .conf line");
+  return text;
+}
+
 void printInfo(const std::string& path, const io::CheckpointMeta& m) {
   std::printf("%s: rangefuse checkpoint, format version %d\n", path.c_str(), m.version);
   std::printf("progress:   %s\n", progressText(m.progress).c_str());
   std::printf("state:      %s\n", m.progress.dump().c_str());
   std::printf("parameters: %s\n", m.parameters.dump().c_str());
   std::printf("scans:      %zu\n", m.scanNames.size());
-  for (size_t i = 0; i < m.scanNames.size(); ++i) {
-    const Eigen::Quaterniond q(m.poses[i].R);
-    std::printf("  %-24s hash %s  t %.6g %.6g %.6g  q %.6g %.6g %.6g %.6g\n",
-                m.scanNames[i].c_str(), m.scanHashes[i].c_str(), m.poses[i].t.x(), m.poses[i].t.y(),
-                m.poses[i].t.z(), q.x(), q.y(), q.z(), q.w());
-  }
+  for (size_t i = 0; i < m.scanNames.size(); ++i)
+    std::printf("  %-24s hash %s  %s\n", m.scanNames[i].c_str(), m.scanHashes[i].c_str(),
+                poseText(m.scanNames[i], m.poses[i]).c_str());
   if (m.hasField)
     std::printf("field:      voxel %.6g, bricks of %d^3, origin %.6g %.6g %.6g\n", m.grid.voxel,
                 m.grid.brick, m.grid.origin.x(), m.grid.origin.y(), m.grid.origin.z());
@@ -106,7 +138,8 @@ int meshCommand(int argc, char** argv, MPI_Comm comm) {
   auto add = d.add_options();
   add("help,h", "show this help");
   add("checkpoint", po::value(&path), "HDF5 checkpoint (also the first positional argument)");
-  add("out", po::value(&out), "mesh .ply to write");
+  add("out", po::value(&out),
+      "mesh to write: .ply (binary), or .xdmf (HDF5 data in the same name .h5)");
   add("normals", po::value(&normals)->default_value(true, "true"),
       "write vertex normals (true or false)");
   const int parsed = parseWithCheckpoint(

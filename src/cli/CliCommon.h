@@ -16,6 +16,11 @@ namespace rangefuse::cli {
 bool parseOptions(int argc, char** argv, const boost::program_options::options_description& desc,
                   boost::program_options::variables_map& vm, const std::string& example);
 
+/// "did you mean --colour?" for an option `given` that `desc` does not have, naming the option
+/// of the same words in another order or within two edits of it; empty when none is.
+std::string suggestOption(const std::string& given,
+                          const boost::program_options::options_description& desc);
+
 /// Parses collectively: every rank returns 2 on a bad option (message printed once), 0
 /// after --help, -1 when the command should run.
 int parseCollectively(int argc, char** argv,

@@ -352,14 +352,29 @@ json consistencyReport(const EvalOptions& o) {
           {"overlapping_scan_pairs", overlap.size()}};
 }
 
+/// The estimate against the reference, matched by time; when exactly one of them is a .log
+/// (frame indices, no times) and times match too few poses, matched by index instead.
+TrajectoryError compareTrajectoryFiles(const std::string& estimate, const std::string& reference) {
+  const auto est = io::readTrajectory(estimate), ref = io::readTrajectory(reference);
+  if (io::isLogTrajectory(estimate) == io::isLogTrajectory(reference))
+    return compareTrajectories(est, ref);
+  try {
+    return compareTrajectories(est, ref);
+  } catch (const InputError&) {
+    return compareTrajectories(est, ref, 0.02, 1.0, PoseMatching::byIndex);
+  }
+}
+
 /// --trajectory against --reference: ATE and RPE as the TUM benchmark defines them.
 json trajectoryReport(const EvalOptions& o) {
   if (o.reference.empty())
     throw InputError("eval: --trajectory needs --reference (the true trajectory)");
-  const TrajectoryError e =
-      compareTrajectories(io::readTrajectory(o.trajectory), io::readTrajectory(o.reference));
+  const TrajectoryError e = compareTrajectoryFiles(o.trajectory, o.reference);
+  const bool byIndex = e.matching == PoseMatching::byIndex;
   json j = {{"trajectory", o.trajectory},
             {"reference", o.reference},
+            {"matched_by", byIndex ? "index" : "time"},
+            {"units", "m"},
             {"matched", e.matched},
             {"ate_rmse", e.ateRmse},
             {"ate_mean", e.ateMean},
@@ -368,10 +383,18 @@ json trajectoryReport(const EvalOptions& o) {
             {"rpe_translation_rmse_per_s", e.rpeTranslationRmse},
             {"rpe_rotation_rmse_deg_per_s", e.rpeRotationRmseDeg}};
   if (!o.json) {
-    std::printf("poses matched      %zu\n", e.matched);
-    std::printf("ATE RMSE           %.6g (mean %.6g, max %.6g)\n", e.ateRmse, e.ateMean, e.ateMax);
+    if (byIndex)
+      std::printf(
+          "matched by index: %s has frame numbers, not times, and by time (frame k at "
+          "k/%g s) too few poses matched\n",
+          io::isLogTrajectory(o.trajectory) ? o.trajectory.c_str() : o.reference.c_str(),
+          io::kRedwoodFrameRate);
+    std::printf("poses matched      %zu of %zu by %s\n", e.matched, e.estimated,
+                byIndex ? "index" : "time");
+    std::printf("ATE RMSE           %.6g m (mean %.6g m, max %.6g m)\n", e.ateRmse, e.ateMean,
+                e.ateMax);
     if (e.rpePairs > 0)
-      std::printf("RPE over 1 s       %.6g per s, %.4g deg per s (%zu pairs)\n",
+      std::printf("RPE over 1 s       %.6g m per s, %.4g deg per s (%zu pairs)\n",
                   e.rpeTranslationRmse, e.rpeRotationRmseDeg, e.rpePairs);
   }
   return j;

@@ -2,6 +2,7 @@
 
 #include "CliCommon.h"
 #include "Commands.h"
+#include "InterruptHint.h"
 #include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/fuse/FuseParameters.h"
 
@@ -108,6 +109,8 @@ int fuseCommand(int argc, char** argv, MPI_Comm comm) {
   if (parsed >= 0) return parsed;
   for (const auto& [name, value] : vm)
     if (!value.defaulted()) o.givenOptions.push_back(name);
+  if (vm.count("config")) o.config = vm["config"].as<std::string>();
+  setInterruptHint(fuseInterruptHint(o.checkpoint, !o.resume.empty() && o.resume == o.checkpoint));
   return runFuse(o, comm);
 }
 

@@ -4,6 +4,8 @@
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/scan/SyntheticScanner.h"
 
@@ -34,6 +36,12 @@ int run(const PerturbOptions& o) {
   if (o.rotDeg < 0 || o.transVox < 0)
     throw InputError("perturb: --rot-deg and --trans-vox must not be negative");
   if (o.out.empty()) throw InputError("perturb: --out FILE.conf is required");
+  io::FileRoles files;
+  files.outputs = io::outputWithTemporary("perturbed list", o.out);
+  for (std::string& f : io::scanListFiles(o.scans))
+    files.inputs.push_back({"scan list's file", std::move(f)});
+  io::refuseOverlaps(files);
+  io::requireExtension(o.out, "perturbed list", {".conf"});
   io::ConfFile conf = io::readScanList(o.scans, o.limits, o.source);
   const Eigen::Vector3d centre = objectCentre(conf, o.limits);
   std::mt19937_64 rng(o.seed);

@@ -5,7 +5,10 @@
 #include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/Png.h"
+#include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/render/Render.h"
 
@@ -16,7 +19,7 @@ namespace {
 
 struct RenderOptions {
   FuseOptions field;
-  std::string out, view, slice, checkpoint;
+  std::string out, view, slice, checkpoint, up = "auto";
   int width = 512, height = 512;
 };
 
@@ -32,6 +35,14 @@ Picture parsePicture(const RenderOptions& o) {
   if (!o.checkpoint.empty() && !o.field.scans.empty())
     throw InputError("render: give --checkpoint or --scans, not both");
   if (o.out.empty()) throw InputError("render: --out FILE.png is required");
+  io::FileRoles files;
+  files.outputs = io::outputWithTemporary("picture", o.out);
+  files.inputs = {{"checkpoint", o.checkpoint}, {"options file", o.field.config}};
+  if (!o.field.scans.empty())
+    for (std::string& f : io::scanListFiles(o.field.scans))
+      files.inputs.push_back({"scan list's file", std::move(f)});
+  io::refuseOverlaps(files);
+  io::requireExtension(o.out, "picture", {".png"});
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw InputError("render: --width and --height must be between 1 and 16384");
   Picture p;
@@ -40,6 +51,7 @@ Picture parsePicture(const RenderOptions& o) {
   p.view.width = o.width;
   p.view.height = o.height;
   if (!o.view.empty()) parseView(o.view, p.view);
+  p.view.up = upAxis(o.up, false);  // auto: settled by the scans once they are known
   return p;
 }
 
@@ -61,12 +73,19 @@ int run(const RenderOptions& o, MPI_Comm comm) {
               io::readCheckpointMeta(o.checkpoint, comm, o.field.limits);
           field.store = io::readCheckpointField(o.checkpoint, meta, field.layout, comm);
           minWeight = meta.parameters.value("min_weight", 0.0f);
+          pic.view.up =
+              upAxis(o.up, !meta.scanNames.empty() &&
+                               io::sensorKindOf(meta.scanNames[0]) == io::SensorKind::station);
         }))
       return 1;
   } else {
     Progress progress(comm);
     RankCounters counters;
-    if (!mpi::collectively(comm, [&] { validateFuseOptions(o.field); })) return 1;
+    if (!mpi::collectively(comm, [&] {
+          validateFuseOptions(o.field);
+          pic.view.up = upAxis(o.up, io::sensorKindOf(o.field.scans) == io::SensorKind::station);
+        }))
+      return 1;
     const RunSettings s = runSettings(o.field);
     if (!buildField(s.read, s.field, comm, progress, field, counters)) return 1;
   }
@@ -95,8 +114,11 @@ int renderCommand(int argc, char** argv, MPI_Comm comm) {
   po::options_description d("rangefuse render: a PNG of the fused field (surface or slice)");
   po::options_description picture("Picture");
   picture.add_options()("out", po::value(&o.out), "PNG to write")(
-      "view", po::value(&o.view), "AZIMUTH,ELEVATION in degrees (azimuth about +y, 0 = from +z)")(
-      "slice", po::value(&o.slice), "AXIS=VALUE: a slice of the distance field instead")(
+      "view", po::value(&o.view), "AZIMUTH,ELEVATION in degrees (azimuth about the --up axis)")(
+      "up", po::value(&o.up)->default_value(o.up),
+      "the world's up axis: y (0 azimuth = from +z), z (0 = from -y) or auto (z for scanner "
+      "stations, PTX and E57, else y)")("slice", po::value(&o.slice),
+                                        "AXIS=VALUE: a slice of the distance field instead")(
       "width", po::value(&o.width)->default_value(512), "picture width, pixels")(
       "height", po::value(&o.height)->default_value(512), "picture height, pixels")(
       "checkpoint", po::value(&o.checkpoint), "render the field of an HDF5 checkpoint instead");
@@ -106,7 +128,9 @@ int renderCommand(int argc, char** argv, MPI_Comm comm) {
       argc, argv, d, vm,
       "mpirun -np 2 rangefuse render --scans bun.conf --voxel 0.001 --view 30,20 --out bunny.png",
       "render", comm);
-  return parsed >= 0 ? parsed : run(o, comm);
+  if (parsed >= 0) return parsed;
+  if (vm.count("config")) o.field.config = vm["config"].as<std::string>();
+  return run(o, comm);
 }
 
 }  // namespace rangefuse::cli

@@ -11,6 +11,7 @@
 #include "rangefuse/io/E57.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/Ptx.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/scan/PaintedTruth.h"
@@ -210,6 +211,9 @@ int run(const ScanOptions& given) {
   if (o.mesh.empty() == o.shape.empty())
     throw InputError("scan: give exactly one of --mesh and --shape");
   if (o.out.empty()) throw InputError("scan: --out DIR is required");
+  if (!o.mesh.empty() && io::inside(o.mesh, o.out))
+    throw InputError(o.mesh + ": the mesh scanned lies inside --out " + o.out +
+                     ", where scan writes its files (truth.ply among them); give another --out");
   checkLimit("scan",
              "--width x --height =", static_cast<double>(o.settings.width) * o.settings.height,
              o.limits.maxGridCells, "max-grid-cells");

@@ -9,13 +9,15 @@
 #include <string>
 
 #include "Commands.h"
+#include "InterruptHint.h"
 
 namespace {
 
 const char* kUsage =
     "usage: rangefuse COMMAND [options]\n"
     "commands:\n"
-    "  fuse    fuse range scans (.conf, .ptx, a depth-image folder) into one mesh\n"
+    "  fuse    fuse range scans into one mesh: a Stanford .conf of range-grid PLY files, a\n"
+    "          Leica .ptx, an ASTM .e57, or a TUM RGB-D, Redwood or Open3D-recorder depth folder\n"
     "  eval    compare a mesh with a reference mesh, or poses with reference poses\n"
     "  mesh    the stitched mesh of a checkpoint's field\n"
     "  info    what a checkpoint holds\n"
@@ -101,6 +103,7 @@ int main(int argc, char** argv) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our own messages
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  rangefuse::cli::installInterruptHint(rank == 0);
   const int code = dispatch(argc, argv, rank);
   MPI_Finalize();
   return code;

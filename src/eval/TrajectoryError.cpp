@@ -61,11 +61,14 @@ Pose alignPoints(const std::vector<Eigen::Vector3d>& from, const std::vector<Eig
 
 TrajectoryError compareTrajectories(const std::vector<io::TimedPose>& estimate,
                                     const std::vector<io::TimedPose>& reference,
-                                    double maxDifference, double rpeDelta) {
+                                    double maxDifference, double rpeDelta, PoseMatching matching) {
   std::vector<double> et, rt;
   for (const auto& p : estimate) et.push_back(p.time);
   for (const auto& p : reference) rt.push_back(p.time);
-  const std::vector<long> match = io::nearestTimes(et, rt, maxDifference);
+  std::vector<long> match = io::nearestTimes(et, rt, maxDifference);
+  if (matching == PoseMatching::byIndex)
+    for (size_t k = 0; k < match.size(); ++k)
+      match[k] = k < reference.size() ? static_cast<long>(k) : -1;
   std::vector<io::TimedPose> est;
   std::vector<Pose> ref;
   std::vector<Eigen::Vector3d> from, to;
@@ -77,11 +80,17 @@ TrajectoryError compareTrajectories(const std::vector<io::TimedPose>& estimate,
     to.push_back(ref.back().t);
   }
   TrajectoryError e;
+  e.matching = matching;
+  e.estimated = estimate.size();
   e.matched = est.size();
-  if (e.matched < 3)
-    throw InputError("only " + std::to_string(e.matched) +
-                     " estimated poses have a reference pose within " +
-                     std::to_string(maxDifference) + " s: the trajectories do not match in time");
+  if (e.matched < 3 || 2 * e.matched < estimate.size())
+    throw InputError(
+        "only " + std::to_string(e.matched) + " of the " + std::to_string(estimate.size()) +
+        " estimated poses " +
+        (matching == PoseMatching::byIndex
+             ? "have a reference pose of the same index"
+             : "have a reference pose within " + std::to_string(maxDifference) + " s") +
+        ": the trajectories do not match (at least half must)");
   e.alignment = alignPoints(from, to);
   double sum2 = 0, sum = 0;
   for (size_t k = 0; k < from.size(); ++k) {

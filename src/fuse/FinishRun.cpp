@@ -28,7 +28,8 @@ bool writeOutputs(const OutputSettings& o, const MeshSettings& m, MPI_Comm comm,
                                              : io::writeMeshPartPly(o.out, mesh, comm);
   if (!written) return false;
   if (o.preview.empty()) return true;
-  const Image picture = pictureOfMesh(mesh, previewView(o.previewView, scans, mesh, comm), 0, comm);
+  const Image picture =
+      pictureOfMesh(mesh, previewView(o.previewView, o.up, scans, mesh, comm), 0, comm);
   return collectively(comm, [&] {
     if (mpi::rank(comm) == 0) io::writePng(o.preview, picture);
   });

@@ -140,7 +140,7 @@ int runFuse(const FuseOptions& given, MPI_Comm comm) {
   io::CheckpointMeta resumed;
   if (!settle(options, comm, resumed)) return 1;
   const RunSettings s = runSettings(options);
-  if (!collectively(comm, [&] { checkOutputs(s.outputs, mpi::rank(comm)); })) return 1;
+  if (!collectively(comm, [&] { checkOutputs(s, mpi::rank(comm)); })) return 1;
   if (!s.outputs.resume.empty()) return resumedRun(s, resumed, comm, progress);
   bool tracking = false;
   if (!internal::decideTracking(s.read, s.track, comm, tracking)) return 1;

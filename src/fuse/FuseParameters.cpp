@@ -285,6 +285,13 @@ std::vector<FuseParameter> makeTable() {
          }
          return "";
        }},
+      {"up", "", R::No, false, G::Output,
+       "the world's up axis of --preview-view: y, z (azimuth about +z, 0 = from -y), or auto (z "
+       "for scanner stations, PTX and E57, else y)",
+       at(&FuseOptions::up),
+       [](const FuseOptions& o) -> std::string {
+         return o.up == "auto" || o.up == "y" || o.up == "z" ? "" : "must be y, z or auto";
+       }},
       {"normals", "", R::No, false, G::Output, "write vertex normals", at(&FuseOptions::normals),
        nullptr},
       {"quiet", "", R::No, false, G::Output,
@@ -397,6 +404,9 @@ std::vector<FuseParameter> makeTable() {
        must<double>(
            &FuseOptions::checkpointEvery, [](double v) { return v >= 0 && finite(v); },
            "must be a finite number of seconds >= 0")},
+      {"overwrite", "", R::No, false, G::Checkpoint,
+       "replace an existing --checkpoint that is not the one resumed (else the run is refused)",
+       at(&FuseOptions::overwrite), nullptr, "true"},
       {"resume", "", R::No, false, G::Checkpoint,
        "continue from a checkpoint; options left out come from it, given ones must match",
        at(&FuseOptions::resume), nullptr}};

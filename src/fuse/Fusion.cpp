@@ -1,3 +1,5 @@
+#include <hdf5.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -10,7 +12,10 @@
 #include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Digest.h"
+#include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/io/Trajectory.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -50,9 +55,13 @@ void checkPose(const Pose& pose, const std::string& name) {
   if (!pose.R.allFinite() || !pose.t.allFinite())
     throw InputError(name + ": the pose is not finite");
   const double off = (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).norm();
-  if (!(off < 1e-6) || !(pose.R.determinant() > 0))
+  if (!(off < 1e-6))
     throw InputError(name + ": the pose's rotation is not a rotation (RᵀR off the identity by " +
                      std::to_string(off) + ")");
+  if (!(pose.R.determinant() > 0))
+    throw InputError(name + ": the pose's rotation is a reflection (determinant " +
+                     std::to_string(pose.R.determinant()) +
+                     "): a mirrored frame cannot be fused; flip one axis of the scan instead");
 }
 
 /// The grid's shape and indices, so that a grid made by hand cannot lead the field astray.
@@ -198,6 +207,8 @@ Fusion::Fusion(const FieldSettings& field, MPI_Comm comm)
 
 Fusion::Fusion(const FieldSettings& field, const SurfaceOptions& surface, MPI_Comm comm)
     : state_(std::make_unique<State>()) {
+  // HDF5 would print its whole error stack; its failures reach the caller as InputError.
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   checkField(field);
   State& s = *state_;
   s.comm = comm == MPI_COMM_NULL ? selfComm() : comm;
@@ -306,7 +317,8 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
   io::MemoryScan frame =
       depthFrame(std::move(depth), camera, kind == ColourKind::rgb ? colour : nullptr, n);
   s.add(std::move(frame), camera, Pose{}, n);
-  s.list->scans.back().time = std::isnan(time) ? double(s.list->scans.size() - 1) / 30 : time;
+  s.list->scans.back().time =
+      std::isnan(time) ? double(s.list->scans.size() - 1) / io::kRedwoodFrameRate : time;
   mpi::CapturedFailure failure;
   try {
     if (!s.stream) {
@@ -328,12 +340,30 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
 
 Fusion::Fusion(std::unique_ptr<State> state) : state_(std::move(state)) {}
 
+namespace {
+
+/// A checkpoint's path checked before any work: its name, its folder, and that it is none of
+/// the files the frames were read from (Fusion::addScans).
+void checkCheckpointPath(const std::string& path, const io::ConfFile& frames) {
+  io::FileRoles files;
+  files.outputs = io::outputWithTemporary("checkpoint", path);
+  for (const io::ConfScan& c : frames.scans)
+    if (!c.memory) files.inputs.push_back({"frame's file", c.path});
+  io::refuseOverlaps(files);
+  io::requireExtension(path, "checkpoint", {".h5", ".hdf5"});
+  io::checkWritable(path, "checkpoint");
+}
+
+}  // namespace
+
 void Fusion::saveCheckpoint(const std::string& path) {
   State& s = *state_;
   if (s.resumed)
     throw InputError(path + ": this fusion was resumed; its checkpoint is the one it read");
   if (s.list->scans.empty()) throw InputError("Fusion: no frames to checkpoint");
   mpi::CapturedFailure failure;
+  if (!mpi::collectively(s.comm, [&] { checkCheckpointPath(path, *s.list); }))
+    throw InputError(failure.message());
   FusedField field;
   const BrickStore* store = nullptr;
   if (s.stream && s.field.method == FieldMethod::Prism) {
@@ -358,6 +388,7 @@ void Fusion::saveCheckpoint(const std::string& path) {
 }
 
 Fusion Fusion::resume(const std::string& path, MPI_Comm comm) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // as in the constructor
   auto s = std::make_unique<State>();
   s->comm = comm == MPI_COMM_NULL ? selfComm() : comm;
   mpi::CapturedFailure failure;

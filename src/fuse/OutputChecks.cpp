@@ -1,33 +1,75 @@
 #include "rangefuse/fuse/OutputChecks.h"
 
 #include <filesystem>
-#include <map>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/OutputCheck.h"
 
 namespace rangefuse {
+namespace {
 
-void checkOutputs(const OutputSettings& o, int rank) {
+/// One file a run may write: its role, path and the extensions its writer produces.
+struct NamedOutput {
+  std::string role, path;
+  std::vector<std::string> extensions;
+};
+
+std::vector<NamedOutput> namedOutputs(const OutputSettings& o) {
   const std::string meshData = io::isXdmfPath(o.out) ? io::xdmfDataPath(o.out) : "";
-  const std::vector<std::pair<std::string, std::string>> outputs = {
-      {"mesh", o.out},
-      {"mesh data", meshData},
-      {"checkpoint", o.checkpoint},
-      {"report", o.report},
-      {"preview", o.preview},
-      {"poses", o.posesOut},
-      {"trajectory", o.trajectoryOut}};
-  std::map<std::string, std::string> seen;
-  for (const auto& [what, path] : outputs) {
-    if (path.empty()) continue;
-    const std::string key = std::filesystem::absolute(path).lexically_normal().string();
-    if (seen.count(key))
-      throw InputError(path + ": given as both the " + seen[key] + " and the " + what);
-    seen[key] = what;
-    if (rank == 0 || what == "mesh" || what == "mesh data" || what == "checkpoint")
-      io::checkWritable(path, what);
+  return {{"mesh", o.out, {".ply", ".xdmf"}},
+          {"mesh data", meshData, {".h5"}},
+          {"checkpoint", o.checkpoint, {".h5", ".hdf5"}},
+          {"report", o.report, {".json"}},
+          {"preview", o.preview, {".png"}},
+          {"poses", o.posesOut, {".conf"}},
+          {"trajectory", o.trajectoryOut, {".txt", ".log"}}};
+}
+
+/// Every file the run reads; the checkpoint resumed only when another file is written over it
+/// (the same file is updated by renames, as jobs/run_resumable.sh relies on).
+std::vector<io::RolePath> inputFiles(const RunSettings& s) {
+  const OutputSettings& o = s.outputs;
+  std::vector<io::RolePath> files = {{"options file", o.config}};
+  if (!o.resume.empty() && !(!o.checkpoint.empty() && io::sameFile(o.checkpoint, o.resume)))
+    files.push_back({"checkpoint resumed", o.resume});
+  if (!s.read.scans.empty())
+    for (std::string& f : io::scanListFiles(s.read.scans))
+      files.push_back({f == s.read.scans ? "scan list" : "scan list's file", std::move(f)});
+  return files;
+}
+
+void refuseOldCheckpoint(const OutputSettings& o) {
+  std::error_code ec;
+  if (o.checkpoint.empty() || o.overwrite || !std::filesystem::exists(o.checkpoint, ec) ||
+      (!o.resume.empty() && io::sameFile(o.checkpoint, o.resume)))
+    return;
+  throw InputError(o.checkpoint + ": the checkpoint exists; continue it with --resume " +
+                   o.checkpoint + ", or give --overwrite to start again over it");
+}
+
+}  // namespace
+
+std::vector<io::RolePath> outputFiles(const OutputSettings& o) {
+  std::vector<io::RolePath> files;
+  for (const NamedOutput& n : namedOutputs(o))
+    for (io::RolePath& f : io::outputWithTemporary(n.role, n.path)) files.push_back(std::move(f));
+  return files;
+}
+
+void checkOutputs(const RunSettings& s, int rank) {
+  const OutputSettings& o = s.outputs;
+  // An output over an input first: of all the faults, the one that would destroy data.
+  io::FileRoles files{outputFiles(o), inputFiles(s), {}};
+  if (s.track.follow) files.watched.push_back({"followed folder", s.read.scans});
+  io::refuseOverlaps(files);
+  for (const NamedOutput& n : namedOutputs(o))
+    if (!n.path.empty()) io::requireExtension(n.path, n.role, n.extensions);
+  refuseOldCheckpoint(o);
+  for (const io::RolePath& f : files.outputs) {
+    const bool everyRank = f.role == "mesh" || f.role == "mesh data" || f.role == "checkpoint";
+    if (f.role.rfind("temporary", 0) != 0 && (rank == 0 || everyRank))
+      io::checkWritable(f.path, f.role);
   }
 }
 

@@ -32,15 +32,16 @@ double farthestCorner(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& p) 
 
 }  // namespace
 
-ViewSettings previewView(const std::string& view, const LoadedScans& scans, const MeshPart& mesh,
-                         MPI_Comm comm) {
+ViewSettings previewView(const std::string& view, const std::string& up, const LoadedScans& scans,
+                         const MeshPart& mesh, MPI_Comm comm) {
   ViewSettings v;
-  if (!view.empty()) {
-    parseView(view, v);
-    return v;
-  }
   const io::SensorKind kind =
       scans.paths.empty() ? io::SensorKind::grid : io::sensorKindOf(scans.paths[0]);
+  if (!view.empty()) {
+    parseView(view, v);
+    v.up = upAxis(up, kind == io::SensorKind::station);
+    return v;
+  }
   if (kind == io::SensorKind::grid) return v;
   Eigen::AlignedBox3d mine;
   for (const Eigen::Vector3d& p : mesh.mesh.vertices) mine.extend(p);

@@ -145,6 +145,7 @@ void writeRunReport(const RunSettings& s, MPI_Comm comm, const Progress& progres
                  {"per_rank", ranks},
                  {"mesh", meshJson(s.outputs.out, mesh)},
                  {"registration", registrationJson(s.registration.mode, steps)}};
+  if (field.tracking) report["tracking"] = field.tracking->toJson();
   io::writeJson(s.outputs.report, report);
 }
 

@@ -72,11 +72,14 @@ OutputSettings outputSettings(const FuseOptions& o) {
   out.report = o.report;
   out.preview = o.preview;
   out.previewView = o.previewView;
+  out.up = o.up;
   out.posesOut = o.posesOut;
   out.trajectoryOut = o.trajectoryOut;
   out.checkpoint = o.checkpoint;
   out.checkpointEvery = o.checkpointEvery;
   out.resume = o.resume;
+  out.overwrite = o.overwrite;
+  out.config = o.config;
   return out;
 }
 

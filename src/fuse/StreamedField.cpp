@@ -335,7 +335,8 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   const int me = mpi::rank(comm), ranks = mpi::size(comm);
   // From here on a band of a large scan is an entry of its own, read by any rank; brick owners
   // join a scan's bands again before adding them.
-  const io::ConfFile conf = io::splitIntoBands(scans, o.bandCells);
+  io::ConfFile conf = io::splitIntoBands(scans, o.bandCells);
+  if (o.colour == ColourKind::intensity) io::preferIntensity(conf);
   std::vector<size_t> scanOf;
   for (const io::ConfScan& c : conf.scans)
     scanOf.push_back(scanOf.empty() ? 0 : scanOf.back() + (c.band == 0));

@@ -12,6 +12,7 @@
 #include "TrackingField.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/fuse/VoxelCheck.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/Png.h"
@@ -267,6 +268,19 @@ ColourKind streamColour(const RunSettings& s, const io::ConfFile& conf) {
   return conf.scans.empty() ? ColourKind::none : ColourKind::rgb;
 }
 
+/// The voxel checked against the first frame's extent, as scans are against theirs: a stream
+/// in metres fused at --voxel 10 would otherwise only fail later as lost tracking.
+void warnOfVoxel(const io::ConfFile& conf, const ReadSettings& o) {
+  if (conf.scans.empty()) return;
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : io::readScanGrid(conf.scans.front(), o.limits).points)
+    box.extend(p);
+  const std::string slip = voxelUnitWarning(o.voxel, box);
+  if (!slip.empty())
+    std::fprintf(stderr, "rangefuse: warning: %s: %s\n", conf.scans.front().path.c_str(),
+                 slip.c_str());
+}
+
 }  // namespace
 
 bool openStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedScans& scans) {
@@ -283,6 +297,10 @@ bool openStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedS
     return false;
   if (progress.isRoot())
     for (const auto& w : conf.warnings) std::fprintf(stderr, "rangefuse: warning: %s\n", w.c_str());
+  if (!collectively(comm, [&] {
+        if (progress.isRoot()) warnOfVoxel(conf, o);
+      }))
+    return false;
   scans.rank = mpi::rank(comm);
   scans.posed = conf.posed;
   for (size_t i = 0; i < conf.scans.size(); ++i) {
@@ -331,6 +349,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
           comm, [&] { pixels = std::make_unique<internal::PixelMotion>(s.read, f.voxel, comm); }))
     return false;
   size_t lostCount = 0, fused = 0;
+  TrackingSummary summary;
   bool ok = false;
   try {
     StreamCalls calls;
@@ -339,6 +358,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
       return (*pixels)(last, next, guess);
     };
     calls.onFrame = [&](const FrameReport& r) {
+      summary.add(r, scans.paths[r.frame]);
       lostCount += !r.fused;
       if (progress.shows(Verbosity::normal)) lines(r);
       fused += r.fused;
@@ -366,7 +386,9 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
     return false;
   }
   field.scanCount = scans.names.size() - lostCount;
+  field.tracking = summary;
   counters.voxelUpdates = tracked.voxelUpdates();
+  counters.prisms = tracked.prisms();
   field.store = tracked.release();
   field.layout = field.store->layout();
   counters.bricks = field.store->brickCount();

@@ -94,7 +94,9 @@ int runTracking(const RunSettings& s, MPI_Comm comm, Progress& progress,
   if (s.field.method != FieldMethod::Prism) {
     const std::vector<Pose> tracked = scans.poses;
     scans.held.reset();
+    const std::optional<TrackingSummary> summary = std::move(field.tracking);
     field = FusedField{};
+    field.tracking = summary;  // the report's tracking figures are the stream's
     if (!buildStreamed(s.read, s.field, comm, progress, scans, field, counters, &tracked, &lost,
                        storageWarner(s, comm)))
       return 1;

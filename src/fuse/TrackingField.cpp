@@ -80,7 +80,9 @@ void TrackingField::integrate(size_t i, const std::vector<Pose>& poses) {
     integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), settings_.threads);
   routePlaced(scans_, {i}, poses, bricks_->store().layout(), 0, comm_,
               [&](size_t, const PrismScan& part) {
-                voxelUpdates_ += integrator_->addScan(part).voxelUpdates;
+                const auto added = integrator_->addScan(part);
+                voxelUpdates_ += added.voxelUpdates;
+                prisms_ += added.prisms;
               });
 }
 

@@ -54,6 +54,8 @@ class TrackingField : public RegistrationField {
   std::unique_ptr<BrickStore> release();
   /// Voxel updates made so far on this rank.
   uint64_t voxelUpdates() const { return voxelUpdates_; }
+  /// Prisms this rank rasterised into its bricks.
+  uint64_t prisms() const { return prisms_; }
 
  private:
   /// Collective: the layout grown by the bricks scan i's prisms touch at `pose`.
@@ -68,6 +70,7 @@ class TrackingField : public RegistrationField {
   std::unique_ptr<internal::GrowingBricks> bricks_;
   std::unique_ptr<PrismIntegrator> integrator_;
   uint64_t voxelUpdates_ = 0;
+  uint64_t prisms_ = 0;
 };
 
 }  // namespace rangefuse

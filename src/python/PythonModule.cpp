@@ -100,25 +100,44 @@ RangeGrid gridOf(const py::handle& points, const py::handle& colours, const std:
   return g;
 }
 
-/// Depth counts (height, width): uint16 as they are, floats (metres) scaled to counts.
+/// Depth counts (height, width): integers of any width as counts (uint16 as a depth PNG holds
+/// them, int32 as PIL gives them), floats as metres scaled by `scale` counts a metre; any other
+/// dtype is refused by name.
 io::DepthImage depthOf(const py::handle& given, double scale, const std::string& what) {
   const py::array any = py::array::ensure(given);
   if (!any || any.ndim() != 2)
     throw InputError(what + ": depth must be (height, width), not " + shapeOf(any));
   io::DepthImage d;
   d.height = static_cast<int>(any.shape(0)), d.width = static_cast<int>(any.shape(1));
-  if (any.dtype().is(py::dtype::of<uint16_t>())) {
-    const auto c = py::array_t<uint16_t, py::array::c_style | py::array::forcecast>::ensure(given);
-    d.counts.assign(c.data(), c.data() + c.size());
+  const char kind = any.dtype().kind();
+  const std::string dtype = py::str(any.dtype());
+  if (kind == 'u' || kind == 'i') {
+    const auto c = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(given);
+    d.counts.resize(c.size());
+    for (py::ssize_t i = 0; i < c.size(); ++i) {
+      const int64_t counts = c.data()[i];
+      if (counts < 0 || counts > 65535)
+        throw InputError(what + ": depth count " + std::to_string(counts) + " (" + dtype +
+                         ") is outside a depth image's 0 to 65535 (integers are counts, " +
+                         "depth_scale a metre; give metres as floats)");
+      d.counts[i] = static_cast<uint16_t>(counts);
+    }
     return d;
   }
+  if (kind != 'f')
+    throw InputError(what + ": depth of dtype " + dtype +
+                     " is neither counts (an integer dtype) nor metres (a float dtype)");
   const Doubles m = Doubles::ensure(given);
   d.counts.resize(m.size());
   for (py::ssize_t i = 0; i < m.size(); ++i) {
-    const double counts = m.data()[i] * scale;
+    const double metres = m.data()[i], counts = metres * scale;
     if (!(counts >= 0 && counts <= 65535))  // NaN too
-      throw InputError(what + ": depth " + std::to_string(m.data()[i]) +
-                       " is not a measurement (0 for none, up to 65535 / depth_scale)");
+      throw InputError(what + ": depth " + std::to_string(metres) + " m (" + dtype + ") is " +
+                       (metres < 0 || std::isnan(metres)
+                            ? "not a distance (0 for none)"
+                            : "beyond the " + std::to_string(65535 / scale) +
+                                  " m that depth_scale " + std::to_string(scale) +
+                                  " counts a metre can hold"));
     d.counts[i] = static_cast<uint16_t>(std::lround(counts));
   }
   return d;
@@ -365,7 +384,9 @@ PYBIND11_MODULE(rangefuse, m) {
       .def("add_depth", &addDepth, py::arg("depth"), py::arg("intrinsics"), py::arg("pose"),
            py::arg("colour") = py::none(), py::arg("depth_scale") = 1000.0,
            py::arg("depth_trunc") = 0.0, py::arg("name") = "",
-           "Adds a depth image (height, width): uint16 counts or depths in metres, depth_scale "
+           "Adds a depth image (height, width): counts of any integer dtype (uint16 as a PNG holds "
+           "them, "
+           "int32 as PIL gives them) or metres of a float dtype, depth_scale "
            "counts a unit; intrinsics a 3 x 3 camera matrix; pose camera to world (OpenCV axes)")
       .def(
           "add_scans",

@@ -49,6 +49,12 @@ void parseView(const std::string& text, ViewSettings& view) {
     throw InputError("--view must be AZIMUTH,ELEVATION in degrees, not '" + text + "'");
 }
 
+char upAxis(const std::string& setting, bool stations) {
+  if (setting == "y" || setting == "z") return setting[0];
+  if (setting == "auto") return stations ? 'z' : 'y';
+  throw InputError("--up must be y, z or auto, not '" + setting + "'");
+}
+
 void parseSlice(const std::string& text, int& axis, double& value) {
   const std::string axes = "xyz";
   if (text.size() < 3 || text[1] != '=' || axes.find(text[0]) == std::string::npos)

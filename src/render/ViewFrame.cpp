@@ -23,7 +23,11 @@ Eigen::Matrix3d viewAxes(const ViewSettings& view) {
   axes.row(0) = right;
   axes.row(1) = toCamera.cross(right);
   axes.row(2) = toCamera;
-  return axes;
+  if (view.up == 'y') return axes;
+  // The same view of a z-up world: the quarter turn about x that takes +y to +z.
+  Eigen::Matrix3d yToZ;
+  yToZ << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  return axes * yToZ.transpose();
 }
 
 ViewFrame::ViewFrame(const ViewSettings& view, const Eigen::AlignedBox3d& framed)

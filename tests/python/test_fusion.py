@@ -115,7 +115,18 @@ def test_depth_images_of_a_sphere_give_the_sphere_and_its_colour():
      "the pose is not finite"),
     (lambda f: f.add_depth(np.zeros((4, 4), np.uint16), np.eye(3), np.eye(4)[:3]),
      "a pose must be a 4 x 4 matrix, not shape (3, 4)"),
-    (lambda f: f.add_depth(np.full((4, 4), -1.0), np.eye(3), np.eye(4)), "is not a measurement"),
+    (lambda f: f.add_depth(np.full((4, 4), -1.0), np.eye(3), np.eye(4)),
+     "depth -1.000000 m (float64) is not a distance"),
+    (lambda f: f.add_depth(np.full((4, 4), 70000, np.int32), np.eye(3), np.eye(4)),
+     "depth count 70000 (int32) is outside a depth image's 0 to 65535"),
+    (lambda f: f.add_depth(np.full((4, 4), 3.0), np.eye(3), np.eye(4), depth_scale=1e5),
+     "beyond the 0.655350 m that depth_scale 100000.000000 counts a metre can hold"),
+    (lambda f: f.add_depth(np.ones((4, 4), bool), np.eye(3), np.eye(4)),
+     "depth of dtype bool is neither counts"),
+    (lambda f: f.add_depth(np.ones((4, 4), np.complex64), np.eye(3), np.eye(4)),
+     "depth of dtype complex64 is neither counts"),
+    (lambda f: f.add_depth(np.zeros((4, 4), np.uint16), np.eye(3), np.diag([1, 1, -1, 1.0])),
+     "the pose's rotation is a reflection"),
     (lambda f: f.mesh(), "Fusion: no frames to fuse"),
 ])
 def test_bad_input_raises_the_commands_message(call, message):
@@ -123,6 +134,41 @@ def test_bad_input_raises_the_commands_message(call, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
         call(fusion)
     assert fusion.frames == 0
+
+
+def test_every_integer_dtype_is_counts_and_every_float_dtype_metres():
+    # One set of depths handed over in each dtype: counts (integers, depth_scale a metre) or
+    # metres (floats) give the same frames, so the same mesh bytes.
+    K = np.array([[60.0, 0, 29.5], [0, 60, 29.5], [0, 0, 1]])
+    views = [looking_at_origin(eye) for eye in np.vstack([np.eye(3), -np.eye(3)]) * 1.5]
+    counts = [np.round(sphere_depth(K, pose, 60, 0.5) * 100) for pose in views]
+
+    def mesh_of(dtype, metres):
+        fusion = rangefuse.Fusion(voxel=0.02)
+        for pose, c in zip(views, counts):
+            depth = (c / 100 if metres else c).astype(dtype)
+            fusion.add_depth(depth, K, pose, depth_scale=100.0)
+        return fusion.mesh()
+
+    reference = mesh_of(np.uint16, False)
+    assert len(reference[1]) > 100
+    for dtype in (np.uint8, np.int16, np.int32, np.uint32, np.int64):
+        vertices, faces, _ = mesh_of(dtype, False)
+        assert np.array_equal(vertices, reference[0]) and np.array_equal(faces, reference[1]), dtype
+    for dtype in (np.float16, np.float32, np.float64):
+        vertices, faces, _ = mesh_of(dtype, True)
+        assert np.array_equal(vertices, reference[0]) and np.array_equal(faces, reference[1]), dtype
+
+
+def test_a_checkpoint_into_a_missing_folder_is_one_line(tmp_path, capfd):
+    fusion = rangefuse.Fusion(voxel=0.01)
+    fusion.add_depth(np.full((8, 8), 1000, np.uint16), np.diag([8.0, 8, 1]), np.eye(4))
+    missing = tmp_path / "no" / "such.h5"
+    with pytest.raises(ValueError, match="cannot write the checkpoint there: folder .* does not exist"):
+        fusion.save_checkpoint(str(missing))
+    with pytest.raises(ValueError, match="the checkpoint is written as .h5 or .hdf5"):
+        fusion.save_checkpoint(str(tmp_path / "c.txt"))
+    assert "HDF5-DIAG" not in capfd.readouterr().err
 
 
 def test_bad_settings_raise():

@@ -10,6 +10,7 @@
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/E57.h"
+#include "rangefuse/io/ScanFiles.h"
 
 using namespace rangefuse;
 using test::TempDir;
@@ -193,6 +194,27 @@ TEST(E57, ColumnsOfAStationAreThoseOfTheWholeScan) {
         }
       }
   }
+}
+
+TEST(E57, AStationWithColourAndIntensityIsReadAsEitherOnRequest) {
+  // Colour by default; the intensity where --colour intensity asks (preferIntensity), the
+  // writer's intensity being each colour's mean, to the single float's precision.
+  TempDir dir;
+  const RangeGrid g = stationGrid(16, 8, 4, true);
+  const std::string path = dir.file("both.e57");
+  io::E57Writing how;
+  how.intensityToo = true;
+  io::writeE57(path, {g}, {Pose{}}, how);
+  io::ConfFile list = io::readScanList(path);
+  EXPECT_EQ(io::readScanGrid(list.scans[0]).colourKind, ColourKind::rgb);
+  io::preferIntensity(list);
+  const RangeGrid grey = io::readScanGrid(list.scans[0]);
+  ASSERT_EQ(grey.colourKind, ColourKind::intensity);
+  ASSERT_EQ(grey.colours.size(), g.colours.size());
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c)
+      if (g.at(r, c) >= 0)
+        EXPECT_NEAR(grey.colours[grey.at(r, c)].x(), g.colours[g.at(r, c)].mean(), 1e-6);
 }
 
 TEST(E57, AScanWithoutIndicesIsProjectedOnAnAngularGrid) {

@@ -31,6 +31,7 @@ FuseOptions changed() {
   o.firstPose = "1,2,3,0,0,0,1", o.minInliers = 0.4, o.maxStep = 12, o.skipLost = true;
   o.trajectoryOut = "t.txt", o.previewEvery = 5, o.follow = true, o.followTimeout = 30;
   o.colour = "none", o.previewView = "30,-10", o.quiet = true, o.verbose = true;
+  o.overwrite = true, o.up = "z";
   return o;
 }
 

@@ -138,3 +138,27 @@ TEST(RenderOptions, BadViewAndSliceAreRefused) {
   EXPECT_THROW(parseSlice("w=1", axis, value), InputError);
   EXPECT_THROW(parseSlice("z=", axis, value), InputError);
 }
+
+TEST(ViewAxes, AZUpOrbitKeepsZUpInThePicture) {
+  // Known answers: azimuth 0, elevation 30 looks from -y (z up) or from +z (y up), tilted
+  // up by 30 degrees, with the up axis pointing up the picture.
+  ViewSettings v;
+  v.azimuthDeg = 0, v.elevationDeg = 30;
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+  const Eigen::Matrix3d yUp = viewAxes(v);
+  EXPECT_LT((yUp.row(2).transpose() - Eigen::Vector3d(0, s, c)).norm(), 1e-12);
+  EXPECT_GT(yUp(1, 1), 0.8);
+  v.up = 'z';
+  const Eigen::Matrix3d zUp = viewAxes(v);
+  EXPECT_LT((zUp.row(2).transpose() - Eigen::Vector3d(0, -c, s)).norm(), 1e-12);
+  EXPECT_LT((zUp.row(1).transpose() - Eigen::Vector3d(0, s, c)).norm(), 1e-12);
+  EXPECT_LT((zUp.row(0).transpose() - Eigen::Vector3d(1, 0, 0)).norm(), 1e-12);
+  EXPECT_NEAR(zUp.determinant(), 1, 1e-12);
+  // Azimuth turns about +z: 90 degrees looks from +x.
+  v.azimuthDeg = 90;
+  EXPECT_LT((viewAxes(v).row(2).transpose() - Eigen::Vector3d(c, 0, s)).norm(), 1e-12);
+  EXPECT_EQ(upAxis("auto", true), 'z');
+  EXPECT_EQ(upAxis("auto", false), 'y');
+  EXPECT_EQ(upAxis("y", true), 'y');
+  EXPECT_THROW(upAxis("x", false), InputError);
+}

@@ -38,8 +38,10 @@ TEST(Trajectory, TumAndLogFilesRoundTrip) {
     for (size_t k = 0; k < read.size(); ++k) {
       EXPECT_LT((read[k].cameraToWorld.R - written[k].cameraToWorld.R).norm(), 1e-14) << name;
       EXPECT_LT((read[k].cameraToWorld.t - written[k].cameraToWorld.t).norm(), 1e-14) << name;
-      // A .log has no times: its frame numbers stand for them.
-      EXPECT_DOUBLE_EQ(read[k].time, io::isLogTrajectory(name) ? k : written[k].time) << name;
+      // A .log has no times: frame k is taken at k / 30 s, as a Redwood sequence's frames are.
+      EXPECT_DOUBLE_EQ(read[k].time,
+                       io::isLogTrajectory(name) ? k / io::kRedwoodFrameRate : written[k].time)
+          << name;
     }
   }
 }
@@ -58,6 +60,16 @@ TEST(Trajectory, BadFilesNameTheFileAndLine) {
         }
       },
       InputError);
+  // A mirror is named as one, not as a matrix off a rotation.
+  dir.write("m.log", "0 0 1\n-1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  try {
+    io::readTrajectory(dir.file("m.log"));
+    ADD_FAILURE() << "a reflection was read as a pose";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("m.log: line 2: the matrix is a reflection"),
+              std::string::npos)
+        << e.what();
+  }
   dir.write("b.txt", "# nothing\n");
   EXPECT_THROW(io::readTrajectory(dir.file("b.txt")), InputError);
   EXPECT_THROW(io::readTrajectory(dir.file("missing.txt")), InputError);
@@ -104,6 +116,37 @@ TEST(TrajectoryError, ASteadyDriftIsItsRelativeError) {
   EXPECT_EQ(e.rpePairs, 16u);  // times 0.25 s apart: pairs (k, k + 4)
   EXPECT_NEAR(e.rpeTranslationRmse, v.norm(), 1e-12);
   EXPECT_THROW(compareTrajectories(estimate, {reference[0]}), InputError);
+}
+
+TEST(TrajectoryError, OneTrajectoryAsTumAndAsLogMatchesEveryPose) {
+  // The same poses written as TUM with a run's frame times (k / 30 s) and as a .log: read back,
+  // every pose matches by time and the error is nil.
+  TempDir dir;
+  std::vector<io::TimedPose> run = path(99);
+  for (size_t k = 0; k < run.size(); ++k) run[k].time = k / io::kRedwoodFrameRate;
+  io::writeTrajectory(dir.file("rs.txt"), run);
+  io::writeTrajectory(dir.file("rs.log"), run);
+  const TrajectoryError e = compareTrajectories(io::readTrajectory(dir.file("rs.txt")),
+                                                io::readTrajectory(dir.file("rs.log")));
+  EXPECT_EQ(e.matching, PoseMatching::byTime);
+  EXPECT_EQ(e.matched, 99u);
+  EXPECT_LT(e.ateRmse, 1e-9);
+  // RPE over a second takes pairs 30 frames apart, not 1 frame apart: 99 - 30 pairs.
+  EXPECT_NEAR(static_cast<double>(e.rpePairs), 69, 1);
+}
+
+TEST(TrajectoryError, ByIndexPairsPosesOfTheSameNumberAndHalfMustMatch) {
+  // Real timestamps against a .log's frame numbers: nothing matches in time, all by index.
+  const auto tum = path(10);
+  auto log = tum;
+  for (size_t k = 0; k < log.size(); ++k) log[k].time = k / io::kRedwoodFrameRate;
+  EXPECT_THROW(compareTrajectories(tum, log), InputError);
+  const TrajectoryError e = compareTrajectories(tum, log, 0.02, 1.0, PoseMatching::byIndex);
+  EXPECT_EQ(e.matched, 10u);
+  EXPECT_LT(e.ateRmse, 1e-12);
+  // Fewer than half of the estimate's poses with a partner is refused, not reported on 4.
+  std::vector<io::TimedPose> short4(log.begin(), log.begin() + 4);
+  EXPECT_THROW(compareTrajectories(tum, short4, 0.02, 1.0, PoseMatching::byIndex), InputError);
 }
 
 TEST(Tracking, PredictionContinuesTheLastMotionOrFollowsTheGuide) {

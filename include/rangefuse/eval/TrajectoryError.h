@@ -10,9 +10,15 @@
 
 namespace rangefuse {
 
+/// How estimated poses find their reference poses: the nearest in time, or the same index
+/// (for a trajectory without times, as a .log is, beside one with real timestamps).
+enum class PoseMatching { byTime, byIndex };
+
 struct TrajectoryError {
-  size_t matched = 0;  ///< estimated poses with a reference pose within the time limit
-  double ateRmse = 0;  ///< world units
+  PoseMatching matching = PoseMatching::byTime;
+  size_t estimated = 0;  ///< poses of the estimate
+  size_t matched = 0;    ///< estimated poses with a reference pose
+  double ateRmse = 0;    ///< world units
   double ateMean = 0, ateMax = 0;
   size_t rpePairs = 0;            ///< pairs of matched poses about `rpeDelta` apart
   double rpeTranslationRmse = 0;  ///< world units per rpeDelta
@@ -24,11 +30,12 @@ struct TrajectoryError {
 Pose alignPoints(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to);
 
 /// Compares an estimated trajectory with a reference: each estimated pose is matched to the
-/// reference pose nearest in time within `maxDifference` seconds; the RPE takes, for every
-/// matched pose, the first matched pose at least `rpeDelta` seconds later. Throws InputError
-/// when fewer than 3 poses match.
+/// reference pose nearest in time within `maxDifference` seconds (or of the same index); the
+/// RPE takes, for every matched pose, the first matched pose at least `rpeDelta` seconds
+/// later. Throws InputError when fewer than 3 poses, or fewer than half the estimate's, match.
 TrajectoryError compareTrajectories(const std::vector<io::TimedPose>& estimate,
                                     const std::vector<io::TimedPose>& reference,
-                                    double maxDifference = 0.02, double rpeDelta = 1.0);
+                                    double maxDifference = 0.02, double rpeDelta = 1.0,
+                                    PoseMatching matching = PoseMatching::byTime);
 
 }  // namespace rangefuse

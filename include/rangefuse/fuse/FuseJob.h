@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "rangefuse/consensus/NearSurface.h"
@@ -15,6 +16,7 @@
 #include "rangefuse/fuse/FieldMethod.h"
 #include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/fuse/Progress.h"
+#include "rangefuse/fuse/TrackingSummary.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -28,6 +30,7 @@ struct FuseOptions {
   std::string report;            ///< run report .json (optional)
   std::string preview;           ///< rendered picture .png (optional)
   std::string previewView;       ///< "AZIMUTH,ELEVATION" of --preview ("": chosen by the scans)
+  std::string up = "auto";       ///< the world's up axis of previews: y, z or auto
   FieldMethod method = FieldMethod::Prism;
   std::string colour = "auto";  ///< auto, rgb, intensity or none
   double voxel = 0;             ///< in the scans' units
@@ -68,6 +71,8 @@ struct FuseOptions {
   double followTimeout = 10;   ///< tracking: --follow ends after this long with no new frame, s
   std::string checkpoint;      ///< HDF5 checkpoint to write (optional)
   std::string resume;          ///< HDF5 checkpoint to continue from (optional)
+  bool overwrite = false;      ///< replace an existing --checkpoint that is not resumed
+  std::string config;          ///< the --config file the options came from (an input)
   double checkpointEvery = 0;  ///< seconds between registration checkpoints (0: each)
   InputLimits limits;          ///< refuse input that would need more memory than this
   double scanMemory = 1024;    ///< MiB of prepared scans a rank keeps between passes
@@ -104,6 +109,8 @@ struct FusedField {
   std::unique_ptr<BrickStore> store;
   /// --fill-holes: every scan's sight map (the same on every rank), for carving.
   std::vector<SightMap> sights;
+  /// A tracked stream: its frames' outcomes (rank 0's, for the report).
+  std::optional<TrackingSummary> tracking;
 };
 
 /// Per-rank counters of a run, gathered into the report.

@@ -76,9 +76,12 @@ struct MeshSettings {
 struct OutputSettings {
   std::string out, report, preview, posesOut, trajectoryOut;
   std::string previewView;     ///< "AZIMUTH,ELEVATION", or "" for the scans' own choice
+  std::string up = "auto";     ///< the world's up axis of the preview: y, z or auto
   std::string checkpoint;      ///< HDF5 checkpoint to write (empty: none)
   double checkpointEvery = 0;  ///< seconds between registration checkpoints
   std::string resume;          ///< checkpoint the run continues from (empty: none)
+  bool overwrite = false;      ///< an existing checkpoint not resumed may be replaced
+  std::string config;          ///< the options file the run read (an input; empty: none)
 };
 
 /// The options that decide the result, as reports and checkpoints record them.

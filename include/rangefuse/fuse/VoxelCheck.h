@@ -10,7 +10,7 @@ namespace rangefuse {
 /// A warning when `voxel` gives implausibly few (under 20) or many (over 50 000) voxels across
 /// the largest side of `bounds`, naming the likely intended voxel (the given one scaled by a
 /// power of ten to about 300 voxels across); empty when the voxel is plausible or the bounds
-/// are empty.
+/// are empty. A depth stream's frames are checked by the extent of its first frame.
 std::string voxelUnitWarning(double voxel, const Eigen::AlignedBox3d& bounds);
 
 }  // namespace rangefuse

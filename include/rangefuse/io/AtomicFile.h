@@ -7,6 +7,9 @@
 
 namespace rangefuse::io {
 
+/// The name a file is written under before it is renamed to `path`: `path`.tmp.
+std::string temporaryPath(const std::string& path);
+
 /// Calls `write` on a stream to `path`.tmp, then renames it to `path`. On any error the
 /// temporary is removed and InputError is thrown naming the file.
 void writeAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);

@@ -22,6 +22,11 @@ enum class SequenceLayout { Tum, Redwood };
 /// groundtruth.txt, else Redwood when it holds depth/.
 std::optional<SequenceLayout> sequenceLayout(const std::string& dir);
 
+/// What in folder `dir` contradicts reading it in layout `forced` (--scan-format): a TUM frame
+/// list or trajectory for Redwood; numbered depth images and no depth.txt for TUM, whose
+/// images are named by timestamp. Empty when nothing does.
+std::string layoutContradiction(const std::string& dir, SequenceLayout forced);
+
 /// Why folder `dir` is no sequence, for the message (e.g. it holds colour images only).
 std::string notASequence(const std::string& dir);
 

@@ -42,6 +42,7 @@ struct E57Scan {
   int64_t firstRow = 0, firstColumn = 0;      ///< the indices' smallest values
   double intensityMin = 0, intensityMax = 1;  ///< intensityLimits, else the field's bounds
   double colourMin = 0, colourMax = 255;      ///< colorLimits (red), else the field's bounds
+  bool intensity = false;  ///< read the intensity even where colour is given (--colour intensity)
 };
 
 /// The scans of an E57 file: header, page checksums of the XML and the XML tree checked, no
@@ -67,9 +68,10 @@ enum class E57Coordinates { cartesianSingle, cartesianDouble, cartesianScaled, s
 
 struct E57Writing {
   E57Coordinates coordinates = E57Coordinates::cartesianDouble;
-  double scaledStep = 1e-4;  ///< cartesianScaled: the integer step, in scan units
-  bool structured = true;    ///< rowIndex, columnIndex and every cell (empty ones invalid)
-  int packetRecords = 0;     ///< records a data packet at most (0: fill packets to 64 KiB)
+  double scaledStep = 1e-4;   ///< cartesianScaled: the integer step, in scan units
+  bool structured = true;     ///< rowIndex, columnIndex and every cell (empty ones invalid)
+  int packetRecords = 0;      ///< records a data packet at most (0: fill packets to 64 KiB)
+  bool intensityToo = false;  ///< rgb stations: an intensity field as well (the colour's mean)
 };
 
 /// Writes stations (spherical grids with their poses) as one E57 file, one data3D scan each,

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace rangefuse::io {
 
@@ -10,6 +11,12 @@ namespace rangefuse::io {
 /// its folder is missing, not a folder or not writable, or the path is a folder or a file
 /// that is not writable. Creates nothing.
 void checkWritable(const std::string& path, const std::string& what);
+
+/// Throws InputError naming `path`, the `what` and the extensions its writer produces when
+/// `path` ends in none of `extensions` (".ply", compared without case): a writer never puts one
+/// format under another's name.
+void requireExtension(const std::string& path, const std::string& what,
+                      const std::vector<std::string>& extensions);
 
 /// Bytes free for an unprivileged user in the folder that would hold `path`; -1 when unknown.
 int64_t freeBytes(const std::string& path);

@@ -22,6 +22,7 @@ struct PtxScan {
   Pose pose;                      ///< scanner frame to world, from the transform
   std::vector<uint64_t> columns;  ///< byte offset of each column's first point line
   uint64_t end = 0;               ///< byte offset just past the scan's last point line
+  bool intensity = false;  ///< read the intensity even where lines give r g b (--colour intensity)
 };
 
 /// The scans of a PTX file: headers parsed, point lines counted but not parsed. Throws

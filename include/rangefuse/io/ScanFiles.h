@@ -20,12 +20,22 @@ namespace rangefuse::io {
 ConfFile readScanList(const std::string& path, const InputLimits& limits = {},
                       const ScanSourceOptions& source = {});
 
+/// Every file reading the list `path` may open, found without opening a scan: the list itself,
+/// the files a .conf names, or every file under a sequence folder (and under the sequence
+/// folder of a depth image a .conf names). A list that cannot be read gives its own path only:
+/// reading it later says what is wrong.
+std::vector<std::string> scanListFiles(const std::string& path);
+
+/// Marks every PTX and E57 scan of `conf` to be read with its intensity where it also has
+/// colour (--colour intensity on a station that recorded both).
+void preferIntensity(ConfFile& conf);
+
 /// The list with each PTX scan of more than maxCells cells (0: none) made several entries, one
 /// per band of columns (ColumnBands.h), in order, sharing the scan's name, file and pose.
 ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells);
 
 /// What took a listed scan, told by its file: a scanner station (PTX), a depth camera (a depth
-/// image) or a range grid seen from outside (PLY).
+/// image) or a range grid seen from outside (PLY). A scan's name (FILE.ptx#K) is told alike.
 enum class SensorKind { grid, station, camera };
 SensorKind sensorKindOf(const std::string& path);
 

@@ -1,5 +1,5 @@
 // How a scan list is read beyond its own contents: the settings `fuse --scan-format`,
-// `--intrinsics`, `--max-depth` and `--depth-scale` set, and the library's Fusion::addScans.
+// `--intrinsics`, `--depth-max` and `--depth-scale` set, and the library's Fusion::addScans.
 #pragma once
 
 #include <string>

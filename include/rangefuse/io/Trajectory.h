@@ -11,7 +11,11 @@
 
 namespace rangefuse::io {
 
-/// One pose of a trajectory: when (seconds; a .log has none, so its frame index) and where.
+/// Frames a second of a Redwood / Open3D sequence: a .log has no times, so frame k is taken at
+/// k / kRedwoodFrameRate seconds (the rate of the Kinect and RealSense streams they record).
+inline constexpr double kRedwoodFrameRate = 30;
+
+/// One pose of a trajectory: when (seconds; a .log has none: k / kRedwoodFrameRate) and where.
 struct TimedPose {
   double time = 0;
   Pose cameraToWorld;
@@ -20,7 +24,8 @@ struct TimedPose {
 /// True when `path` names a .log trajectory (else it is TUM text).
 bool isLogTrajectory(const std::string& path);
 
-/// Reads a TUM trajectory (timestamps ascending) or, by extension, a .log one (times 0, 1, ...).
+/// Reads a TUM trajectory (timestamps ascending) or, by extension, a .log one (frame k at
+/// k / kRedwoodFrameRate s).
 /// Throws InputError naming the file and line: bad numbers, a quaternion not of unit length, a
 /// matrix that is not a rigid motion, timestamps out of order, no poses.
 std::vector<TimedPose> readTrajectory(const std::string& path);

@@ -18,6 +18,9 @@ namespace rangefuse {
 struct ViewSettings {
   double azimuthDeg = 0;
   double elevationDeg = 20;
+  /// The world's up axis, 'y' (azimuth about +y, 0 = from +z) or 'z' as scanner stations
+  /// have it (azimuth about +z, 0 = from -y).
+  char up = 'y';
   int width = 512;
   int height = 512;
   /// When set, a perspective picture from this camera (camera to world; x right, y down,
@@ -89,6 +92,10 @@ int slicePlane(const VoxelGrid& grid, int axis, double value);
 
 /// "AZ,EL" in degrees; throws InputError.
 void parseView(const std::string& text, ViewSettings& view);
+
+/// The up axis an --up setting names: 'y' or 'z' as given; for "auto", 'z' when the scans are
+/// scanner stations (`stations`), else 'y'. Throws InputError for any other setting.
+char upAxis(const std::string& setting, bool stations);
 /// "x=VALUE" (or y, z); throws InputError.
 void parseSlice(const std::string& text, int& axis, double& value);
 
