@@ -80,7 +80,7 @@ echo "Checkpoints, bunny 0.5 mm, 2 ranks (best of $repeats): write cost against 
 best_ck=999 best_job=0
 for ((i = 0; i < repeats; i++)); do
   mpirun -np 2 $bin fuse --scans tests/data/bunny/bun.conf --voxel 0.0005 --out "$tmp/ck.ply" \
-    --checkpoint "$tmp/ck.h5" >"$tmp/cklog"
+    --checkpoint "$tmp/ck.h5" --overwrite >"$tmp/cklog"
   ck=$(grep '] checkpoint ' "$tmp/cklog" | sed 's/.*(\([0-9.]*\)s)$/\1/')
   job=$(grep '] done ' "$tmp/cklog" | sed 's/^\[ *\([0-9.]*\)s\].*/\1/')
   if [[ $(calc %d "$ck < $best_ck") == 1 ]]; then best_ck=$ck best_job=$job; fi

@@ -34,6 +34,9 @@ int parseWithCheckpoint(int argc, char** argv, const po::options_description& d,
     po::store(po::command_line_parser(argc, argv).options(d).positional(pos).run(), vm);
     help = vm.count("help") > 0;
     if (!help) po::notify(vm);
+  } catch (const po::unknown_option& e) {
+    const std::string hint = suggestOption(e.get_option_name(), d);
+    error = std::string(e.what()) + (hint.empty() ? "" : "; " + hint);
   } catch (const std::exception& e) {
     error = e.what();
   }
@@ -53,8 +56,8 @@ void refuseOverwrite(const std::string& checkpoint, const std::string& out) {
     for (io::RolePath& f : io::outputWithTemporary("mesh data", io::xdmfDataPath(out)))
       files.outputs.push_back(std::move(f));
   io::refuseOverlaps(files);
-  io::requireExtension(out, "mesh", {".ply", ".xdmf"});
   for (const io::RolePath& f : files.outputs) io::checkWritable(f.path, f.role);
+  io::requireExtension(out, "mesh", {".ply", ".xdmf"});
 }
 
 int meshFromCheckpoint(const std::string& path, const std::string& out, bool normals,

@@ -15,6 +15,8 @@
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
+#include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -400,7 +402,23 @@ json trajectoryReport(const EvalOptions& o) {
   return j;
 }
 
+/// --json-out checked against every file eval reads, before any is.
+void refuseOverwrite(const EvalOptions& o) {
+  if (o.jsonOut.empty()) return;
+  io::FileRoles files;
+  files.outputs = io::outputWithTemporary("JSON report", o.jsonOut);
+  files.inputs = {{"mesh", o.mesh},
+                  {"reference", o.reference},
+                  {"seen scans", o.seen},
+                  {"poses", o.poses},
+                  {"reference poses", o.referencePoses},
+                  {"trajectory", o.trajectory}};
+  io::refuseOverlaps(files);
+  io::requireExtension(o.jsonOut, "JSON report", {".json"});
+}
+
 int run(const EvalOptions& o) {
+  refuseOverwrite(o);
   if (!o.trajectory.empty()) {
     const json report = trajectoryReport(o);
     if (o.json) std::cout << report.dump(2) << std::endl;

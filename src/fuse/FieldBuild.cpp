@@ -168,11 +168,12 @@ bool buildStreamed(const ReadSettings& read, const FieldSettings& f, MPI_Comm co
   io::ConfFile conf;
   if (!readList(read, comm, poses, lost, true, conf)) return false;
   if (!poses) printWarnings(conf, progress);
-  scans.names.clear(), scans.paths.clear(), scans.poses.clear();
+  scans.names.clear(), scans.paths.clear(), scans.poses.clear(), scans.times.clear();
   for (const io::ConfScan& c : conf.scans) {
     scans.names.push_back(c.name);
     scans.paths.push_back(c.path);
     scans.poses.push_back(c.pose);
+    scans.times.push_back(c.time);
   }
   StreamOptions options = streamOptions(read, f);
   options.planned = planned;

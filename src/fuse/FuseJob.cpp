@@ -11,6 +11,7 @@
 #include "rangefuse/fuse/OutputChecks.h"
 #include "rangefuse/fuse/RegisterStage.h"
 #include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/fuse/TrackStage.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -45,6 +46,10 @@ int resumeFromField(const RunSettings& s, const io::CheckpointMeta& meta, MPI_Co
                     Progress& progress) {
   LoadedScans scans;
   if (!collectively(comm, [&] {
+        if (!s.outputs.trajectoryOut.empty())
+          throw InputError("--trajectory-out: " + s.outputs.resume +
+                           " holds a finished field, not the frames' times; the run that "
+                           "wrote it writes the trajectory");
         if (s.mesh.fillHoles)
           throw InputError("--fill-holes: " + s.outputs.resume +
                            " holds a finished field, without the sight maps carving needs; "
@@ -77,7 +82,8 @@ int streamedRun(const RunSettings& s, MPI_Comm comm, Progress& progress) {
   RankCounters counters;
   if (!buildStreamed(s.read, s.field, comm, progress, scans, field, counters, nullptr, nullptr,
                      storageWarner(s, comm)) ||
-      !writeFieldCheckpoint(s.checkpoints(), comm, progress, scans, field))
+      !writeFieldCheckpoint(s.checkpoints(), comm, progress, scans, field) ||
+      !writeTrajectoryFile(s.outputs.trajectoryOut, scans, {}, comm))
     return 1;
   return finish(s, comm, progress, scans, field, counters, {});
 }
@@ -112,7 +118,8 @@ int registeredRun(const RunSettings& s, MPI_Comm comm, Progress& progress,
   RankCounters counters;
   if (!buildStreamed(s.read, s.field, comm, progress, scans, field, counters, &registered, nullptr,
                      storageWarner(s, comm)) ||
-      !writeFieldCheckpoint(s.checkpoints(), comm, progress, scans, field))
+      !writeFieldCheckpoint(s.checkpoints(), comm, progress, scans, field) ||
+      !writeTrajectoryFile(s.outputs.trajectoryOut, scans, {}, comm))
     return 1;
   return finish(s, comm, progress, scans, field, counters, steps);
 }

@@ -350,8 +350,8 @@ void checkCheckpointPath(const std::string& path, const io::ConfFile& frames) {
   for (const io::ConfScan& c : frames.scans)
     if (!c.memory) files.inputs.push_back({"frame's file", c.path});
   io::refuseOverlaps(files);
-  io::requireExtension(path, "checkpoint", {".h5", ".hdf5"});
   io::checkWritable(path, "checkpoint");
+  io::requireExtension(path, "checkpoint", {".h5", ".hdf5"});
 }
 
 }  // namespace

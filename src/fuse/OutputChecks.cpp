@@ -39,6 +39,15 @@ std::vector<io::RolePath> inputFiles(const RunSettings& s) {
   return files;
 }
 
+/// A camera trajectory is the path of depth frames: of range grids or stations there is none.
+void refuseTrajectoryOfScans(const RunSettings& s) {
+  std::error_code ec;
+  if (s.outputs.trajectoryOut.empty() || std::filesystem::is_directory(s.read.scans, ec)) return;
+  throw InputError(s.outputs.trajectoryOut + ": --trajectory-out writes a depth-image folder's " +
+                   "camera path, and " + s.read.scans +
+                   " is a scan list (--poses-out writes its scans' poses as a .conf)");
+}
+
 void refuseOldCheckpoint(const OutputSettings& o) {
   std::error_code ec;
   if (o.checkpoint.empty() || o.overwrite || !std::filesystem::exists(o.checkpoint, ec) ||
@@ -63,14 +72,15 @@ void checkOutputs(const RunSettings& s, int rank) {
   io::FileRoles files{outputFiles(o), inputFiles(s), {}};
   if (s.track.follow) files.watched.push_back({"followed folder", s.read.scans});
   io::refuseOverlaps(files);
-  for (const NamedOutput& n : namedOutputs(o))
-    if (!n.path.empty()) io::requireExtension(n.path, n.role, n.extensions);
   refuseOldCheckpoint(o);
+  refuseTrajectoryOfScans(s);
   for (const io::RolePath& f : files.outputs) {
     const bool everyRank = f.role == "mesh" || f.role == "mesh data" || f.role == "checkpoint";
     if (f.role.rfind("temporary", 0) != 0 && (rank == 0 || everyRank))
       io::checkWritable(f.path, f.role);
   }
+  for (const NamedOutput& n : namedOutputs(o))
+    if (!n.path.empty()) io::requireExtension(n.path, n.role, n.extensions);
 }
 
 std::vector<std::string> storageWarnings(const OutputSettings& o, bool normals,

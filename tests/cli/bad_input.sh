@@ -123,7 +123,7 @@ run_case out-checkpoint "ck.h5: cannot write the checkpoint there" fuse --scans 
   --voxel 0.1 --out "$tmp/out-checkpoint.out.ply" --checkpoint "$tmp/no/ck.h5"
 run_case out-is-folder "cannot write the report there: it is a folder" fuse --scans "$tmp/missing/scans.conf" \
   --voxel 0.1 --out "$tmp/out-is-folder.out.ply" --report "$tmp"
-run_case out-twice "given as both the mesh and the preview" fuse --scans "$tmp/missing/scans.conf" \
+run_case out-twice "(the mesh) and the preview" fuse --scans "$tmp/missing/scans.conf" \
   --voxel 0.1 --out "$tmp/out-twice.out.ply" --preview "$tmp/out-twice.out.ply"
 
 run_case scan-mesh "nothing.ply: cannot open" scan --mesh "$tmp/nothing.ply" --voxel 1 --out "$tmp/scan-mesh.out.dir"

@@ -14,7 +14,7 @@ same() {
   local name=$1
   shift
   for file in "$@"; do
-    for n in "${ranks[@]:1}"; do cmp "$tmp/${file}1" "$tmp/${file}$n"; done
+    for n in "${ranks[@]:1}"; do cmp "$tmp/${file%.*}-1.${file##*.}" "$tmp/${file%.*}-$n.${file##*.}"; done
   done
   echo "$name: ${ranks[*]} ranks give identical results"
 }
@@ -22,7 +22,7 @@ same() {
 for method in prism robust; do
   for n in "${ranks[@]}"; do
     mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$data/bunny/bun.conf" --voxel 0.002 \
-      --method $method --out "$tmp/$method.ply$n" >"$tmp/log"
+      --method $method --out "$tmp/$method-$n.ply" >"$tmp/log"
   done
   same "bunny, $method" "$method.ply"
 done
@@ -31,8 +31,8 @@ done
   --trans-vox 2 --out "$tmp/synth" >/dev/null
 for n in "${ranks[@]}"; do
   mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/synth/perturbed.conf" --voxel 1 \
-    --register both --max-iterations 3 --max-rounds 2 --out "$tmp/reg.ply$n" \
-    --poses-out "$tmp/poses.conf$n" >"$tmp/log"
+    --register both --max-iterations 3 --max-rounds 2 --out "$tmp/reg-$n.ply" \
+    --poses-out "$tmp/poses-$n.conf" >"$tmp/log"
 done
 same "registration (poses and mesh)" reg.ply poses.conf
 
@@ -40,7 +40,7 @@ same "registration (poses and mesh)" reg.ply poses.conf
   --path orbit --noise 0.5 --depth-noise --format tum --out "$tmp/tum" >/dev/null
 for n in "${ranks[@]}"; do
   mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/tum" --voxel 0.01 \
-    --out "$tmp/tum.ply$n" >"$tmp/log"
+    --out "$tmp/tum-$n.ply" >"$tmp/log"
 done
 same "depth sequence (TUM)" tum.ply
 
@@ -52,10 +52,10 @@ awk -v dir="$(cd "$data/bunny" && pwd)" '{ for (c = 0; c < 4; ++c)
   "$tmp/two" >"$tmp/copies.conf"
 for n in 1 4; do
   mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/copies.conf" --voxel 0.002 \
-    --out "$tmp/copies.ply$n" --report "$tmp/copies.json$n" >"$tmp/log"
+    --out "$tmp/copies-$n.ply" --report "$tmp/copies-$n.json" >"$tmp/log"
 done
-cmp "$tmp/copies.ply1" "$tmp/copies.ply4"
-python3 - "$tmp/copies.json4" <<'PY'
+cmp "$tmp/copies-1.ply" "$tmp/copies-4.ply"
+python3 - "$tmp/copies-4.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 routed = sum(e["routed_bytes_sent"] for e in r["per_rank"])

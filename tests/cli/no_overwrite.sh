@@ -57,6 +57,9 @@ refused "perturb over its own list" "$tmp/b/bun.conf" "would overwrite" -- \
   "$bin" perturb --scans "$tmp/b/bun.conf" --voxel 0.001 --out "$tmp/b/bun.conf"
 refused "render over the list" "$tmp/b/bun.conf" "would overwrite" -- \
   "$bin" render --scans "$tmp/b/bun.conf" --voxel 0.004 --out "$tmp/b/../b/bun.conf"
+refused "eval --json-out over the reference" "$tmp/b/bun_zipper.ply" "(the reference)" -- \
+  "$bin" eval --mesh "$tmp/m.ply" --reference "$tmp/b/bun_zipper.ply" --voxel 0.004 \
+  --json-out "$tmp/b/./bun_zipper.ply"
 cp "$tmp/b/bun_zipper.ply" "$tmp/d/truth.ply"
 refused "scan --mesh inside --out" "$tmp/d/truth.ply" "inside --out" -- \
   "$bin" scan --mesh "$tmp/d/truth.ply" --voxel 0.004 --views 2 --out "$tmp/d"

@@ -37,7 +37,8 @@ for n in 1 2 3; do
       case=$tmp/$writer-$n-$r
       mkdir -p "$case"
       cp "$good/ck.h5" "$case/ck.h5"  # the previous checkpoint
-      RANGEFUSE_FAULT="write:throw@$r#${nth[$writer]}" fuse "$n" "$case" --checkpoint "$case/ck.h5"
+      RANGEFUSE_FAULT="write:throw@$r#${nth[$writer]}" fuse "$n" "$case" --checkpoint "$case/ck.h5" \
+        --overwrite
       rc=$?
       name="$writer failing on rank $r of $n"
       [[ $rc -ne 0 && $rc -ne 124 ]] || fail "$name: exit code $rc (124 = hung)"

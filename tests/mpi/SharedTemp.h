@@ -10,11 +10,14 @@
 
 namespace rangefuse::test {
 
-/// temp_dir/rangefuse-NAME-PID with rank 0's PID, the same string on every rank.
+/// temp_dir/rangefuse-STEM-PID.EXT (NAME is STEM.EXT) with rank 0's PID, the same string on
+/// every rank; the extension stays last, as the writers require.
 inline std::string sharedTempPath(const std::string& name) {
-  const std::string p = (std::filesystem::temp_directory_path() /
-                         ("rangefuse-" + name + "-" + std::to_string(getpid())))
-                            .string();
+  const std::filesystem::path n(name);
+  const std::string p =
+      (std::filesystem::temp_directory_path() /
+       ("rangefuse-" + n.stem().string() + "-" + std::to_string(getpid()) + n.extension().string()))
+          .string();
   return mpi::broadcastString(p, 0, MPI_COMM_WORLD);
 }
 

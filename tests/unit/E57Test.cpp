@@ -213,8 +213,9 @@ TEST(E57, AStationWithColourAndIntensityIsReadAsEitherOnRequest) {
   ASSERT_EQ(grey.colours.size(), g.colours.size());
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.cols; ++c)
-      if (g.at(r, c) >= 0)
+      if (g.at(r, c) >= 0) {
         EXPECT_NEAR(grey.colours[grey.at(r, c)].x(), g.colours[g.at(r, c)].mean(), 1e-6);
+      }
 }
 
 TEST(E57, AScanWithoutIndicesIsProjectedOnAnAngularGrid) {
