@@ -266,8 +266,8 @@ TEST(FusionApi, ScansAddedByTheirListAreTheGridsAddedAndHashedAsTheCommandHashes
   missing.addScans(broken);
   const std::string message = messageOf([&] { missing.mesh(); });
   EXPECT_NE(message.find("nowhere.ply"), std::string::npos) << message;
-  EXPECT_NE(messageOf([&] { missing.addScans(sharedTempPath("absent.conf")); }).find("absent.conf"),
-            std::string::npos);
+  const std::string absent = sharedTempPath("absent.conf");
+  EXPECT_NE(messageOf([&] { missing.addScans(absent); }).find(absent), std::string::npos);
   MPI_Barrier(MPI_COMM_WORLD);
   if (mpi::rank() != 0) return;
   std::filesystem::remove(checkpoint);
