@@ -1,5 +1,6 @@
 #include "rangefuse/io/Trajectory.h"
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -57,6 +58,16 @@ std::vector<TimedPose> readTum(const std::string& path) {
   return poses;
 }
 
+/// The rotation nearest `m` (least squares): a matrix a file gives to a few digits, as
+/// KinectFusion's poses are, is a rotation only to about 1e-4, enough to turn the angle between
+/// two copies of one pose into a degree and to fail a checkpoint's rigidity check.
+Eigen::Matrix3d nearestRotation(const Eigen::Matrix3d& m) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) d(2, 2) = -1;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
 std::vector<TimedPose> readLog(const std::string& path) {
   const auto lines = dataLines(path);
   if (lines.size() % 5 != 0)
@@ -77,8 +88,11 @@ std::vector<TimedPose> readLog(const std::string& path) {
     if (R.determinant() < 0)
       throw InputError(at(path, lines[k + 1].first) +
                        ": the matrix is a reflection (determinant -1), not a rigid motion");
-    poses.push_back(
-        {static_cast<double>(poses.size()) / kRedwoodFrameRate, Pose{R, m.topRightCorner<3, 1>()}});
+    // Rows rounded in the file leave R a little off a rotation: taken as the nearest one, so
+    // that poses compare, compose and checkpoint as rotations (clean matrices stay as read).
+    const bool rounded = !(R.transpose() * R).isIdentity(1e-9);
+    poses.push_back({static_cast<double>(poses.size()) / kRedwoodFrameRate,
+                     Pose{rounded ? nearestRotation(R) : R, m.topRightCorner<3, 1>()}});
   }
   return poses;
 }

@@ -20,7 +20,8 @@ $bin eval --trajectory "$tmp/k.txt" --reference "$tmp/k/trajectory.log"
 $bin eval --trajectory "$tmp/k/trajectory.log" --reference "$tmp/k.txt" | grep -E "matched|ATE"
 
 echo "== info: the first frame's pose, then the recording's pose file"
-$bin info "$tmp/k.h5" | grep -m1 "depth/000000.png"
+$bin info "$tmp/k.h5" >"$tmp/info.txt"
+grep -m1 "depth/000000.png" "$tmp/info.txt"
 head -3 "$tmp/k/trajectory.log" | tail -2
 
 echo "== tracked ($frames frames, 2 cm, 2 ranks): the report's tracking figures"

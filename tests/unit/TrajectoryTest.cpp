@@ -3,6 +3,9 @@
 // RPE of a steady drift, and the constant-velocity prediction of the tracker.
 #include <gtest/gtest.h>
 
+#include <iomanip>
+#include <sstream>
+
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/eval/TrajectoryError.h"
@@ -133,6 +136,32 @@ TEST(TrajectoryError, OneTrajectoryAsTumAndAsLogMatchesEveryPose) {
   EXPECT_LT(e.ateRmse, 1e-9);
   // RPE over a second takes pairs 30 frames apart, not 1 frame apart: 99 - 30 pairs.
   EXPECT_NEAR(static_cast<double>(e.rpePairs), 69, 1);
+}
+
+TEST(Trajectory, ALogRoundedToFewDigitsReadsAsRotations) {
+  // KinectFusion's poses (the 7-Scenes kitchen) give R to about 1e-4: read as the nearest
+  // rotation, the same poses written as TUM compare with the .log at no error, angles included.
+  TempDir dir;
+  std::vector<io::TimedPose> run = path(60);
+  std::ostringstream rounded;
+  rounded << std::fixed << std::setprecision(4);
+  for (size_t k = 0; k < run.size(); ++k) {
+    run[k].time = k / io::kRedwoodFrameRate;
+    rounded << k << ' ' << k << ' ' << k + 1 << '\n';
+    const Pose& p = run[k].cameraToWorld;
+    for (int r = 0; r < 3; ++r)
+      rounded << p.R(r, 0) << ' ' << p.R(r, 1) << ' ' << p.R(r, 2) << ' ' << p.t(r) << '\n';
+    rounded << "0 0 0 1\n";
+  }
+  dir.write("kf.log", rounded.str());
+  const auto log = io::readTrajectory(dir.file("kf.log"));
+  for (const auto& p : log)
+    EXPECT_TRUE((p.cameraToWorld.R.transpose() * p.cameraToWorld.R).isIdentity(1e-12));
+  io::writeTrajectory(dir.file("kf.txt"), log);
+  const TrajectoryError e = compareTrajectories(io::readTrajectory(dir.file("kf.txt")), log);
+  EXPECT_EQ(e.matched, 60u);
+  EXPECT_LT(e.ateRmse, 1e-9);
+  EXPECT_LT(e.rpeRotationRmseDeg, 1e-3);
 }
 
 TEST(TrajectoryError, ByIndexPairsPosesOfTheSameNumberAndHalfMustMatch) {
