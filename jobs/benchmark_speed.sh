@@ -55,13 +55,13 @@ echo "| input | triangles | rangefuse read / field / mesh (s) | read to write (s
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 # run NAME CONF VOXEL [SET_DIR]
 run() {
-  local name=$1 conf=$2 voxel=$3 set=${4:-} log=$tmp/log rep=$tmp/report.json
+  local name=$1 conf=$2 voxel=$3 set=${4:-} log=$tmp/log rep=$tmp/report.json again=$tmp/report2.json
   $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" --report "$rep" "${extra[@]}" >"$log"
-  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" --report "$rep.2" \
+  $bin fuse --scans "$conf" --voxel "$voxel" --out "$tmp/ours.ply" --report "$again" \
     "${extra[@]}" >"$log.2"
-  if awk -v a="$(stage "$rep.2" wall)" -v b="$(stage "$rep" wall)" 'BEGIN { exit !(a < b) }'; then
+  if awk -v a="$(stage "$again" wall)" -v b="$(stage "$rep" wall)" 'BEGIN { exit !(a < b) }'; then
     mv "$log.2" "$log"
-    mv "$rep.2" "$rep"
+    mv "$again" "$rep"
   fi
   local r f m tri updates ns total peak
   r=$(stage "$rep" read) f=$(stage "$rep" field) m=$(stage "$rep" mesh)
