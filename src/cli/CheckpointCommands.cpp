@@ -4,6 +4,7 @@
 #include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/fuse/OutputChecks.h"
 #include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/MeshPartPly.h"
@@ -35,8 +36,7 @@ int parseWithCheckpoint(int argc, char** argv, const po::options_description& d,
     help = vm.count("help") > 0;
     if (!help) po::notify(vm);
   } catch (const po::unknown_option& e) {
-    const std::string hint = suggestOption(e.get_option_name(), d);
-    error = std::string(e.what()) + (hint.empty() ? "" : "; " + hint);
+    error = unknownOptionMessage(e, d);
   } catch (const std::exception& e) {
     error = e.what();
   }
@@ -49,12 +49,11 @@ int parseWithCheckpoint(int argc, char** argv, const po::options_description& d,
 
 /// The mesh (and an XDMF mesh's data) checked against the checkpoint it is made from.
 void refuseOverwrite(const std::string& checkpoint, const std::string& out) {
+  OutputSettings written;
+  written.out = out;
   io::FileRoles files;
   files.inputs = {{"checkpoint", checkpoint}};
-  files.outputs = io::outputWithTemporary("mesh", out);
-  if (io::isXdmfPath(out))
-    for (io::RolePath& f : io::outputWithTemporary("mesh data", io::xdmfDataPath(out)))
-      files.outputs.push_back(std::move(f));
+  files.outputs = outputFiles(written);  // the mesh, an XDMF's data, their temporaries
   io::refuseOverlaps(files);
   for (const io::RolePath& f : files.outputs) io::checkWritable(f.path, f.role);
   io::requireExtension(out, "mesh", {".ply", ".xdmf"});

@@ -55,13 +55,17 @@ std::string suggestOption(const std::string& given, const po::options_descriptio
   return best.empty() ? "" : "did you mean --" + best + "?";
 }
 
+std::string unknownOptionMessage(const po::unknown_option& e, const po::options_description& desc) {
+  const std::string hint = suggestOption(e.get_option_name(), desc);
+  return std::string(e.what()) + (hint.empty() ? "" : "; " + hint);
+}
+
 bool parseOptions(int argc, char** argv, const po::options_description& desc, po::variables_map& vm,
                   const std::string& example) {
   try {
     po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
   } catch (const po::unknown_option& e) {
-    const std::string hint = suggestOption(e.get_option_name(), desc);
-    throw po::error(std::string(e.what()) + (hint.empty() ? "" : "; " + hint));
+    throw po::error(unknownOptionMessage(e, desc));
   }
   if (vm.count("help")) {
     if (mpi::rank() == 0)

@@ -21,6 +21,10 @@ bool parseOptions(int argc, char** argv, const boost::program_options::options_d
 std::string suggestOption(const std::string& given,
                           const boost::program_options::options_description& desc);
 
+/// The parser's message for an unknown option, with suggestOption's hint when there is one.
+std::string unknownOptionMessage(const boost::program_options::unknown_option& e,
+                                 const boost::program_options::options_description& desc);
+
 /// Parses collectively: every rank returns 2 on a bad option (message printed once), 0
 /// after --help, -1 when the command should run.
 int parseCollectively(int argc, char** argv,
