@@ -54,7 +54,7 @@ RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const st
       const double d = count * camera.unit;
       measured += count > 0;
       tooFar += d > kImplausibleDepth;
-      if (count == 0 || (camera.maxDepth > 0 && d > camera.maxDepth)) continue;
+      if (count == 0 || (camera.depthMax > 0 && d > camera.depthMax)) continue;
       g.cell[static_cast<size_t>(r) * g.cols + u] = static_cast<int32_t>(g.points.size());
       g.points.emplace_back((u - camera.cx) * d / camera.fx, (camera.cy - v) * d / camera.fy, -d);
     }

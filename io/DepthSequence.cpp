@@ -63,7 +63,7 @@ DepthCamera cameraFor(const std::string& dir, const DepthReading& reading, doubl
                      "camera_intrinsic.json file, or put camera_intrinsic.json in the folder");
   DepthCamera c = given ? *given : readIntrinsicJson(json.string());
   c.unit = 1.0 / (reading.depthScale > 0 ? reading.depthScale : countsPerMetre);
-  c.maxDepth = reading.maxDepth;
+  c.depthMax = reading.depthMax;
   return c;
 }
 

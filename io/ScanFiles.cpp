@@ -88,7 +88,7 @@ ConfFile readSequence(const std::string& dir, const std::string& format,
       throw InputError(dir + ": --scan-format " + format + " does not fit the folder: " + why +
                        "; leave --scan-format out to read it by its own files (--depth-scale "
                        "sets the counts a metre)");
-  const DepthReading reading{givenCamera(source), source.maxDepth, source.depthScale};
+  const DepthReading reading{givenCamera(source), source.depthMax, source.depthScale};
   return *layout == SequenceLayout::Tum ? readTumSequence(dir, reading)
                                         : readRedwoodSequence(dir, reading);
 }

@@ -19,7 +19,7 @@ void addParameter(po::options_description_easy_init& add, const FuseParameter& p
   auto* value = po::value<std::string>();
   const std::string text = parameterText(p, defaults);
   if (!p.required && !text.empty()) value->default_value(text);
-  if (!p.implicitValue.empty()) value->implicit_value(p.implicitValue);
+  if (*p.implicitValue) value->implicit_value(p.implicitValue);
   value->notifier([&p, &o, text](const std::string& given) {
     if (p.required || given != text) parseParameter(p, o, given);
   });
@@ -85,7 +85,7 @@ void addSourceOptions(po::options_description& d, io::ScanSourceOptions& source,
   add("scan-format", po::value(&source.format)->default_value(source.format),
       helpOf("scan-format", reads).c_str());
   add("intrinsics", po::value(&source.intrinsics), helpOf("intrinsics", reads).c_str());
-  add("depth-max", po::value(&source.maxDepth)->default_value(source.maxDepth),
+  add("depth-max", po::value(&source.depthMax)->default_value(source.depthMax),
       helpOf("depth-max", reads).c_str());
   add("depth-scale", po::value(&source.depthScale)->default_value(source.depthScale),
       helpOf("depth-scale", reads).c_str());
@@ -109,8 +109,9 @@ int fuseCommand(int argc, char** argv, MPI_Comm comm) {
   if (parsed >= 0) return parsed;
   for (const auto& [name, value] : vm)
     if (!value.defaulted()) o.givenOptions.push_back(name);
-  if (vm.count("config")) o.config = vm["config"].as<std::string>();
-  setInterruptHint(fuseInterruptHint(o.checkpoint, !o.resume.empty() && o.resume == o.checkpoint));
+  if (vm.count("config")) o.outputs.config = vm["config"].as<std::string>();
+  setInterruptHint(fuseInterruptHint(
+      o.outputs.checkpoint, !o.outputs.resume.empty() && o.outputs.resume == o.outputs.checkpoint));
   return runFuse(o, comm);
 }
 

@@ -37,7 +37,7 @@ Picture parsePicture(const RenderOptions& o) {
   if (o.out.empty()) throw InputError("render: --out FILE.png is required");
   io::FileRoles files;
   files.outputs = io::outputWithTemporary("picture", o.out);
-  files.inputs = {{"checkpoint", o.checkpoint}, {"options file", o.field.config}};
+  files.inputs = {{"checkpoint", o.checkpoint}, {"options file", o.field.outputs.config}};
   if (!o.field.scans.empty())
     for (std::string& f : io::scanListFiles(o.field.scans))
       files.inputs.push_back({"scan list's file", std::move(f)});
@@ -129,7 +129,7 @@ int renderCommand(int argc, char** argv, MPI_Comm comm) {
       "mpirun -np 2 rangefuse render --scans bun.conf --voxel 0.001 --view 30,20 --out bunny.png",
       "render", comm);
   if (parsed >= 0) return parsed;
-  if (vm.count("config")) o.field.config = vm["config"].as<std::string>();
+  if (vm.count("config")) o.field.outputs.config = vm["config"].as<std::string>();
   return run(o, comm);
 }
 

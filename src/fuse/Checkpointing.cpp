@@ -15,6 +15,13 @@ bool given(const FuseOptions& o, const std::string& option) {
   return std::find(o.givenOptions.begin(), o.givenOptions.end(), option) != o.givenOptions.end();
 }
 
+/// Options added after checkpoints were first written, with the value the runs before them had.
+const std::pair<const char*, const char*> kBeforeTheOption[] = {
+    {"merge-cells", "0"},             // unmerged grids
+    {"smooth-noise", "0"},            // depths as read
+    {"min-views", "1"},               // the quorum alone
+    {"register-solve", "per-scan"}};  // per-scan fits
+
 }  // namespace
 
 std::vector<std::string> hashScans(const std::vector<std::string>& paths, MPI_Comm comm) {
@@ -61,16 +68,11 @@ io::CheckpointMeta checkpointMeta(const RecordedParameters& recorded, const Load
 void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
   const nlohmann::json mine = resultParameters(o);
   std::vector<std::string> differ;
-  // Checkpoints from before --merge-cells were written from unmerged grids.
-  if (!meta.parameters.contains("merge_cells_voxels") && !given(o, "merge-cells")) o.mergeCells = 0;
-  // ... and before --smooth-noise, from depths as read.
-  if (!meta.parameters.contains("smooth_noise_voxels") && !given(o, "smooth-noise"))
-    o.smoothNoise = 0;
-  // ... and before --min-views, with the quorum alone.
-  if (!meta.parameters.contains("min_views") && !given(o, "min-views")) o.minViews = 1;
-  // ... and before the joint solve, with per-scan fits.
-  if (!meta.parameters.contains("register_solve") && !given(o, "register-solve"))
-    o.registerSolve = RegistrationSolve::PerScan;
+  // A checkpoint written before an option existed was written as its value here says.
+  for (const FuseParameter& p : fuseParameters())
+    for (const auto& [option, before] : kBeforeTheOption)
+      if (p.option == option && !meta.parameters.contains(p.key) && !given(o, p.option))
+        parseParameter(p, o, before);
   for (const FuseParameter& p : fuseParameters()) {
     if (p.recorded == Recorded::No || !meta.parameters.contains(p.key)) continue;
     const nlohmann::json& theirs = meta.parameters[p.key];
@@ -82,7 +84,7 @@ void adoptCheckpointParameters(const io::CheckpointMeta& meta, FuseOptions& o) {
     }
   }
   if (differ.empty()) return;
-  std::string msg = "--resume " + o.resume + ": parameters differ from the checkpoint's:";
+  std::string msg = "--resume " + o.outputs.resume + ": parameters differ from the checkpoint's:";
   for (const auto& d : differ) msg += " " + d + ";";
   throw InputError(msg + " leave them out to take the checkpoint's");
 }

@@ -27,17 +27,17 @@ using mpi::collectively;
 /// The options of the run, with the result-deciding ones a checkpoint holds adopted when
 /// resuming, checked; the checkpoint's meta in `resumed`. False on failure (printed once).
 bool settle(FuseOptions& o, MPI_Comm comm, io::CheckpointMeta& resumed) {
-  if (!o.resume.empty() && !collectively(comm, [&] {
-        resumed = io::readCheckpointMeta(o.resume, comm, o.limits);
+  if (!o.outputs.resume.empty() && !collectively(comm, [&] {
+        resumed = io::readCheckpointMeta(o.outputs.resume, comm, o.limits);
         adoptCheckpointParameters(resumed, o);
       }))
     return false;
   if (!collectively(comm, [&] {
-        if (o.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
+        if (o.outputs.out.empty()) throw InputError("--out is required (the mesh .ply to write)");
         validateFuseOptions(o);
       }))
     return false;
-  if (o.threads == 0) o.threads = threadsPerRank(comm);
+  if (o.field.threads == 0) o.field.threads = threadsPerRank(comm);
   return true;
 }
 

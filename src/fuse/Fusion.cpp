@@ -24,8 +24,8 @@
 namespace rangefuse {
 namespace {
 
-// The command's defaults (FuseParameters.cpp) for what the library does not let callers set.
-constexpr double kKeepMiB = 1024;  // --scan-memory
+/// The command's default --scan-memory, which the library does not let callers set.
+const double kKeepMiB = FuseOptions{}.scanMemory;
 
 /// This process alone, MPI started first when no one has (and finished when the program ends).
 MPI_Comm selfComm() {
@@ -41,14 +41,6 @@ MPI_Comm selfComm() {
     });
   }
   return MPI_COMM_SELF;
-}
-
-void checkField(const FieldSettings& f) {
-  if (!(f.voxel > 0) || !std::isfinite(f.voxel))
-    throw InputError("Fusion: the voxel must be a positive size in the scans' units");
-  if (!(f.envelope > 0) || !(f.envelope <= 1000))
-    throw InputError("Fusion: the envelope must be in (0, 1000] voxels");
-  if (f.brick < 2 || f.brick > 64) throw InputError("Fusion: a brick must have 2 to 64 voxels");
 }
 
 void checkPose(const Pose& pose, const std::string& name) {
@@ -96,10 +88,7 @@ std::string frameHash(const io::MemoryScan& m) {
 /// The settings as the command's checkpoints record its options.
 nlohmann::json recordedSettings(const FieldSettings& f, const SurfaceOptions& surface) {
   FuseOptions o;
-  o.voxel = f.voxel, o.method = f.method, o.envelope = f.envelope, o.brick = f.brick;
-  o.colour = f.colour, o.quorum = f.quorum, o.minViews = f.minViews, o.edgeAngle = f.edgeAngle;
-  o.sameDistance = f.sameDistance, o.sameAngle = f.sameAngle, o.freeMargin = f.freeMargin;
-  o.fillHoles = f.fillHoles;
+  o.field = f;
   o.mergeCells = surface.mergeTarget / f.voxel, o.smoothNoise = surface.smoothTarget / f.voxel;
   return resultParameters(o);
 }
@@ -199,7 +188,9 @@ const char* libraryVersion() {
 }
 
 SurfaceOptions defaultSurface(const FieldSettings& field) {
-  return surfaceOptions(SurfaceOptions{}, 1, 1, field.voxel, field.method, field.fillHoles);
+  const FuseOptions command;  // the command's defaults
+  return surfaceOptions(command.surface, command.mergeCells, command.smoothNoise, field.voxel,
+                        field.method, field.fillHoles);
 }
 
 Fusion::Fusion(const FieldSettings& field, MPI_Comm comm)
@@ -209,7 +200,7 @@ Fusion::Fusion(const FieldSettings& field, const SurfaceOptions& surface, MPI_Co
     : state_(std::make_unique<State>()) {
   // HDF5 would print its whole error stack; its failures reach the caller as InputError.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  checkField(field);
+  field.validate();
   State& s = *state_;
   s.comm = comm == MPI_COMM_NULL ? selfComm() : comm;
   s.field = field;
@@ -235,6 +226,7 @@ void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) 
 void Fusion::addScans(const std::string& path, const io::ScanSourceOptions& source) {
   State& s = *state_;
   refuseResumed(path);
+  source.validate();
   if (s.stream) throw InputError(path + ": this fusion tracks its frames; add none with a pose");
   mpi::CapturedFailure failure;
   io::ConfFile conf;
@@ -267,6 +259,9 @@ io::MemoryScan depthFrame(io::DepthImage&& depth, const io::DepthCamera& camera,
                      std::to_string(camera.width) + " x " + std::to_string(camera.height));
   if (!(camera.fx > 0) || !(camera.fy > 0) || !(camera.unit > 0))
     throw InputError(n + ": the camera needs positive focal lengths and depth unit");
+  io::ScanSourceOptions cut;  // the command's check of --depth-max
+  cut.depthMax = camera.depthMax;
+  cut.validate();
   if (colour && (colour->width != depth.width || colour->height != depth.height ||
                  colour->rgb.size() != size_t(colour->width) * size_t(colour->height) * 3))
     throw InputError(n + ": the colour image is " + std::to_string(colour->width) + " x " +

@@ -56,7 +56,7 @@ const DepthMap& PixelMotion::depthMap(size_t i) {
   map.depth.resize(image.counts.size());
   for (size_t k = 0; k < image.counts.size(); ++k) {
     const double d = image.counts[k] * c.unit;
-    map.depth[k] = c.maxDepth > 0 && d > c.maxDepth ? 0.0f : static_cast<float>(d);
+    map.depth[k] = c.depthMax > 0 && d > c.depthMax ? 0.0f : static_cast<float>(d);
   }
   cache_[next_] = {i, std::move(map)};
   next_ = 1 - next_;

@@ -19,7 +19,7 @@ using mpi::collectively;
 
 namespace {
 
-RegistrationOptions registrationOptions(const RegisterSettings& o, double voxel, double eps,
+RegistrationOptions registrationOptions(const RegistrationSettings& o, double voxel, double eps,
                                         const LoadedScans& scans) {
   RegistrationOptions r;
   r.mode = o.mode;
@@ -194,7 +194,7 @@ class RegistrationCheckpointer {
 
 }  // namespace
 
-bool registerPoses(const RegisterSettings& o, const FieldSettings& f,
+bool registerPoses(const RegistrationSettings& o, const FieldSettings& f,
                    const CheckpointWriting& checkpoints, const std::string& resumed, MPI_Comm comm,
                    Progress& progress, LoadedScans& scans, RegistrationProgress& state,
                    std::vector<RegistrationStep>& steps) {

@@ -53,7 +53,7 @@ Pose parseCameraPose(const std::string& text) {
   return Pose{q.normalized().toRotationMatrix(), Eigen::Vector3d(v[0], v[1], v[2])};
 }
 
-TrackingSettings trackingSettings(const TrackSettings& t, int controlStride, double voxel,
+TrackingSettings trackingSettings(const StreamSettings& t, int controlStride, double voxel,
                                   double eps) {
   TrackingSettings s;
   RegistrationOptions& f = s.fit;
@@ -319,7 +319,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
                  std::vector<char>& lost, FusedField& field, RankCounters& counters,
                  const io::CheckpointMeta* resumed) {
   const FieldSettings& f = s.field;
-  const TrackSettings& t = s.track;
+  const StreamSettings& t = s.track;
   TrackingSettings settings;
   std::vector<Pose> guide;
   TrackingState state;

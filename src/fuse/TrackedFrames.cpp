@@ -14,7 +14,7 @@ TrackedFrames::TrackedFrames(const ReadSettings& read, const FieldSettings& fiel
   scans_.rank = mpi::rank(comm);
   scans_.posed = false;
   scans_.colour = colour;
-  TrackSettings track;
+  StreamSettings track;
   track.skipLost = true;  // a caller's stream goes on past a frame that did not fit
   settings_ = trackingSettings(track, 1, field.voxel, field.eps());
   calls_.frame = [this](size_t i, bool done) {

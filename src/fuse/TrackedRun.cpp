@@ -59,7 +59,7 @@ void checkTrackable(const RunSettings& s) {
 
 }  // namespace
 
-bool decideTracking(const ReadSettings& read, const TrackSettings& track, MPI_Comm comm,
+bool decideTracking(const ReadSettings& read, const StreamSettings& track, MPI_Comm comm,
                     bool& tracking) {
   return collectively(comm, [&] {
     if (track.follow) {  // the folder may hold no frames yet

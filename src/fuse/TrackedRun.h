@@ -12,7 +12,7 @@ namespace rangefuse::internal {
 
 /// Collective: whether the run tracks a depth stream (reads the scan list). False on failure
 /// (printed once).
-bool decideTracking(const ReadSettings& read, const TrackSettings& track, MPI_Comm comm,
+bool decideTracking(const ReadSettings& read, const StreamSettings& track, MPI_Comm comm,
                     bool& tracking);
 
 /// Collective: the whole tracked run, from the stream's first frame or from `resumed`, a

@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -153,44 +154,51 @@ py::array viewOf(std::vector<Vector>&& values, py::ssize_t width) {
                              reinterpret_cast<const Scalar*>(owned->data()), free);
 }
 
-/// Sets one FieldSettings member from a Python value.
-using Setter = std::function<void(FieldSettings&, const py::handle&)>;
-
-template <class T>
-Setter setter(T FieldSettings::*member) {
-  return [member](FieldSettings& f, const py::handle& v) { f.*member = v.cast<T>(); };
+/// Sets a setting from a Python value of its type (enumerations by name).
+void setFromPython(const std::string& option, const SettingValue& value, const py::handle& v) {
+  std::visit(
+      Overloaded{[&](auto* member) { *member = v.cast<std::remove_pointer_t<decltype(member)>>(); },
+                 [&](const EnumValue& e) { e.set(option, v.cast<std::string>()); }},
+      value);
 }
 
-/// The field's settings by their Python names (the command's option names).
-const std::map<std::string, Setter>& fieldSetters() {
-  static const std::map<std::string, Setter> setters = {
-      {"envelope", setter(&FieldSettings::envelope)},
-      {"brick", setter(&FieldSettings::brick)},
-      {"colour", setter(&FieldSettings::colour)},
-      {"quorum", setter(&FieldSettings::quorum)},
-      {"min_views", setter(&FieldSettings::minViews)},
-      {"edge_angle", setter(&FieldSettings::edgeAngle)},
-      {"same_distance", setter(&FieldSettings::sameDistance)},
-      {"same_angle", setter(&FieldSettings::sameAngle)},
-      {"free_margin", setter(&FieldSettings::freeMargin)},
-      {"fill_holes", setter(&FieldSettings::fillHoles)},
-      {"threads", setter(&FieldSettings::threads)},
-      {"max_voxels", setter(&FieldSettings::maxVoxels)}};
-  return setters;
-}
-
+/// A field from Fusion's keywords: the field's settings by their options' names with '_' for
+/// '-' (FieldSettings::settings()), and max_voxels (--max-voxels).
 FieldSettings fieldOf(double voxel, const std::string& method, const py::kwargs& more) {
   FieldSettings f;
   f.voxel = voxel;
   f.method = parseFieldMethod("method", method);
-  f.threads = 0;
+  std::vector<std::string> keywords = {"max_voxels"};
+  for (const Setting<FieldSettings>& s : FieldSettings::settings())
+    if (s.option != "voxel" && s.option != "method") keywords.push_back(keywordOf(s.option));
   for (const auto& [key, value] : more) {
     const std::string k = py::str(key);
-    const auto found = fieldSetters().find(k);
-    if (found == fieldSetters().end()) throw InputError("Fusion: unknown setting '" + k + "'");
-    found->second(f, value);
+    if (k == "max_voxels") {
+      f.maxVoxels = value.cast<uint64_t>();
+      continue;
+    }
+    const auto& table = FieldSettings::settings();
+    const auto s = std::find_if(table.begin(), table.end(), [&](const Setting<FieldSettings>& s) {
+      return keywordOf(s.option) == k && s.option != "voxel" && s.option != "method";
+    });
+    if (s == table.end()) {
+      std::string known;
+      for (const std::string& w : keywords) known += (known.empty() ? "" : ", ") + w;
+      throw InputError("Fusion: unknown setting '" + k + "' (settings: " + known + ")");
+    }
+    setFromPython(s->option, s->value(f), value);
   }
   return f;
+}
+
+/// A depth limit given by its name, depth_max, or by its old one (warned about).
+double depthMaxOf(double depthMax, const py::object& old, const char* oldName) {
+  if (old.is_none()) return depthMax;
+  py::module_::import("warnings")
+      .attr("warn")(
+          std::string(oldName) + " is now depth_max (as --depth-max); " + oldName + " will go",
+          py::module_::import("builtins").attr("FutureWarning"), 2);
+  return old.cast<double>();
 }
 
 /// A 4 x 4 numpy matrix of a pose.
@@ -227,9 +235,10 @@ void addGrid(Fusion& f, const py::handle& points, const py::handle& pose,
 }
 
 void addDepth(Fusion& f, const py::handle& depth, const py::handle& intrinsics,
-              const py::handle& pose, const py::handle& colour, double scale, double trunc,
-              const std::string& name) {
+              const py::handle& pose, const py::handle& colour, double scale, double depthMax,
+              const py::object& depthTrunc, const std::string& name) {
   const std::string n = nameOr(name, f);
+  const double trunc = depthMaxOf(depthMax, depthTrunc, "depth_trunc");
   if (!(scale > 0)) throw InputError(n + ": depth_scale must be positive counts per unit");
   io::DepthImage d = depthOf(depth, scale, n);
   const Pinhole k = pinholeOf(intrinsics, n);
@@ -242,9 +251,10 @@ void addDepth(Fusion& f, const py::handle& depth, const py::handle& intrinsics,
 }
 
 py::dict trackDepth(Fusion& f, const py::handle& depth, const py::handle& intrinsics,
-                    const py::handle& colour, double scale, double trunc, const py::object& time,
-                    const std::string& name) {
+                    const py::handle& colour, double scale, double depthMax,
+                    const py::object& depthTrunc, const py::object& time, const std::string& name) {
   const std::string n = nameOr(name, f);
+  const double trunc = depthMaxOf(depthMax, depthTrunc, "depth_trunc");
   if (!(scale > 0)) throw InputError(n + ": depth_scale must be positive counts per unit");
   io::DepthImage d = depthOf(depth, scale, n);
   const Pinhole k = pinholeOf(intrinsics, n);
@@ -383,7 +393,7 @@ PYBIND11_MODULE(rangefuse, m) {
            "was measured, placed by the 4 x 4 pose (scan to world)")
       .def("add_depth", &addDepth, py::arg("depth"), py::arg("intrinsics"), py::arg("pose"),
            py::arg("colour") = py::none(), py::arg("depth_scale") = 1000.0,
-           py::arg("depth_trunc") = 0.0, py::arg("name") = "",
+           py::arg("depth_max") = 0.0, py::arg("depth_trunc") = py::none(), py::arg("name") = "",
            "Adds a depth image (height, width): counts of any integer dtype (uint16 as a PNG holds "
            "them, "
            "int32 as PIL gives them) or metres of a float dtype, depth_scale "
@@ -391,20 +401,26 @@ PYBIND11_MODULE(rangefuse, m) {
       .def(
           "add_scans",
           [](Fusion& f, const std::string& path, const std::string& format,
-             const std::string& intrinsics, double maxDepth, double depthScale) {
-            const io::ScanSourceOptions source{format, intrinsics, maxDepth, depthScale};
+             const std::string& intrinsics, double depthMax, double depthScale,
+             const py::object& maxDepth) {
+            io::ScanSourceOptions source;
+            source.format = format, source.intrinsics = intrinsics;
+            source.depthMax = depthMaxOf(depthMax, maxDepth, "max_depth");
+            source.depthScale = depthScale;
             py::gil_scoped_release free;
             f.addScans(path, source);
           },
           py::arg("path"), py::arg("format") = "auto", py::arg("intrinsics") = "",
-          py::arg("max_depth") = 0.0, py::arg("depth_scale") = 0.0,
+          py::arg("depth_max") = 0.0, py::arg("depth_scale") = 0.0,
+          py::arg("max_depth") = py::none(),
           "Adds every scan a list names, as rangefuse fuse --scans reads it (a .conf, a PTX "
           "file, a posed TUM or Redwood depth folder); each file is read when the field is "
           "built, by the rank whose share it is (under mpirun, ranks do not read each other's "
           "files)")
       .def("track", &trackDepth, py::arg("depth"), py::arg("intrinsics"),
            py::arg("colour") = py::none(), py::arg("depth_scale") = 1000.0,
-           py::arg("depth_trunc") = 0.0, py::arg("time") = py::none(), py::arg("name") = "",
+           py::arg("depth_max") = 0.0, py::arg("depth_trunc") = py::none(),
+           py::arg("time") = py::none(), py::arg("name") = "",
            "Tracks a depth image whose pose is unknown against the field of the frames before and "
            "fuses it when the fit holds: {'pose': camera to world 4 x 4, 'fused', 'inliers', "
            "'rms', 'why'}; the first frame's camera is the world frame")

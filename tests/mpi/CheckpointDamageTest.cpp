@@ -37,9 +37,9 @@ TEST(CheckpointDamage, IsRefusedOrResumesToTheSameMesh) {
                     meshGood = sharedTempPath("good.ply"), meshBad = sharedTempPath("bad.ply");
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = 0.003;
-  o.out = meshGood;
-  o.checkpoint = good;
+  o.field.voxel = 0.003;
+  o.outputs.out = meshGood;
+  o.outputs.checkpoint = good;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   const std::string expected = mpi::rank() == 0 ? readBytes(meshGood) : "";
   const size_t size = std::filesystem::file_size(good);
@@ -51,8 +51,8 @@ TEST(CheckpointDamage, IsRefusedOrResumesToTheSameMesh) {
       damagedCopy(good, bad, offset, length);
       FuseOptions r;
       r.scans = o.scans;
-      r.resume = bad;
-      r.out = meshBad;
+      r.outputs.resume = bad;
+      r.outputs.out = meshBad;
       const int rc = runFuse(r, MPI_COMM_WORLD);
       if (rc != 0) {
         ++refused;

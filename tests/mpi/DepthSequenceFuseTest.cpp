@@ -58,8 +58,8 @@ void writeSequences(const std::string& dir) {
 FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
   FuseOptions o;
   o.scans = scans;
-  o.voxel = kVoxel;
-  o.out = out;
+  o.field.voxel = kVoxel;
+  o.outputs.out = out;
   return o;
 }
 

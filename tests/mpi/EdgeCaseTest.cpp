@@ -48,11 +48,11 @@ std::string writeScans(const std::string& name, const std::vector<RangeGrid>& gr
 TriangleMesh fuse(const std::string& dir, double voxel, int* code = nullptr) {
   FuseOptions o;
   o.scans = dir + "/scans.conf";
-  o.voxel = voxel;
-  o.out = dir + "/mesh.ply";
+  o.field.voxel = voxel;
+  o.outputs.out = dir + "/mesh.ply";
   const int rc = runFuse(o, MPI_COMM_WORLD);
   if (code) *code = rc;
-  return rc == 0 ? io::readMeshPly(o.out) : TriangleMesh{};
+  return rc == 0 ? io::readMeshPly(o.outputs.out) : TriangleMesh{};
 }
 
 void cleanUp(const std::string& dir) {
@@ -92,10 +92,10 @@ TEST(EdgeCases, SingleValidCellScanIsSkippedAndChangesNothing) {
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o;
   o.scans = alone.string();
-  o.voxel = 0.004;
-  o.out = dir + "/alone.ply";
+  o.field.voxel = 0.004;
+  o.outputs.out = dir + "/alone.ply";
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
-  const TriangleMesh reference = io::readMeshPly(o.out);
+  const TriangleMesh reference = io::readMeshPly(o.outputs.out);
   EXPECT_EQ(both.vertices, reference.vertices);
   cleanUp(dir);
 }

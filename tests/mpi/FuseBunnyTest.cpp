@@ -19,13 +19,13 @@ namespace {}  // namespace
 TEST(FuseBunny, RealScansMatchTheStanfordReconstruction) {
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = 0.001;  // 1 mm
-  o.out = sharedTempPath("bunny.ply");
+  o.field.voxel = 0.001;  // 1 mm
+  o.outputs.out = sharedTempPath("bunny.ply");
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
-  TriangleMesh mesh = io::readMeshPly(o.out);
+  TriangleMesh mesh = io::readMeshPly(o.outputs.out);
   TriangleMesh ref = io::readMeshPly(RANGEFUSE_TEST_DATA "/bunny/bun_zipper.ply");
-  std::filesystem::remove(o.out);
+  std::filesystem::remove(o.outputs.out);
   DistanceStats accuracy = summarize(sampledDistances(mesh, ref, 100000, 1));
   DistanceStats completeness = summarize(sampledDistances(ref, mesh, 100000, 2));
   std::printf("bunny 1 mm: accuracy mean %.4f mm, completeness mean %.4f mm\n", accuracy.mean * 1e3,
@@ -41,11 +41,11 @@ TEST(FuseBunny, MissingScanFailsOnEveryRankWithoutOutput) {
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o;
   o.scans = conf;
-  o.voxel = 0.001;
-  o.out = sharedTempPath("never.ply");
+  o.field.voxel = 0.001;
+  o.outputs.out = sharedTempPath("never.ply");
   EXPECT_EQ(runFuse(o, MPI_COMM_WORLD), 1);
-  EXPECT_FALSE(std::filesystem::exists(o.out));
-  EXPECT_FALSE(std::filesystem::exists(o.out + ".tmp"));
+  EXPECT_FALSE(std::filesystem::exists(o.outputs.out));
+  EXPECT_FALSE(std::filesystem::exists(o.outputs.out + ".tmp"));
   MPI_Barrier(MPI_COMM_WORLD);
   if (mpi::rank() == 0) std::filesystem::remove(conf);
 }
@@ -65,12 +65,12 @@ TEST(FuseBunny, FarFromTheOriginGivesTheSameMesh) {
   if (mpi::rank() == 0) io::writeConf(conf, far);
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o;
-  o.voxel = 0.001;
+  o.field.voxel = 0.001;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.out = nearOut;
+  o.outputs.out = nearOut;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   o.scans = conf;
-  o.out = farOut;
+  o.outputs.out = farOut;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
   const TriangleMesh nearMesh = io::readMeshPly(nearOut);

@@ -127,9 +127,9 @@ TEST(FusionApi, TracksAStreamTheSameOnAnyRankCountAndCloseToTheTruth) {
 TEST(FusionApi, FusesTheBunnyToTheCommandsMeshOnAnyRankCount) {
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = kApiVoxel;
+  o.field.voxel = kApiVoxel;
   o.quiet = true;
-  o.out = sharedTempPath("api-bunny.ply");
+  o.outputs.out = sharedTempPath("api-bunny.ply");
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   const TriangleMesh both = bunnyThroughTheApi(MPI_COMM_WORLD);
   const TriangleMesh alone = bunnyThroughTheApi(MPI_COMM_SELF);
@@ -137,8 +137,8 @@ TEST(FusionApi, FusesTheBunnyToTheCommandsMeshOnAnyRankCount) {
     EXPECT_TRUE(both.vertices.empty());
     return;
   }
-  const TriangleMesh command = io::readMeshPly(o.out);
-  std::filesystem::remove(o.out);
+  const TriangleMesh command = io::readMeshPly(o.outputs.out);
+  std::filesystem::remove(o.outputs.out);
   ASSERT_GT(command.faces.size(), 10000u);
   ASSERT_EQ(both.vertices.size(), command.vertices.size());
   EXPECT_EQ(both.faces, command.faces);
@@ -223,15 +223,16 @@ TEST(FusionApi, CheckpointsResumeToTheSameMeshEitherWay) {
   // The command's checkpoint of the same scans resumes through the API to the command's mesh.
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = kApiVoxel;
+  o.field.voxel = kApiVoxel;
   o.quiet = true;
-  o.out = sharedTempPath("api-cmd.ply");
-  o.checkpoint = theirs;
+  o.outputs.out = sharedTempPath("api-cmd.ply");
+  o.outputs.checkpoint = theirs;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   const TriangleMesh command = Fusion::resume(theirs, MPI_COMM_WORLD).mesh();
-  EXPECT_EQ(messageOf([&] { Fusion::resume(o.out, MPI_COMM_WORLD); }).find(o.out), 0u);
+  EXPECT_EQ(messageOf([&] { Fusion::resume(o.outputs.out, MPI_COMM_WORLD); }).find(o.outputs.out),
+            0u);
   if (mpi::rank() != 0) return;
-  for (const std::string& p : {mine, theirs, o.out}) std::filesystem::remove(p);
+  for (const std::string& p : {mine, theirs, o.outputs.out}) std::filesystem::remove(p);
   ASSERT_GT(fused.faces.size(), 10000u);
   EXPECT_EQ(again.faces, fused.faces);
   EXPECT_EQ(again.vertices, fused.vertices);

@@ -48,11 +48,11 @@ std::string scanInto(const std::string& name, const TriangleMesh& mesh, int view
 void fuse(const std::string& dir, const std::string& out, bool fill, MPI_Comm comm) {
   FuseOptions o;
   o.scans = dir + "/truth.conf";
-  o.voxel = 1;
-  o.fillHoles = fill;
+  o.field.voxel = 1;
+  o.field.fillHoles = fill;
   o.quiet = true;
-  o.out = out;
-  o.report = out + ".json";
+  o.outputs.out = out;
+  o.outputs.report = out + ".json";
   ASSERT_EQ(runFuse(o, comm), 0);
 }
 

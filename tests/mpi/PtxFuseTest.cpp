@@ -34,8 +34,8 @@ std::string bytes(const std::string& path) {
 FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
   FuseOptions o;
   o.scans = scans;
-  o.voxel = 2;
-  o.out = out;
+  o.field.voxel = 2;
+  o.outputs.out = out;
   return o;
 }
 
@@ -129,10 +129,10 @@ TEST(PtxFuse, ThreeStationsInARoomFuseCloseToTheRoom) {
   EXPECT_TRUE(internal::wrapsAround(set.scans[0].grid));  // a full turn: the seam closes
   writeStations(set, dir, "room.ptx");
   FuseOptions o = fuseOptions(dir + "/room.ptx", dir + "/room.ply");
-  o.voxel = voxel;
+  o.field.voxel = voxel;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() == 0) {
-    const MeshComparison c = compareMeshes(io::readMeshPly(o.out), makeRoom(),
+    const MeshComparison c = compareMeshes(io::readMeshPly(o.outputs.out), makeRoom(),
                                            CompareSettings{voxel, 3 * voxel, 50000, 1});
     std::printf("room from 3 stations: accuracy mean %.3f voxel, precision %.4f, recall %.4f\n",
                 c.accuracy.mean / voxel, c.precision, c.recall);
@@ -149,21 +149,21 @@ TEST(PtxFuse, StationsReadInBandsFuseTheSameOnAnyRankCountAndAsCloseToTheRoom) {
   const double voxel = 0.05;
   writeStations(roomStations(voxel), dir, "room.ptx");
   FuseOptions whole = fuseOptions(dir + "/room.ptx", dir + "/whole.ply");
-  whole.voxel = voxel;
+  whole.field.voxel = voxel;
   whole.bandCells = 0;
   ASSERT_EQ(runFuse(whole, MPI_COMM_WORLD), 0);
   FuseOptions banded = whole;
   banded.bandCells = 40000;
-  banded.out = dir + "/two.ply";
+  banded.outputs.out = dir + "/two.ply";
   ASSERT_EQ(runFuse(banded, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
   EXPECT_EQ(io::splitIntoBands(io::readScanList(banded.scans), 40000).scans.size(), 9u);
-  banded.out = dir + "/one.ply";
+  banded.outputs.out = dir + "/one.ply";
   ASSERT_EQ(runFuse(banded, MPI_COMM_SELF), 0);
   EXPECT_EQ(bytes(dir + "/one.ply"), bytes(dir + "/two.ply"));
   const CompareSettings compare{voxel, 3 * voxel, 50000, 1};
-  const MeshComparison a = compareMeshes(io::readMeshPly(whole.out), makeRoom(), compare);
-  const MeshComparison b = compareMeshes(io::readMeshPly(banded.out), makeRoom(), compare);
+  const MeshComparison a = compareMeshes(io::readMeshPly(whole.outputs.out), makeRoom(), compare);
+  const MeshComparison b = compareMeshes(io::readMeshPly(banded.outputs.out), makeRoom(), compare);
   std::printf("room whole / in bands: accuracy mean %.4f / %.4f voxel, recall %.4f / %.4f\n",
               a.accuracy.mean / voxel, b.accuracy.mean / voxel, a.recall, b.recall);
   EXPECT_NEAR(b.accuracy.mean, a.accuracy.mean, 0.01 * voxel);
@@ -184,13 +184,13 @@ TEST(PtxFuse, DenseStationsMergedToTheVoxelKeepTheirAccuracy) {
   uint64_t triangles[2];
   for (int merge = 0; merge < 2; ++merge) {
     FuseOptions o = fuseOptions(dir + "/room.ptx", dir + "/m" + std::to_string(merge) + ".ply");
-    o.voxel = voxel;
+    o.field.voxel = voxel;
     o.mergeCells = merge;
-    o.report = dir + "/m" + std::to_string(merge) + ".json";
+    o.outputs.report = dir + "/m" + std::to_string(merge) + ".json";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
-    c[merge] = compareMeshes(io::readMeshPly(o.out), makeRoom(), compare);
-    triangles[merge] = io::readJson(o.report)["inputs"]["scan_triangles"].get<uint64_t>();
+    c[merge] = compareMeshes(io::readMeshPly(o.outputs.out), makeRoom(), compare);
+    triangles[merge] = io::readJson(o.outputs.report)["inputs"]["scan_triangles"].get<uint64_t>();
   }
   if (mpi::rank() != 0) return;
   std::printf(
@@ -222,12 +222,12 @@ TEST(PtxFuse, AGhostOneStationSawIsRemovedByWhatTheOthersSawThrough) {
   double spurious[3] = {0, 0, 0};
   for (int run = 0; run < 3; ++run) {
     FuseOptions o = fuseOptions(dir + "/ghost.ptx", dir + "/ghost.ply");
-    o.voxel = voxel;
-    o.method = methods[run];
+    o.field.voxel = voxel;
+    o.field.method = methods[run];
     o.bandCells = run == 2 ? 40000 : 0;
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
-    const MeshComparison c = compareMeshes(io::readMeshPly(o.out), makeRoom(),
+    const MeshComparison c = compareMeshes(io::readMeshPly(o.outputs.out), makeRoom(),
                                            CompareSettings{voxel, 3 * voxel, 50000, 1});
     spurious[run] = c.spuriousAreaFraction;
     std::printf("ghost, %s: spurious area %.4f%%, accuracy mean %.3f voxel, recall %.4f\n",

@@ -62,7 +62,7 @@ void expectIdentical(const VoxelValues& a, const VoxelValues& b) {
 RunSettings bunnySettings() {
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = kFieldVoxel;
+  o.field.voxel = kFieldVoxel;
   return runSettings(o);
 }
 

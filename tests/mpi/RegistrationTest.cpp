@@ -81,10 +81,10 @@ std::vector<double> displacements(const ScanSet& set, const std::string& conf,
 FuseOptions options(const ScanSet& set, const std::string& conf, const std::string& mode) {
   FuseOptions o;
   o.scans = conf;
-  o.voxel = kVoxel;
-  o.registration = parseRegistrationMode("register", mode);
-  o.out = set.dir + "/mesh.ply";
-  o.posesOut = set.dir + "/out.conf";
+  o.field.voxel = kVoxel;
+  o.registration.mode = parseRegistrationMode("register", mode);
+  o.outputs.out = set.dir + "/mesh.ply";
+  o.outputs.posesOut = set.dir + "/out.conf";
   return o;
 }
 
@@ -125,10 +125,10 @@ TEST(Registration, FarFromTheOriginRegistersAsNearIt) {
   if (mpi::rank() == 0) io::writeConf(set.dir + "/far.conf", far);
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o = options(set, set.dir + "/perturbed.conf", "incremental");
-  o.posesOut = set.dir + "/near_out.conf";
+  o.outputs.posesOut = set.dir + "/near_out.conf";
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   o = options(set, set.dir + "/far.conf", "incremental");
-  o.posesOut = set.dir + "/far_out.conf";
+  o.outputs.posesOut = set.dir + "/far_out.conf";
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
   const io::ConfFile nearOut = io::readConf(set.dir + "/near_out.conf");
@@ -152,8 +152,8 @@ TEST(Registration, SimultaneousConvergesAndTheAnchorStays) {
   // perturbation of every scan.
   ScanSet set = scanBunny("sim", 1, 1);
   FuseOptions o = options(set, set.dir + "/perturbed.conf", "simultaneous");
-  o.anchor = set.truth[2].name;
-  o.maxRounds = 6;
+  o.registration.anchor = set.truth[2].name;
+  o.registration.maxRounds = 6;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
   // Scan 2 is perturbed too: it fixes the frame, so the truth is moved into its frame.
@@ -226,17 +226,17 @@ TEST(Registration, ConsensusFieldsRegisterToo) {
   if (mpi::rank() == 0) io::writeConf(set.dir + "/moved.conf", moved);
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o = options(set, set.dir + "/moved.conf", "incremental");
-  o.method = FieldMethod::Consensus;
-  o.voxel = 0.003;
+  o.field.method = FieldMethod::Consensus;
+  o.field.voxel = 0.003;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
   const std::string frame = set.dir + "/moved.conf";
   const std::vector<double> before = displacements(set, frame, frame, 0);
   const std::vector<double> after = displacements(set, set.dir + "/out.conf", frame, 0);
   std::printf("consensus: scan 3 displaced %.3f voxels, after registration %.3f\n",
-              before[3] * kVoxel / o.voxel, after[3] * kVoxel / o.voxel);
+              before[3] * kVoxel / o.field.voxel, after[3] * kVoxel / o.field.voxel);
   EXPECT_LT(after[3], 0.2 * before[3]);
-  for (size_t i = 0; i < after.size(); ++i) EXPECT_LT(after[i] * kVoxel / o.voxel, 1.0) << i;
+  for (size_t i = 0; i < after.size(); ++i) EXPECT_LT(after[i] * kVoxel / o.field.voxel, 1.0) << i;
   std::filesystem::remove_all(set.dir);
 }
 
@@ -256,7 +256,7 @@ TEST(Registration, JointSolveBringsAGroupMovedTogetherBackToTheAnchorsFrame) {
   if (mpi::rank() == 0) io::writeConf(set.dir + "/moved.conf", moved);
   MPI_Barrier(MPI_COMM_WORLD);
   FuseOptions o = options(set, set.dir + "/moved.conf", "simultaneous");
-  o.maxRounds = 4;
+  o.registration.maxRounds = 4;
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
   const std::vector<double> before =
@@ -287,7 +287,7 @@ TEST(Registration, JointSolveFitsNoisyScansCloserThanPerScanFits) {
   const char* solves[2] = {"joint", "per-scan"};
   for (int k = 0; k < 2; ++k) {
     FuseOptions o = options(set, set.dir + "/perturbed.conf", "both");
-    o.registerSolve = parseRegistrationSolve("register-solve", solves[k]);
+    o.registration.solve = parseRegistrationSolve("register-solve", solves[k]);
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
     const std::string frame = set.dir + "/perturbed.conf";

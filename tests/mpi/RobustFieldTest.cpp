@@ -48,8 +48,8 @@ ScanSettings settings(int views) {
 FusedField field(const std::string& dir, const std::string& method) {
   FuseOptions o;
   o.scans = dir + "/truth.conf";
-  o.voxel = 1;
-  o.method = parseFieldMethod("method", method);
+  o.field.voxel = 1;
+  o.field.method = parseFieldMethod("method", method);
   Progress progress(MPI_COMM_WORLD);
   FusedField f;
   RankCounters counters;
@@ -121,12 +121,12 @@ TEST(RobustField, RemovesASpikeOneScanSawAndKeepsAThinWallSeenFromBothSides) {
   for (const std::string method : {"robust", "prism"}) {
     FuseOptions o;
     o.scans = dir + "/truth.conf";
-    o.voxel = 1;
-    o.method = parseFieldMethod("method", method);
-    o.out = dir + "/" + method + ".ply";
+    o.field.voxel = 1;
+    o.field.method = parseFieldMethod("method", method);
+    o.outputs.out = dir + "/" + method + ".ply";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
-    const TriangleMesh mesh = io::readMeshPly(o.out);
+    const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
     const auto within = [&](const TriangleMesh& part) {
       const std::vector<double> d = sampledDistances(part, mesh, 4000, 3);
       return double(std::count_if(d.begin(), d.end(), [](double x) { return x <= 1; })) / d.size();
@@ -160,14 +160,14 @@ TEST(RobustField, RegistersOnThePrismFieldThenFusesRobustly) {
                                    });
   FuseOptions o;
   o.scans = dir + "/perturbed.conf";
-  o.voxel = 1;
-  o.method = FieldMethod::Robust;
-  o.registration = RegistrationMode::Incremental;
-  o.maxIterations = 30;
-  o.out = dir + "/robust.ply";
+  o.field.voxel = 1;
+  o.field.method = FieldMethod::Robust;
+  o.registration.mode = RegistrationMode::Incremental;
+  o.registration.maxIterations = 30;
+  o.outputs.out = dir + "/robust.ply";
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() != 0) return;
-  const TriangleMesh mesh = io::readMeshPly(o.out);
+  const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
   const std::vector<double> kept = sampledDistances(patchMesh(patches), mesh, 4000, 3);
   EXPECT_LT(std::count_if(kept.begin(), kept.end(), [](double x) { return x <= 1; }),
             0.05 * kept.size());
@@ -192,13 +192,13 @@ TEST(RobustField, StaysOnTheFarWallsOfARoomOnceNoisyDepthsAreSmoothed) {
   for (int k = 0; k < 2; ++k) {
     FuseOptions o;
     o.scans = dir + "/truth.conf";
-    o.voxel = s.voxel;
-    o.method = FieldMethod::Robust;
+    o.field.voxel = s.voxel;
+    o.field.method = FieldMethod::Robust;
     o.smoothNoise = k;
-    o.out = dir + "/smooth" + std::to_string(k) + ".ply";
+    o.outputs.out = dir + "/smooth" + std::to_string(k) + ".ply";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() == 0)
-      c[k] = compareMeshes(io::readMeshPly(o.out), makeRoom(),
+      c[k] = compareMeshes(io::readMeshPly(o.outputs.out), makeRoom(),
                            CompareSettings{s.voxel, 3 * s.voxel, 200000, 1});
   }
   if (mpi::rank() != 0) return;
@@ -233,12 +233,12 @@ TEST(RobustField, KeepsTheFarNoisyWallsADepthCameraSawOnAWalkThroughARoomAndDrop
   for (int m = 0; m < 2; ++m) {
     FuseOptions o;
     o.scans = dir + "/truth.conf";
-    o.voxel = s.voxel;
-    o.method = m == 0 ? FieldMethod::Prism : FieldMethod::Robust;
-    o.out = dir + "/" + toString(o.method) + ".ply";
+    o.field.voxel = s.voxel;
+    o.field.method = m == 0 ? FieldMethod::Prism : FieldMethod::Robust;
+    o.outputs.out = dir + "/" + toString(o.field.method) + ".ply";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
-    const TriangleMesh mesh = io::readMeshPly(o.out);
+    const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
     c[m] = compareMeshes(mesh, makeRoom(), CompareSettings{s.voxel, 3 * s.voxel, 200000, 1});
     for (int k = 0; k < 2; ++k) {
       const std::vector<double> d = sampledDistances(patchMesh({ghosts[k]}), mesh, 4000, 7);

@@ -20,7 +20,7 @@ namespace {
 FuseOptions bunnyOptions() {
   FuseOptions o;
   o.scans = RANGEFUSE_TEST_DATA "/bunny/bun.conf";
-  o.voxel = 0.002;
+  o.field.voxel = 0.002;
   return o;
 }
 
@@ -82,13 +82,13 @@ TEST(StreamedField, ThreadsChangeNothing) {
   // gives the single-threaded field, and counts every prism and voxel update once.
   // 3 mm voxels keep the three builds quick (under ASan too).
   FuseOptions base = bunnyOptions();
-  base.voxel = 0.003;
+  base.field.voxel = 0.003;
   FusedField simple;
   RankCounters one;
   streamedField(base, simple, one);
   for (int threads : {3, 7}) {
     FuseOptions o = base;
-    o.threads = threads;
+    o.field.threads = threads;
     FusedField field;
     RankCounters counters;
     streamedField(o, field, counters);

@@ -51,20 +51,20 @@ TEST(SyntheticFuse, CompositeWithNoiseIsAccurateAndReported) {
   const std::string dir = scanComposite(0.5);
   FuseOptions o;
   o.scans = dir + "/truth.conf";
-  o.voxel = 1;
-  o.out = dir + "/mesh.ply";
-  o.report = dir + "/report.json";
-  o.preview = dir + "/preview.png";
+  o.field.voxel = 1;
+  o.outputs.out = dir + "/mesh.ply";
+  o.outputs.report = dir + "/report.json";
+  o.outputs.preview = dir + "/preview.png";
   ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
   if (mpi::rank() == 0) {
-    const TriangleMesh mesh = io::readMeshPly(o.out);
+    const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
     const MeshComparison c = compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1});
     std::printf("composite, noise 0.5 voxel: chamfer %.3f voxel, F-score %.4f\n", c.chamfer,
                 c.fscore);
     EXPECT_LT(c.chamfer, 0.15);
     EXPECT_GT(c.fscore, 0.99);
     EXPECT_EQ(c.spuriousAreaFraction, 0.0);
-    const nlohmann::json r = io::readJson(o.report);
+    const nlohmann::json r = io::readJson(o.outputs.report);
     ASSERT_EQ(r["per_rank"].size(), size_t(mpi::size()));
     uint64_t bricks = 0;
     for (const auto& rank : r["per_rank"]) {
@@ -74,7 +74,7 @@ TEST(SyntheticFuse, CompositeWithNoiseIsAccurateAndReported) {
     }
     EXPECT_EQ(bricks, r["total_bricks"].get<uint64_t>());
     EXPECT_EQ(r["mesh"]["triangles"].get<size_t>(), mesh.faces.size());
-    const Image img = io::readPng(o.preview);
+    const Image img = io::readPng(o.outputs.preview);
     EXPECT_EQ(img.width, 512);
     EXPECT_EQ(img.height, 512);
     std::filesystem::remove_all(dir);
@@ -86,18 +86,18 @@ TEST(SyntheticFuse, DenseScansMergedToTheVoxelKeepTheirAccuracy) {
   const std::string dir = scanComposite(0.5, 0, 0, nullptr, 6, 480, 360);
   FuseOptions o;
   o.scans = dir + "/truth.conf";
-  o.voxel = 1;
+  o.field.voxel = 1;
   double chamfer[2];
   uint64_t triangles[2];
   for (int m = 0; m < 2; ++m) {
     o.mergeCells = m;
-    o.out = dir + "/mesh" + std::to_string(m) + ".ply";
-    o.report = dir + "/report" + std::to_string(m) + ".json";
+    o.outputs.out = dir + "/mesh" + std::to_string(m) + ".ply";
+    o.outputs.report = dir + "/report" + std::to_string(m) + ".json";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
-    const TriangleMesh mesh = io::readMeshPly(o.out);
+    const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
     chamfer[m] = compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1}).chamfer;
-    triangles[m] = io::readJson(o.report)["inputs"]["scan_triangles"].get<uint64_t>();
+    triangles[m] = io::readJson(o.outputs.report)["inputs"]["scan_triangles"].get<uint64_t>();
   }
   if (mpi::rank() == 0) {
     std::printf("dense composite: %llu triangles, chamfer %.3f voxel; merged %llu, %.3f\n",
@@ -124,15 +124,15 @@ TEST(SyntheticFuse, ConsensusDropsExtraneousPatchesNaiveKeepsThem) {
   const std::string dir = scanComposite(0.5, 0.01, 2, &patches);
   FuseOptions o;
   o.scans = dir + "/truth.conf";
-  o.voxel = 1;
-  o.quorum = 1.2;  // 12 views: above one view's confidence, so one view alone is no quorum
+  o.field.voxel = 1;
+  o.field.quorum = 1.2;  // 12 views: above one view's confidence, so one view alone is no quorum
   double kept[2][2];
   for (int m = 0; m < 2; ++m) {
-    o.method = m == 0 ? FieldMethod::Consensus : FieldMethod::Naive;
-    o.out = dir + "/" + toString(o.method) + ".ply";
+    o.field.method = m == 0 ? FieldMethod::Consensus : FieldMethod::Naive;
+    o.outputs.out = dir + "/" + toString(o.field.method) + ".ply";
     ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
     if (mpi::rank() != 0) continue;
-    const TriangleMesh mesh = io::readMeshPly(o.out);
+    const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
     for (int k = 0; k < 2; ++k) kept[m][k] = patchKept(patches[k], mesh);
     if (m == 0) {
       const MeshComparison c =
@@ -162,14 +162,14 @@ TEST(SyntheticFuse, RobustRemovesOneScanPatchesThePrismFieldKeeps) {
     const std::string dir = scanComposite(0.5, 0.01, 2, &patches, views);
     FuseOptions o;
     o.scans = dir + "/truth.conf";
-    o.voxel = 1;
+    o.field.voxel = 1;
     double kept[2][2], chamfer[2];
     for (int m = 0; m < 2; ++m) {
-      o.method = m == 0 ? FieldMethod::Robust : FieldMethod::Prism;
-      o.out = dir + "/" + toString(o.method) + ".ply";
+      o.field.method = m == 0 ? FieldMethod::Robust : FieldMethod::Prism;
+      o.outputs.out = dir + "/" + toString(o.field.method) + ".ply";
       ASSERT_EQ(runFuse(o, MPI_COMM_WORLD), 0);
       if (mpi::rank() != 0) continue;
-      const TriangleMesh mesh = io::readMeshPly(o.out);
+      const TriangleMesh mesh = io::readMeshPly(o.outputs.out);
       for (int k = 0; k < 2; ++k) kept[m][k] = patchKept(patches[k], mesh);
       chamfer[m] = compareMeshes(mesh, makeComposite(), CompareSettings{1, 3, 50000, 1}).chamfer;
     }

@@ -128,7 +128,7 @@ TEST(DepthCamera, GridPointsAreTheCameraPointsInTheScanFrame) {
 
 TEST(DepthCamera, FarMeasurementsAreDroppedAndSizeMismatchesRefused) {
   io::DepthCamera cam = camera(9, 7);
-  cam.maxDepth = 30.0;  // counts above 30000 at 1 mm
+  cam.depthMax = 30.0;  // counts above 30000 at 1 mm
   const io::DepthImage image = randomImage(9, 7, 6);
   const RangeGrid g = io::depthGrid(image, cam, "test");
   size_t kept = 0;

@@ -15,23 +15,31 @@ namespace {
 /// Options with every value changed from its default.
 FuseOptions changed() {
   FuseOptions o;
-  o.scans = "a.conf", o.out = "m.ply", o.anchor = "scan_003", o.report = "r.json";
-  o.preview = "p.png", o.posesOut = "p.conf", o.checkpoint = "c.h5", o.resume = "old.h5";
-  o.method = FieldMethod::Robust, o.registration = RegistrationMode::Both;
-  o.registerField = RegistrationFieldMode::Rebuild, o.registerSolve = RegistrationSolve::PerScan;
-  o.voxel = 0.00125, o.envelope = 2.5, o.brick = 16, o.minWeight = 0.25f, o.normals = false;
+  o.scans = "a.conf", o.outputs.out = "m.ply", o.registration.anchor = "scan_003",
+  o.outputs.report = "r.json";
+  o.outputs.preview = "p.png", o.outputs.posesOut = "p.conf", o.outputs.checkpoint = "c.h5",
+  o.outputs.resume = "old.h5";
+  o.field.method = FieldMethod::Robust, o.registration.mode = RegistrationMode::Both;
+  o.registration.field = RegistrationFieldMode::Rebuild,
+  o.registration.solve = RegistrationSolve::PerScan;
+  o.field.voxel = 0.00125, o.field.envelope = 2.5, o.field.brick = 16, o.minWeight = 0.25f,
+  o.normals = false;
   o.surface.normalPasses = 3, o.surface.maxEdgeFactor = 5, o.surface.minCosine = 0.3;
-  o.mergeCells = 1.5, o.smoothNoise = 0.5, o.quorum = 0.7, o.minViews = 3, o.edgeAngle = 60,
-  o.sameDistance = 1.5;
-  o.sameAngle = 30, o.freeMargin = INFINITY, o.fillHoles = true, o.controlStride = 4;
-  o.maxIterations = 7;
-  o.maxRounds = 2, o.roundTolerance = 0.05, o.checkpointEvery = 30, o.scanMemory = 0;
-  o.threads = 3, o.source.format = "tum", o.source.intrinsics = "525,525,319.5,239.5";
-  o.source.maxDepth = 3, o.bandCells = 1e6, o.source.depthScale = 4000, o.track = "on";
-  o.firstPose = "1,2,3,0,0,0,1", o.minInliers = 0.4, o.maxStep = 12, o.skipLost = true;
-  o.trajectoryOut = "t.txt", o.previewEvery = 5, o.follow = true, o.followTimeout = 30;
-  o.colour = "none", o.previewView = "30,-10", o.quiet = true, o.verbose = true;
-  o.overwrite = true, o.up = "z";
+  o.mergeCells = 1.5, o.smoothNoise = 0.5, o.field.quorum = 0.7, o.field.minViews = 3,
+  o.field.edgeAngle = 60, o.field.sameDistance = 1.5;
+  o.field.sameAngle = 30, o.field.freeMargin = INFINITY, o.field.fillHoles = true,
+  o.registration.controlStride = 4;
+  o.registration.maxIterations = 7;
+  o.registration.maxRounds = 2, o.registration.roundTolerance = 0.05,
+  o.outputs.checkpointEvery = 30, o.scanMemory = 0;
+  o.field.threads = 3, o.source.format = "tum", o.source.intrinsics = "525,525,319.5,239.5";
+  o.source.depthMax = 3, o.bandCells = 1e6, o.source.depthScale = 4000, o.stream.track = "on";
+  o.stream.firstPose = "1,2,3,0,0,0,1", o.stream.minInliers = 0.4, o.stream.maxStep = 12,
+  o.stream.skipLost = true;
+  o.outputs.trajectoryOut = "t.txt", o.stream.previewEvery = 5, o.stream.follow = true,
+  o.stream.followTimeout = 30;
+  o.field.colour = "none", o.outputs.previewView = "30,-10", o.quiet = true, o.verbose = true;
+  o.outputs.overwrite = true, o.outputs.up = "z";
   return o;
 }
 
@@ -87,7 +95,7 @@ TEST(FuseParameters, ABadValueIsRefusedNamingItsOption) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--brick"), std::string::npos) << e.what();
   }
-  o.brick = 8;
+  o.field.brick = 8;
   EXPECT_THROW(validateFuseOptions(o), InputError);  // --quiet with --verbose
   o.verbose = false;
   EXPECT_NO_THROW(validateFuseOptions(o));

@@ -1,51 +1,54 @@
-// Every fuse option described once: its command-line name, the key reports and checkpoints keep
-// it under (unit in the name), its help, and the check of its value. The command line, the
-// validation, the run report and the adoption of a checkpoint's parameters all read this table,
-// and defaults come from FuseOptions' own initialisers.
+// The options of `rangefuse fuse`: the stages' own settings structs side by side (FuseOptions),
+// and the table of every option, made of the stages' own tables (FieldSettings::settings() and
+// the others) and the few the command adds. The command line, --help, .ini files, validation,
+// the run report and the adoption of a checkpoint's parameters all read this table; defaults
+// are the structs' own initialisers.
 #pragma once
 
-#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <variant>
 #include <vector>
 
-#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/core/Limits.h"
+#include "rangefuse/core/Setting.h"
+#include "rangefuse/fuse/FieldSettings.h"
+#include "rangefuse/fuse/OutputSettings.h"
+#include "rangefuse/fuse/RegistrationSettings.h"
+#include "rangefuse/fuse/StreamSettings.h"
+#include "rangefuse/io/ScanSourceOptions.h"
+#include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
 
-/// Where an option's value lives in FuseOptions.
-using OptionValue = std::variant<double*, float*, int*, bool*, std::string*, FieldMethod*,
-                                 RegistrationMode*, RegistrationFieldMode*, RegistrationSolve*>;
+/// Every option of one fuse run, each stage's in that stage's own settings.
+struct FuseOptions {
+  std::string scans;             ///< .conf, .ptx or depth-sequence folder
+  io::ScanSourceOptions source;  ///< how to read it (format, depth cameras)
+  FieldSettings field;           ///< the field (maxVoxels comes from limits)
+  SurfaceOptions surface;        ///< mergeTarget and smoothTarget come from the two below
+  double mergeCells = 1;         ///< merge grid cells up to this many voxels (0: never)
+  double smoothNoise = 1;        ///< smooth depths noisier than this many voxels (0: never)
+  double bandCells = 4e6;        ///< PTX scans of more cells are read in bands by several ranks
+  float minWeight = 0.0f;        ///< voxels with summed weight not above this are unobserved
+  bool normals = true;           ///< write vertex normals
+  RegistrationSettings registration;
+  StreamSettings stream;
+  OutputSettings outputs;
+  bool quiet = false;        ///< print nothing but warnings and errors
+  bool verbose = false;      ///< print every registration fit and tracked frame
+  InputLimits limits;        ///< refuse input that would need more memory than this
+  double scanMemory = 1024;  ///< MiB of prepared scans a rank keeps between passes
+  std::vector<std::string>
+      givenOptions;  ///< options the user set (others may come from a checkpoint)
+};
 
-/// Whether an option decides the result: kept in reports and checkpoints, and compared on
-/// resume; kept in checkpoints only (the scan list, checked by hashes instead); or neither
-/// (where outputs go, resources).
-enum class Recorded { Result, CheckpointOnly, No };
-
-/// Which part of a run an option sets: commands that only build a field (render) take the
-/// input, field and resource groups; --help lists the groups in this order.
-enum class OptionGroup { Input, Field, Output, Registration, Tracking, Checkpoint, Resources };
+using FuseParameter = Setting<FuseOptions>;
 
 /// The heading --help gives a group.
 const char* groupTitle(OptionGroup group);
 
 /// True for the groups a command needs to build a field: input, field, resources.
 bool buildsField(OptionGroup group);
-
-struct FuseParameter {
-  std::string option;  ///< command-line name, without "--"
-  std::string key;     ///< report and checkpoint key (empty when not recorded)
-  Recorded recorded = Recorded::No;
-  bool required = false;  ///< has no default: --help shows none
-  OptionGroup group = OptionGroup::Field;
-  std::string help;
-  std::function<OptionValue(FuseOptions&)> value;
-  /// Empty when the value is acceptable, else what it must be ("must be ..."); may be null.
-  std::function<std::string(const FuseOptions&)> check;
-  /// The value an option given without one takes (empty: it needs a value).
-  std::string implicitValue = {};
-};
 
 /// Every option of `rangefuse fuse` but the input limits (shared with other commands).
 const std::vector<FuseParameter>& fuseParameters();

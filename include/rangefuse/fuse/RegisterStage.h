@@ -16,7 +16,7 @@ namespace rangefuse {
 /// method, continuing from `state` (a lattice origin in it came from `resumed`), writing
 /// checkpoints at boundaries when `checkpoints` has a path; rank 0 prints a line per fit.
 /// False when any rank failed (reported once).
-bool registerPoses(const RegisterSettings& registration, const FieldSettings& field,
+bool registerPoses(const RegistrationSettings& registration, const FieldSettings& field,
                    const CheckpointWriting& checkpoints, const std::string& resumed, MPI_Comm comm,
                    Progress& progress, LoadedScans& scans, RegistrationProgress& state,
                    std::vector<RegistrationStep>& steps);

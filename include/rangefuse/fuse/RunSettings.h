@@ -1,6 +1,6 @@
-// The settings of one fuse run, by stage: the options table's values (FuseOptions) converted
-// once, at the top of runFuse, into the few values each stage takes. Stages never see the
-// options themselves.
+// The settings of one fuse run, by stage. The command's options are the stages' own settings
+// structs (FuseParameters.h); runSettings adds what follows from them (lengths in the scans'
+// units, resolved thread counts) once, at the top of runFuse.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +12,9 @@
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/fuse/FieldMethod.h"
 #include "rangefuse/fuse/FieldSettings.h"
+#include "rangefuse/fuse/OutputSettings.h"
+#include "rangefuse/fuse/RegistrationSettings.h"
+#include "rangefuse/fuse/StreamSettings.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/surface/ScanSurface.h"
 
@@ -34,30 +37,6 @@ struct ReadSettings {
   int threads = 1;         ///< threads of this rank
 };
 
-/// Registration (--register) and its fits.
-struct RegisterSettings {
-  RegistrationMode mode = RegistrationMode::None;
-  std::string anchor;  ///< scan name that fixes the frame (empty: the first)
-  int controlStride = 1;
-  int maxIterations = 100;
-  int maxRounds = 8;
-  double roundTolerance = 0.1;  ///< voxels
-  RegistrationFieldMode field = RegistrationFieldMode::Grow;
-  RegistrationSolve solve = RegistrationSolve::Joint;
-};
-
-/// Depth streams tracked without poses.
-struct TrackSettings {
-  std::string track = "auto";  ///< on, off, auto (on when there is no trajectory)
-  std::string firstPose;       ///< "tx,ty,tz,qx,qy,qz,qw" (empty: the identity)
-  double minInliers = 0.25;
-  double maxStep = 10;  ///< voxels
-  bool skipLost = false;
-  bool follow = false;
-  double followTimeout = 10;  ///< seconds
-  int previewEvery = 0;       ///< frames between previews (0: none)
-};
-
 /// The mesh taken from the field.
 /// How far (voxels) before what a scan saw a point must lie for carving to call it looked
 /// through. A voxel, not --free-margin's envelope: the fill across a gap at a grazing angle
@@ -70,18 +49,6 @@ struct MeshSettings {
   int threads = 1;
   bool fillHoles = false;  ///< carve unobserved voxels so the mesh closes (HoleFill)
   double carveMargin = 0;  ///< looked-through margin of the carving (scan units)
-};
-
-/// Where the run writes, and what it resumes from.
-struct OutputSettings {
-  std::string out, report, preview, posesOut, trajectoryOut;
-  std::string previewView;     ///< "AZIMUTH,ELEVATION", or "" for the scans' own choice
-  std::string up = "auto";     ///< the world's up axis of the preview: y, z or auto
-  std::string checkpoint;      ///< HDF5 checkpoint to write (empty: none)
-  double checkpointEvery = 0;  ///< seconds between registration checkpoints
-  std::string resume;          ///< checkpoint the run continues from (empty: none)
-  bool overwrite = false;      ///< an existing checkpoint not resumed may be replaced
-  std::string config;          ///< the options file the run read (an input; empty: none)
 };
 
 /// The options that decide the result, as reports and checkpoints record them.
@@ -100,8 +67,8 @@ struct CheckpointWriting {
 struct RunSettings {
   ReadSettings read;
   FieldSettings field;
-  RegisterSettings registration;
-  TrackSettings track;
+  RegistrationSettings registration;
+  StreamSettings track;
   MeshSettings mesh;
   OutputSettings outputs;
   RecordedParameters recorded;

@@ -16,7 +16,7 @@ struct DepthCamera {
   double fx = 0, fy = 0, cx = 0, cy = 0;  ///< pixels
   int width = 0, height = 0;              ///< 0: not given (then any image size is accepted)
   double unit = 1e-3;                     ///< scene units (metres) per depth count
-  double maxDepth = 0;                    ///< farther counts are dropped (0: keep all)
+  double depthMax = 0;                    ///< farther counts are dropped (0: keep all)
 };
 
 /// The image's grid in rangefuse's scan frame: the sensor at the origin looking toward -z, rows

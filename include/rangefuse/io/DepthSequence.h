@@ -33,7 +33,7 @@ std::string notASequence(const std::string& dir);
 /// How to read a sequence's depth images beyond the folder's own files.
 struct DepthReading {
   std::optional<DepthCamera> camera;  ///< --intrinsics (null: DIR/camera_intrinsic.json)
-  double maxDepth = 0;                ///< farther depths are dropped (0: keep all)
+  double depthMax = 0;                ///< farther depths are dropped (0: keep all)
   double depthScale = 0;              ///< counts per metre (0: the layout's: 5000 or 1000)
 };
 
