@@ -60,7 +60,7 @@ def keywords_of(call):
 
 
 def agree(option, value, library, missing):
-    mine = library()
+    mine = library_refusal(library)
     if mine == "type":
         return 0
     theirs = command_refusal(option, value, missing)
