@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/parallel/FaultInjection.h"
+#include "rangefuse/core/FaultInjection.h"
 
 namespace rangefuse::io {
 

@@ -9,9 +9,9 @@
 #include <memory>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/io/AtomicFile.h"
-#include "rangefuse/parallel/FaultInjection.h"
 
 namespace rangefuse::io {
 namespace {

@@ -40,7 +40,7 @@ Pose poseFromNumbers(const nlohmann::json& numbers) {
   Pose p;
   p.R = Eigen::Map<const Eigen::Matrix3d>(d.data());
   p.t = Eigen::Vector3d(d[9], d[10], d[11]);
-  if (!p.R.allFinite() || !p.t.allFinite() || !(p.R.transpose() * p.R).isIdentity(1e-6))
+  if (!p.t.allFinite() || !rotationProblem(p.R).empty())
     throw std::runtime_error("a pose is not a rigid transform");
   return p;
 }

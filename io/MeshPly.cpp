@@ -5,10 +5,10 @@
 #include <cstring>
 
 #include "PlyFile.h"
-#include "PlyMeshFormat.h"
 #include "VertexColours.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
+#include "rangefuse/io/PlyMeshFormat.h"
 
 namespace rangefuse::io {
 namespace {

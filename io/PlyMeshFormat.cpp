@@ -1,4 +1,4 @@
-#include "PlyMeshFormat.h"
+#include "rangefuse/io/PlyMeshFormat.h"
 
 #include <algorithm>
 #include <cmath>

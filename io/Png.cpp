@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/AtomicFile.h"
-#include "rangefuse/parallel/FaultInjection.h"
 
 namespace rangefuse::io {
 

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/Pose.h"
 #include "rangefuse/io/AtomicFile.h"
 
 namespace rangefuse::io {
@@ -167,6 +168,11 @@ std::vector<PtxScan> indexPtx(const std::string& path, const InputLimits& limits
   std::vector<PtxScan> scans;
   PtxScan scan;
   while (readHeader(in, scan, limits)) {
+    // A station is placed by a rigid motion: a header that scales or shears would bend it.
+    const std::string problem = rotationProblem(scan.pose.R);
+    if (!problem.empty())
+      throw InputError(path + ":" + std::to_string(scan.line - 1) + ": station " +
+                       std::to_string(scans.size()) + ": the header's transform is " + problem);
     const uint64_t points = static_cast<uint64_t>(scan.cols) * static_cast<uint64_t>(scan.rows);
     scan.columns.reserve(scan.cols);
     for (int c = 0; c < scan.cols; ++c) {

@@ -11,7 +11,6 @@
 #include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/RangeGridPly.h"
-#include "rangefuse/surface/ColumnBands.h"
 
 namespace rangefuse::io {
 namespace {

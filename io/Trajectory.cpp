@@ -58,16 +58,6 @@ std::vector<TimedPose> readTum(const std::string& path) {
   return poses;
 }
 
-/// The rotation nearest `m` (least squares): a matrix a file gives to a few digits, as
-/// KinectFusion's poses are, is a rotation only to about 1e-4, enough to turn the angle between
-/// two copies of one pose into a degree and to fail a checkpoint's rigidity check.
-Eigen::Matrix3d nearestRotation(const Eigen::Matrix3d& m) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) d(2, 2) = -1;
-  return svd.matrixU() * d * svd.matrixV().transpose();
-}
-
 std::vector<TimedPose> readLog(const std::string& path) {
   const auto lines = dataLines(path);
   if (lines.size() % 5 != 0)
@@ -83,16 +73,14 @@ std::vector<TimedPose> readLog(const std::string& path) {
       for (int c = 0; c < 4; ++c) m(r, c) = row[c];
     }
     const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-3)
-      throw InputError(at(path, lines[k + 1].first) + ": the matrix is not a rigid motion");
-    if (R.determinant() < 0)
-      throw InputError(at(path, lines[k + 1].first) +
-                       ": the matrix is a reflection (determinant -1), not a rigid motion");
-    // Rows rounded in the file leave R a little off a rotation: taken as the nearest one, so
-    // that poses compare, compose and checkpoint as rotations (clean matrices stay as read).
-    const bool rounded = !(R.transpose() * R).isIdentity(1e-9);
+    const std::string problem = rotationProblem(R);
+    if (!problem.empty())
+      throw InputError(at(path, lines[k + 1].first) + ": the matrix is " + problem +
+                       ", not a rigid motion");
+    // Rows rounded in the file (KinectFusion's, to about 1e-4) are read as the nearest
+    // rotation, so that poses compare, compose and checkpoint as rotations.
     poses.push_back({static_cast<double>(poses.size()) / kRedwoodFrameRate,
-                     Pose{rounded ? nearestRotation(R) : R, m.topRightCorner<3, 1>()}});
+                     rigidPose(Pose{R, m.topRightCorner<3, 1>()}, at(path, lines[k + 1].first))});
   }
   return poses;
 }

@@ -15,9 +15,9 @@
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/core/TriangleMesh.h"
-#include "rangefuse/fuse/FieldSettings.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/ScanSourceOptions.h"
+#include "rangefuse/options/FieldSettings.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {

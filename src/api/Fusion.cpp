@@ -4,22 +4,22 @@
 #include <cstdlib>
 #include <optional>
 
-#include "FinishRun.h"
-#include "TrackedFrames.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/Checkpointing.h"
-#include "rangefuse/fuse/FieldBuild.h"
-#include "rangefuse/fuse/FuseParameters.h"
-#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Digest.h"
 #include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
 #include "rangefuse/mesh/PartStitching.h"
+#include "rangefuse/options/FuseParameters.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/parallelio/Checkpoint.h"
+#include "rangefuse/pipeline/Checkpointing.h"
+#include "rangefuse/pipeline/FieldBuild.h"
+#include "rangefuse/pipeline/FinishRun.h"
 #include "rangefuse/rangefuse.h"
+#include "rangefuse/track/TrackedFrames.h"
 
 namespace rangefuse {
 namespace {
@@ -41,19 +41,6 @@ MPI_Comm selfComm() {
     });
   }
   return MPI_COMM_SELF;
-}
-
-void checkPose(const Pose& pose, const std::string& name) {
-  if (!pose.R.allFinite() || !pose.t.allFinite())
-    throw InputError(name + ": the pose is not finite");
-  const double off = (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).norm();
-  if (!(off < 1e-6))
-    throw InputError(name + ": the pose's rotation is not a rotation (RᵀR off the identity by " +
-                     std::to_string(off) + ")");
-  if (!(pose.R.determinant() > 0))
-    throw InputError(name + ": the pose's rotation is a reflection (determinant " +
-                     std::to_string(pose.R.determinant()) +
-                     "): a mirrored frame cannot be fused; flip one axis of the scan instead");
 }
 
 /// The grid's shape and indices, so that a grid made by hand cannot lead the field astray.
@@ -217,10 +204,10 @@ void Fusion::addGrid(RangeGrid grid, const Pose& pose, const std::string& name) 
   refuseResumed(n);
   if (state_->stream) throw InputError(n + ": this fusion tracks its frames; add none with a pose");
   checkGrid(grid, n);
-  checkPose(pose, n);
+  const Pose placed = rigidPose(pose, n);
   io::MemoryScan frame;
   frame.grid = std::move(grid);
-  state_->add(std::move(frame), std::nullopt, pose, n);
+  state_->add(std::move(frame), std::nullopt, placed, n);
 }
 
 void Fusion::addScans(const std::string& path, const io::ScanSourceOptions& source) {
@@ -291,10 +278,10 @@ void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
                       const Pose& cameraToWorld, const Image* colour, const std::string& name) {
   const std::string n = state_->nameOf(name);
   refuseResumed(n);
-  checkPose(cameraToWorld, n);
+  const Pose placed = rigidPose(cameraToWorld, n);
   if (state_->stream) throw InputError(n + ": this fusion tracks its frames; add none with a pose");
   io::MemoryScan frame = depthFrame(std::move(depth), camera, colour, n);
-  state_->add(std::move(frame), camera, io::scanPose(cameraToWorld), n);
+  state_->add(std::move(frame), camera, io::scanPose(placed), n);
 }
 
 TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, const Image* colour,

@@ -4,11 +4,7 @@
 #include "CliCommon.h"
 #include "Commands.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/OutputChecks.h"
-#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/DepthCamera.h"
-#include "rangefuse/io/MeshPartPly.h"
-#include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/OutputCheck.h"
 #include "rangefuse/io/OutputOverlap.h"
 #include "rangefuse/io/ScanFiles.h"
@@ -16,6 +12,10 @@
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/parallelio/Checkpoint.h"
+#include "rangefuse/parallelio/MeshPartPly.h"
+#include "rangefuse/parallelio/MeshPartXdmf.h"
+#include "rangefuse/pipeline/OutputChecks.h"
 
 namespace po = boost::program_options;
 

@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/options/FuseParameters.h"
 
 namespace rangefuse::cli {
 

@@ -151,7 +151,7 @@ json commonMotionReport(const std::vector<Pose>& estimates, const std::vector<Po
   double moved = 0;
   size_t n = 0;
   for (size_t i = 0; i < estimates.size(); ++i) {
-    const Pose moved_i{g.R * estimates[i].R, g.R * estimates[i].t + g.t};
+    const Pose moved_i = g * estimates[i];
     disp.push_back(comparePose(moved_i, references[i], points[i]).displacementMean);
     for (size_t k = 0; k < points[i].size(); k += 16, ++n) {
       const Eigen::Vector3d p = estimates[i].apply(points[i][k]);
@@ -194,7 +194,7 @@ json surfaceReport(const std::vector<const io::ConfScan*>& scans,
   for (size_t i = 0; i < scans.size(); ++i) {
     const RangeGrid grid = io::readScanGrid(*scans[i], o.limits);
     atReference.push_back(buildScanSurface(grid, references[i], {}));
-    const Pose moved{g.R * estimates[i].R, g.R * estimates[i].t + g.t};
+    const Pose moved = g * estimates[i];
     atEstimate.push_back(buildScanSurface(grid, moved, {}));
   }
   // Pairs up to 3 voxels apart along the normal: a scan a voxel or two off still has partners.

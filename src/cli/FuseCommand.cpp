@@ -3,8 +3,11 @@
 #include "CliCommon.h"
 #include "Commands.h"
 #include "InterruptHint.h"
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/options/FuseParameters.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
+#include "rangefuse/run/FuseJob.h"
 
 namespace po = boost::program_options;
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "rangefuse/core/KdTree.h"
-#include "rangefuse/eval/MeshDistance.h"
+#include "rangefuse/core/TriangleClosest.h"
 
 namespace rangefuse {
 

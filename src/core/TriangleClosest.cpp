@@ -1,7 +1,7 @@
+#include "rangefuse/core/TriangleClosest.h"
+
 #include <algorithm>
 #include <cmath>
-
-#include "rangefuse/eval/MeshDistance.h"
 
 namespace rangefuse {
 

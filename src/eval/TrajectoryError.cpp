@@ -25,12 +25,7 @@ void relativeError(const std::vector<io::TimedPose>& est, const std::vector<Pose
     if (j >= est.size()) break;
     const Pose& a = est[i].cameraToWorld;
     const Pose& b = est[j].cameraToWorld;
-    const Pose moved = a.inverse();
-    const Pose estMotion{moved.R * b.R, moved.R * b.t + moved.t};
-    const Pose refInv = ref[i].inverse();
-    const Pose refMotion{refInv.R * ref[j].R, refInv.R * ref[j].t + refInv.t};
-    const Pose back = refMotion.inverse();
-    const Pose error{back.R * estMotion.R, back.R * estMotion.t + back.t};
+    const Pose error = relative(relative(ref[i], ref[j]), relative(a, b));
     t2 += error.t.squaredNorm();
     const double a2 = angleDeg(error.R);
     r2 += a2 * a2;

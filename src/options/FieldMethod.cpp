@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/FieldMethod.h"
+#include "rangefuse/options/FieldMethod.h"
 
 #include <array>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/FieldSettings.h"
+#include "rangefuse/options/FieldSettings.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/options/FuseParameters.h"
 
 #include <cmath>
 

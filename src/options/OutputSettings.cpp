@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/OutputSettings.h"
+#include "rangefuse/options/OutputSettings.h"
 
 #include <cmath>
 

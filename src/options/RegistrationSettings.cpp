@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/RegistrationSettings.h"
+#include "rangefuse/options/RegistrationSettings.h"
 
 namespace rangefuse {
 namespace {

@@ -1,7 +1,6 @@
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
 
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/options/FuseParameters.h"
 
 namespace rangefuse {
 namespace {

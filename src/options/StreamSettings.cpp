@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/StreamSettings.h"
+#include "rangefuse/options/StreamSettings.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/parallelio/Checkpoint.h"
 
 #include <hdf5.h>
 
@@ -11,11 +11,11 @@
 
 #include "Hdf5Writing.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/io/Digest.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/OutputCheck.h"
-#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/volume/BrickPlanning.h"
 

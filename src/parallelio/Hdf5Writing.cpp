@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/parallel/FaultInjection.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::io::internal {

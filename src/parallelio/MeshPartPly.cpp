@@ -1,4 +1,4 @@
-#include "rangefuse/io/MeshPartPly.h"
+#include "rangefuse/parallelio/MeshPartPly.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -9,11 +9,11 @@
 #include <cstring>
 #include <limits>
 
-#include "PlyMeshFormat.h"
 #include "rangefuse/core/Error.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/AtomicFile.h"
 #include "rangefuse/io/OutputCheck.h"
-#include "rangefuse/parallel/FaultInjection.h"
+#include "rangefuse/io/PlyMeshFormat.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::io {

@@ -1,4 +1,4 @@
-#include "rangefuse/io/MeshPartXdmf.h"
+#include "rangefuse/parallelio/MeshPartXdmf.h"
 
 #include <cstdio>
 #include <filesystem>

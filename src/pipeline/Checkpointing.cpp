@@ -1,11 +1,11 @@
-#include "rangefuse/fuse/Checkpointing.h"
+#include "rangefuse/pipeline/Checkpointing.h"
 
 #include <algorithm>
 #include <map>
 #include <set>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/options/FuseParameters.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse {

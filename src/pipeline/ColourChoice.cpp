@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/ColourChoice.h"
+#include "rangefuse/pipeline/ColourChoice.h"
 
 #include "rangefuse/core/Error.h"
 

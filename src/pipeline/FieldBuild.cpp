@@ -1,16 +1,16 @@
-#include "rangefuse/fuse/FieldBuild.h"
+#include "rangefuse/pipeline/FieldBuild.h"
 
 #include <cmath>
 
-#include "RunLines.h"
 #include "rangefuse/consensus/ConsensusSampler.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/StreamedField.h"
-#include "rangefuse/fuse/VoxelCheck.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/ScanFiles.h"
-#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/pipeline/RunLines.h"
+#include "rangefuse/pipeline/StreamedField.h"
+#include "rangefuse/pipeline/VoxelCheck.h"
 
 namespace rangefuse {
 namespace {

@@ -1,4 +1,4 @@
-#include "GrowingBricks.h"
+#include "rangefuse/pipeline/GrowingBricks.h"
 
 #include <malloc.h>
 

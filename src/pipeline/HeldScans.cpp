@@ -1,9 +1,9 @@
-#include "rangefuse/fuse/HeldScans.h"
+#include "rangefuse/pipeline/HeldScans.h"
 
 #include <algorithm>
 
 #include "rangefuse/core/MemoryLedger.h"
-#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/route/ScanLoader.h"
 
 namespace rangefuse {
 

@@ -1,10 +1,10 @@
-#include "rangefuse/fuse/OutputChecks.h"
+#include "rangefuse/pipeline/OutputChecks.h"
 
 #include <filesystem>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/io/OutputCheck.h"
+#include "rangefuse/parallelio/MeshPartXdmf.h"
 
 namespace rangefuse {
 namespace {

@@ -1,10 +1,10 @@
-#include "PlacedScans.h"
+#include "rangefuse/pipeline/PlacedScans.h"
 
 #include <algorithm>
 #include <iterator>
 
-#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/volume/BrickPlanning.h"
 

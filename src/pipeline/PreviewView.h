@@ -6,7 +6,9 @@
 #include <string>
 
 #include "rangefuse/core/MeshPart.h"
-#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 #include "rangefuse/render/Render.h"
 
 namespace rangefuse::internal {

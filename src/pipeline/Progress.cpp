@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/Progress.h"
+#include "rangefuse/pipeline/Progress.h"
 
 #include <cstdio>
 

@@ -1,17 +1,17 @@
-#include "rangefuse/fuse/RegisterStage.h"
+#include "rangefuse/pipeline/RegisterStage.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <string>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/Checkpointing.h"
-#include "rangefuse/fuse/RegistrationField.h"
-#include "rangefuse/fuse/ScanLoader.h"
-#include "rangefuse/parallel/FaultInjection.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/Checkpointing.h"
+#include "rangefuse/pipeline/RegistrationField.h"
 #include "rangefuse/register/PairOverlap.h"
 #include "rangefuse/register/Stragglers.h"
+#include "rangefuse/route/ScanLoader.h"
 
 namespace rangefuse {
 

@@ -1,17 +1,17 @@
-#include "rangefuse/fuse/RegistrationField.h"
+#include "rangefuse/pipeline/RegistrationField.h"
 
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 
-#include "GrowingBricks.h"
-#include "PlacedScans.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/FieldBuild.h"
-#include "rangefuse/fuse/RegisterStage.h"
-#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FieldBuild.h"
+#include "rangefuse/pipeline/GrowingBricks.h"
+#include "rangefuse/pipeline/PlacedScans.h"
+#include "rangefuse/pipeline/RegisterStage.h"
 #include "rangefuse/prism/PrismField.h"
+#include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/volume/BrickPlanning.h"
 
 namespace rangefuse {

@@ -1,4 +1,4 @@
-#include "RunLines.h"
+#include "rangefuse/pipeline/RunLines.h"
 
 #include <cstdio>
 #include <sstream>

@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/RunReport.h"
+#include "rangefuse/pipeline/RunReport.h"
 
 #include <sys/resource.h>
 
@@ -7,10 +7,10 @@
 #include <map>
 
 #include "rangefuse/core/MemoryLedger.h"
-#include "rangefuse/fuse/FieldBuild.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/MpiTraffic.h"
+#include "rangefuse/pipeline/FieldBuild.h"
 #include "rangefuse/register/PairOverlap.h"
 #include "rangefuse/register/Stragglers.h"
 

@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/StreamedField.h"
+#include "rangefuse/pipeline/StreamedField.h"
 
 #include <malloc.h>
 
@@ -10,16 +10,16 @@
 #include <map>
 #include <optional>
 
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/core/MemoryLedger.h"
-#include "rangefuse/fuse/ColourChoice.h"
-#include "rangefuse/fuse/HeldScans.h"
-#include "rangefuse/fuse/ScanLoader.h"
-#include "rangefuse/fuse/VoxelCheck.h"
 #include "rangefuse/io/ScanFiles.h"
-#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
+#include "rangefuse/pipeline/ColourChoice.h"
+#include "rangefuse/pipeline/HeldScans.h"
+#include "rangefuse/pipeline/VoxelCheck.h"
 #include "rangefuse/route/RoutingPlan.h"
+#include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/route/ScanRouting.h"
 
 namespace rangefuse {

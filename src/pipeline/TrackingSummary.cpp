@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/TrackingSummary.h"
+#include "rangefuse/pipeline/TrackingSummary.h"
 
 #include <algorithm>
 

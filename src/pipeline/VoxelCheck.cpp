@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/VoxelCheck.h"
+#include "rangefuse/pipeline/VoxelCheck.h"
 
 #include <cmath>
 #include <cstdio>

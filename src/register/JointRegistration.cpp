@@ -248,8 +248,7 @@ std::vector<RegistrationStep> jointStep(std::vector<Pose>& poses, const BrickSto
     step.loose =
         loosestMotion(eq.blocks.at({static_cast<uint32_t>(i), static_cast<uint32_t>(i)}), frame);
     const Pose m = motionPose(shrink * delta[i], frame);
-    poses[i].R = m.R * poses[i].R;
-    poses[i].t = m.R * poses[i].t + m.t;
+    poses[i] = m * poses[i];
     step.rotationDeg = rotationDegrees(m.R);
     step.translation = shrink * delta[i].tail<3>().norm();
   }

@@ -71,8 +71,7 @@ RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlR
   const Eigen::Vector3d& origin = field.grid().origin;  // the sums' frame, back to world
   delta.t += origin - delta.R * origin;
   history = FitHistory{true, twist};
-  pose.R = delta.R * pose.R;
-  pose.t = delta.R * pose.t + delta.t;
+  pose = delta * pose;
   step.rotationDeg = rotationDegrees(delta.R);
   step.translation = delta.t.norm();
   step.applied = true;
@@ -130,8 +129,7 @@ void returnAnchor(std::vector<Pose>& poses, const std::vector<Pose>& roundPoses,
   g.t = given.t - g.R * a.t;
   for (size_t i = 0; i < poses.size(); ++i) {
     if (samePose(poses[i], roundPoses[i])) continue;
-    poses[i].R = g.R * poses[i].R;
-    poses[i].t = g.R * poses[i].t + g.t;
+    poses[i] = g * poses[i];
   }
   poses[anchor] = given;
 }

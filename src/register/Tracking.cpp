@@ -11,11 +11,6 @@
 namespace rangefuse {
 namespace {
 
-/// a^-1 b: the motion from a to b in a's own frame.
-Pose between(const Pose& a, const Pose& b) {
-  return Pose{a.R.transpose() * b.R, a.R.transpose() * (b.t - a.t)};
-}
-
 /// a b, its rotation made orthonormal again: a prediction composes three rotations, and
 /// rounding errors grown that way would double with every frame.
 Pose compose(const Pose& a, const Pose& b) {
@@ -63,7 +58,7 @@ bool cycled(const std::vector<Pose>& path, Pose& pose, double reach) {
   if (path.size() < 3) return false;
   const Pose& back = path[path.size() - 3];
   const Pose& previous = path[path.size() - 2];
-  const Pose step = between(previous, pose), loop = between(back, pose);
+  const Pose step = relative(previous, pose), loop = relative(back, pose);
   if (!(step.t.norm() < reach && loop.t.norm() < 0.25 * step.t.norm() &&
         rotationDegrees(loop.R) <= 0.25 * rotationDegrees(step.R) + 1e-9))
     return false;
@@ -103,10 +98,10 @@ class FrameFit {
     const double count = control_.count(i);
     report.inliers = count > 0 ? static_cast<double>(final.correspondences) / count : 0;
     report.rms = final.rms;
-    const Pose motion = between(poses[last], poses[i]);
+    const Pose motion = relative(poses[last], poses[i]);
     report.step = motion.t.norm();
     report.turnDeg = rotationDegrees(motion.R);
-    report.surprise = between(predicted_, poses[i]).t.norm();
+    report.surprise = relative(predicted_, poses[i]).t.norm();
     report.why = judge(final, converged, report, static_cast<double>(i - last));
     return report;
   }
@@ -180,7 +175,7 @@ class FrameFit {
 
 /// True when two starts lie within the convergence tolerance of each other.
 bool samePlace(const Pose& a, const Pose& b, const RegistrationOptions& o) {
-  const Pose d = between(a, b);
+  const Pose d = relative(a, b);
   return rotationDegrees(d.R) < 10 * o.rotationTolDeg && d.t.norm() < 10 * o.translationTol;
 }
 
@@ -204,12 +199,12 @@ std::vector<size_t> fusedBefore(const TrackingState& state) {
 
 Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide, long prev,
                  size_t last, size_t next, const std::vector<double>& times) {
-  if (guide) return compose(poses[last], between((*guide)[last], (*guide)[next]));
+  if (guide) return compose(poses[last], relative((*guide)[last], (*guide)[next]));
   if (prev < 0) return poses[last];
   const size_t p = static_cast<size_t>(prev);
   auto time = [&](size_t k) { return times.empty() ? static_cast<double>(k) : times[k]; };
   const double before = time(last) - time(p), after = time(next) - time(last);
-  Pose motion = between(poses[p], poses[last]);
+  Pose motion = relative(poses[p], poses[last]);
   if (!(before > 0 && after > 0)) return poses[last];
   // The same velocity over the next interval: the motion scaled by the ratio of the intervals
   // (frames dropped by the sensor, or left out as lost), at most three times over.
@@ -283,7 +278,7 @@ bool FrameTracker::next() {
   FrameFit fit(s_, *control_, *store_, predicted, comm_);
   report = fit.fit(i, poses_, predicted, last, report);
   Pose chosen = poses_[i];
-  const Pose moved = between(predicted, chosen);
+  const Pose moved = relative(predicted, chosen);
   const bool doubtful =
       prev < 0 || !report.why.empty() || moved.t.norm() > s_.fit.correspondences.maxDistance;
   auto tryFrom = [&](const Pose& other) {
@@ -298,7 +293,7 @@ bool FrameTracker::next() {
     }
   };
   if (calls_.motion && doubtful)
-    tryFrom(compose(poses_[last], calls_.motion(last, i, between(poses_[last], predicted))));
+    tryFrom(compose(poses_[last], calls_.motion(last, i, relative(poses_[last], predicted))));
   if (!report.why.empty()) {  // re-localise from where the camera last was
     tryFrom(poses_[last]);
     report.recovered = report.why.empty();

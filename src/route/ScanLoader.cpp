@@ -1,10 +1,10 @@
-#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/route/ScanLoader.h"
 
 #include <algorithm>
 #include <cstring>
 
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/ScanFiles.h"
-#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
 #include "rangefuse/surface/ColumnBands.h"

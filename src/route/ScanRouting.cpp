@@ -6,8 +6,8 @@
 #include <cstring>
 
 #include "rangefuse/core/MemoryLedger.h"
-#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/volume/BrickPlanning.h"
 
 namespace rangefuse {

@@ -1,12 +1,12 @@
 #include "TrackedRun.h"
 
-#include "FinishRun.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/FieldBuild.h"
-#include "rangefuse/fuse/RegisterStage.h"
-#include "rangefuse/fuse/TrackStage.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FieldBuild.h"
+#include "rangefuse/pipeline/FinishRun.h"
+#include "rangefuse/pipeline/RegisterStage.h"
+#include "rangefuse/track/TrackStage.h"
 
 namespace rangefuse::internal {
 namespace {

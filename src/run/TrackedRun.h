@@ -4,9 +4,9 @@
 
 #include <mpi.h>
 
-#include "rangefuse/fuse/Progress.h"
-#include "rangefuse/fuse/RunSettings.h"
-#include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/parallelio/Checkpoint.h"
+#include "rangefuse/pipeline/Progress.h"
 
 namespace rangefuse::internal {
 

@@ -120,14 +120,6 @@ TriangleMesh ownCells(const TriangleMesh& mesh, const std::vector<int>& cellColu
 
 }  // namespace
 
-int bandCount(int cols, int rows, uint64_t maxCells) {
-  const uint64_t cells = static_cast<uint64_t>(cols) * static_cast<uint64_t>(rows);
-  if (maxCells == 0 || cells <= maxCells) return 1;
-  const uint64_t wanted = (cells + maxCells - 1) / maxCells;
-  return static_cast<int>(
-      std::max<uint64_t>(1, std::min<uint64_t>(wanted, cols / kMinBandColumns)));
-}
-
 BandRules bandRules(const ColumnReader& read, int cols, int rows, const SurfaceOptions& options) {
   BandRules rules;
   rules.cols = cols, rules.rows = rows;

@@ -1,4 +1,4 @@
-#include "rangefuse/robust/RangeNoise.h"
+#include "rangefuse/surface/RangeNoise.h"
 
 #include <algorithm>
 #include <cmath>

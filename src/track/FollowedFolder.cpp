@@ -5,9 +5,9 @@
 #include <thread>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/HeldScans.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/HeldScans.h"
 
 namespace rangefuse::internal {
 

@@ -6,8 +6,10 @@
 
 #include <vector>
 
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 
 namespace rangefuse::internal {
 

@@ -1,4 +1,4 @@
-#include "PixelMotion.h"
+#include "rangefuse/track/PixelMotion.h"
 
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/ScanFiles.h"

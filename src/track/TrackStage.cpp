@@ -1,4 +1,4 @@
-#include "rangefuse/fuse/TrackStage.h"
+#include "rangefuse/track/TrackStage.h"
 
 #include <cmath>
 #include <cstdint>
@@ -8,20 +8,20 @@
 #include <sstream>
 
 #include "FollowedFolder.h"
-#include "PixelMotion.h"
-#include "TrackingField.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/Checkpointing.h"
-#include "rangefuse/fuse/VoxelCheck.h"
+#include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/Png.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
-#include "rangefuse/parallel/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/Checkpointing.h"
+#include "rangefuse/pipeline/VoxelCheck.h"
 #include "rangefuse/register/ProjectiveIcp.h"
 #include "rangefuse/render/Render.h"
+#include "rangefuse/track/PixelMotion.h"
+#include "rangefuse/track/TrackingField.h"
 
 namespace rangefuse {
 
@@ -79,8 +79,7 @@ std::vector<Pose> startingPoses(const std::string& firstPose, const LoadedScans&
   if (!scans.posed) return poses;
   const Pose shift{first.R * scans.poses[0].R.transpose(),
                    first.t - first.R * scans.poses[0].R.transpose() * scans.poses[0].t};
-  for (size_t i = 0; i < poses.size(); ++i)
-    poses[i] = Pose{shift.R * scans.poses[i].R, shift.R * scans.poses[i].t + shift.t};
+  for (size_t i = 0; i < poses.size(); ++i) poses[i] = shift * scans.poses[i];
   return poses;
 }
 

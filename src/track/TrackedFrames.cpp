@@ -1,11 +1,11 @@
-#include "TrackedFrames.h"
+#include "rangefuse/track/TrackedFrames.h"
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/HeldScans.h"
-#include "rangefuse/fuse/TrackStage.h"
 #include "rangefuse/io/DepthCamera.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/HeldScans.h"
+#include "rangefuse/track/TrackStage.h"
 
 namespace rangefuse::internal {
 TrackedFrames::TrackedFrames(const ReadSettings& read, const FieldSettings& field,

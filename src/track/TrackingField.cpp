@@ -1,12 +1,12 @@
-#include "TrackingField.h"
+#include "rangefuse/track/TrackingField.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "GrowingBricks.h"
-#include "PlacedScans.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/GrowingBricks.h"
+#include "rangefuse/pipeline/PlacedScans.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/volume/BrickPlanning.h"
 

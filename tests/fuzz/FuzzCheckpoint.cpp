@@ -14,8 +14,8 @@
 
 #include "FuzzEntries.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/io/Digest.h"
+#include "rangefuse/parallelio/Checkpoint.h"
 
 namespace rangefuse::fuzz {
 namespace {

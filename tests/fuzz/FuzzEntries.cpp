@@ -4,11 +4,13 @@
 
 #include "CliCommon.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/FuseParameters.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"
+#include "rangefuse/options/FuseParameters.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 
 namespace po = boost::program_options;
 

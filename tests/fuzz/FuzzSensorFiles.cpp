@@ -8,12 +8,12 @@
 
 #include "../../io/E57Pages.h"
 #include "FuzzEntries.h"
-#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/E57.h"
 #include "rangefuse/io/Jpeg.h"
 #include "rangefuse/io/Ptx.h"
 #include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/route/ScanLoader.h"
 
 namespace fs = std::filesystem;
 

@@ -8,8 +8,11 @@
 #include <iterator>
 
 #include "SharedTemp.h"
-#include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
+#include "rangefuse/run/FuseJob.h"
 
 using namespace rangefuse;
 using test::sharedTempPath;

@@ -10,8 +10,8 @@
 #include "DirectoryExpectations.h"
 #include "SharedTemp.h"
 #include "rangefuse/core/Error.h"
-#include "rangefuse/io/Checkpoint.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallelio/Checkpoint.h"
 
 using namespace rangefuse;
 using test::sharedTempPath;

@@ -7,11 +7,11 @@
 
 #include "SharedTemp.h"
 #include "SphereField.h"
-#include "rangefuse/io/MeshPartPly.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallelio/MeshPartPly.h"
 
 using namespace rangefuse;
 using namespace rangefuse::test;

@@ -6,10 +6,13 @@
 
 #include "SharedTemp.h"
 #include "rangefuse/eval/MeshDistance.h"
-#include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
+#include "rangefuse/run/FuseJob.h"
 
 using namespace rangefuse;
 using test::sharedTempPath;

@@ -8,10 +8,10 @@
 
 #include "SharedTemp.h"
 #include "SphereField.h"
-#include "rangefuse/io/MeshPartXdmf.h"
 #include "rangefuse/mesh/DistributedMesh.h"
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallelio/MeshPartXdmf.h"
 
 using namespace rangefuse;
 using namespace rangefuse::test;

@@ -7,11 +7,12 @@
 #include <cstring>
 #include <map>
 
-#include "rangefuse/fuse/FieldBuild.h"
-#include "rangefuse/fuse/RegistrationField.h"
-#include "rangefuse/fuse/RunSettings.h"
-#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/options/FuseParameters.h"
+#include "rangefuse/options/RunSettings.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FieldBuild.h"
+#include "rangefuse/pipeline/RegistrationField.h"
+#include "rangefuse/route/ScanLoader.h"
 
 using namespace rangefuse;
 

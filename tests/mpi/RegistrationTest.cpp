@@ -5,11 +5,14 @@
 
 #include "SharedTemp.h"
 #include "rangefuse/eval/Comparison.h"
-#include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/MeshPly.h"
 #include "rangefuse/io/RangeGridPly.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
+#include "rangefuse/run/FuseJob.h"
 #include "rangefuse/scan/SyntheticScanner.h"
 
 using namespace rangefuse;

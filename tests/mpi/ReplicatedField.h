@@ -6,9 +6,9 @@
 
 #include <vector>
 
-#include "rangefuse/fuse/FieldBuild.h"
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FieldBuild.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/volume/BrickPlanning.h"
 

@@ -7,11 +7,13 @@
 #include <cstring>
 
 #include "ReplicatedField.h"
-#include "rangefuse/fuse/FieldBuild.h"
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/ScanLoader.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FieldBuild.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
+#include "rangefuse/route/ScanLoader.h"
 
 using namespace rangefuse;
 

@@ -257,7 +257,7 @@ TEST(DepthSequence, MalformedRedwoodFoldersNameTheFileAndLine) {
   dir.write(
       "rw/trajectory.log",
       "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n1 1 2\n2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
-  expectMessage(failure(dir.file("rw")), "trajectory.log: line 7: the matrix is not a rigid");
+  expectMessage(failure(dir.file("rw")), "trajectory.log: line 7: the matrix is not rigid");
   fresh();
   dir.write("rw/trajectory.log",
             "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n1 1 2\n1 0 0 0\n0 1 0\n0 0 1 0\n0 0 0 1\n");

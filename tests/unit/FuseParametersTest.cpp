@@ -7,7 +7,7 @@
 #include <set>
 
 #include "rangefuse/core/Error.h"
-#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/options/FuseParameters.h"
 
 namespace rangefuse {
 namespace {

@@ -171,3 +171,21 @@ TEST(Ptx, BadInputNamesTheFileAndLine) {
   EXPECT_THROW(io::indexPtx(dir.write("big.ptx", kHeader + points + "4 0 0 1\n"), small),
                InputError);
 }
+
+TEST(Ptx, AStationWhoseTransformIsNotRigidIsRefusedByName) {
+  TempDir dir;
+  const std::string points = "1 0 0 1\n2 0 0 1\n3 0 0 1\n4 0 0 1\n";
+  // PDAL's PTX tests: a header transform that scales z by 2, on the second station.
+  const std::string scaled =
+      "2\n2\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 2 0\n0 0 0 1\n";
+  const std::string text = kHeader + points + scaled + points;
+  const std::string m = message(dir.write("scaled.ptx", text));
+  EXPECT_NE(m.find("scaled.ptx:"), std::string::npos) << m;
+  EXPECT_NE(m.find("station 1: the header's transform is not rigid"), std::string::npos) << m;
+  EXPECT_NE(m.find("scales lengths by 1 to 2"), std::string::npos) << m;
+  // The same transform printed to 8 digits is a rotation still.
+  const std::string rounded =
+      "2\n2\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.70710678 0.70710678 0 0\n-0.70710678 0.70710678 0 0\n"
+      "0 0 1 0\n0 0 0 1\n";
+  EXPECT_EQ(io::indexPtx(dir.write("rounded.ptx", rounded + points)).size(), 1u);
+}

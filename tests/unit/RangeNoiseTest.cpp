@@ -4,8 +4,8 @@
 #include <random>
 
 #include "FloorGrid.h"
-#include "rangefuse/robust/RangeNoise.h"
 #include "rangefuse/robust/SightMap.h"
+#include "rangefuse/surface/RangeNoise.h"
 
 namespace rangefuse {
 namespace {

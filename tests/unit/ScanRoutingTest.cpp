@@ -5,9 +5,9 @@
 #include <cstring>
 #include <set>
 
-#include "rangefuse/fuse/ScanLoader.h"
-#include "rangefuse/fuse/StreamedField.h"
+#include "rangefuse/pipeline/StreamedField.h"
 #include "rangefuse/route/RoutingPlan.h"
+#include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/surface/ScanSurface.h"
 

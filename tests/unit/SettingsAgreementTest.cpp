@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "rangefuse/fuse/FuseParameters.h"
+#include "rangefuse/options/FuseParameters.h"
 #include "rangefuse/rangefuse.h"
 
 namespace rangefuse {
@@ -115,7 +115,9 @@ TEST(SettingsAgreement, EachOptionIsDefinedOnce) {
   std::set<std::string> options, keys;
   for (const FuseParameter& p : fuseParameters()) {
     EXPECT_TRUE(options.insert(p.option).second) << "--" << p.option << " twice";
-    if (!p.key.empty()) EXPECT_TRUE(keys.insert(p.key).second) << p.key << " twice";
+    if (!p.key.empty()) {
+      EXPECT_TRUE(keys.insert(p.key).second) << p.key << " twice";
+    }
   }
 }
 

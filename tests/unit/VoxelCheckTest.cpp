@@ -2,7 +2,7 @@
 // plausible voxel says nothing.
 #include <gtest/gtest.h>
 
-#include "rangefuse/fuse/VoxelCheck.h"
+#include "rangefuse/pipeline/VoxelCheck.h"
 
 namespace rangefuse {
 namespace {

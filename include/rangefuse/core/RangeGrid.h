@@ -38,4 +38,11 @@ struct RangeGrid {
   Eigen::Vector3d towardSensor(const Eigen::Vector3d& p) const { return sensor().toward(p); }
 };
 
+/// The number of column bands for a grid of cols x rows cells: 1 up to maxCells (0: always 1),
+/// else enough that each holds about maxCells, with at least kMinBandColumns columns each.
+int bandCount(int cols, int rows, uint64_t maxCells);
+
+/// Bands narrower than this would read more halo than cells of their own.
+constexpr int kMinBandColumns = 128;
+
 }  // namespace rangefuse

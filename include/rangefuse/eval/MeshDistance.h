@@ -7,17 +7,10 @@
 #include <memory>
 #include <vector>
 
+#include "rangefuse/core/TriangleClosest.h"
 #include "rangefuse/core/TriangleMesh.h"
 
 namespace rangefuse {
-
-/// Closest point to p on triangle (a, b, c), exact in every region (vertex, edge, face).
-Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c);
-
-/// The same, as barycentric coordinates (weights of a, b, c).
-Eigen::Vector3d closestBarycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                   const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 /// Where a point comes closest to a mesh: the triangle, the barycentric weights of its corners
 /// there, and the distance.

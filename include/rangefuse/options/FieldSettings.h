@@ -9,7 +9,7 @@
 
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/core/Setting.h"
-#include "rangefuse/fuse/FieldMethod.h"
+#include "rangefuse/options/FieldMethod.h"
 
 namespace rangefuse {
 

@@ -11,11 +11,11 @@
 
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/core/Setting.h"
-#include "rangefuse/fuse/FieldSettings.h"
-#include "rangefuse/fuse/OutputSettings.h"
-#include "rangefuse/fuse/RegistrationSettings.h"
-#include "rangefuse/fuse/StreamSettings.h"
 #include "rangefuse/io/ScanSourceOptions.h"
+#include "rangefuse/options/FieldSettings.h"
+#include "rangefuse/options/OutputSettings.h"
+#include "rangefuse/options/RegistrationSettings.h"
+#include "rangefuse/options/StreamSettings.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {

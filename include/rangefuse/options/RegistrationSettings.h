@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "rangefuse/core/Setting.h"
-#include "rangefuse/fuse/FieldMethod.h"
+#include "rangefuse/options/FieldMethod.h"
 
 namespace rangefuse {
 

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "rangefuse/core/Limits.h"
-#include "rangefuse/fuse/FieldMethod.h"
-#include "rangefuse/fuse/FieldSettings.h"
-#include "rangefuse/fuse/OutputSettings.h"
-#include "rangefuse/fuse/RegistrationSettings.h"
-#include "rangefuse/fuse/StreamSettings.h"
 #include "rangefuse/io/ScanFiles.h"
+#include "rangefuse/options/FieldMethod.h"
+#include "rangefuse/options/FieldSettings.h"
+#include "rangefuse/options/OutputSettings.h"
+#include "rangefuse/options/RegistrationSettings.h"
+#include "rangefuse/options/StreamSettings.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {

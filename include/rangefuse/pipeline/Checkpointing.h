@@ -3,9 +3,11 @@
 
 #include <mpi.h>
 
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RunSettings.h"
-#include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/parallelio/Checkpoint.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 
 namespace rangefuse {
 

@@ -9,9 +9,11 @@
 #include <vector>
 
 #include "rangefuse/consensus/NearSurface.h"
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/Progress.h"
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/Progress.h"
+#include "rangefuse/pipeline/RankCounters.h"
 
 namespace rangefuse {
 

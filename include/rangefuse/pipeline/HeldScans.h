@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "rangefuse/core/Limits.h"
-#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/options/RunSettings.h"
 #include "rangefuse/register/ScanSource.h"
 #include "rangefuse/surface/ScanSurface.h"
 

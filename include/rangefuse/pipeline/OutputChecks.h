@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "rangefuse/fuse/RunSettings.h"
 #include "rangefuse/io/OutputOverlap.h"
+#include "rangefuse/options/RunSettings.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse {

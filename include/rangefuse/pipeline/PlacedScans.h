@@ -8,10 +8,12 @@
 #include <algorithm>
 #include <vector>
 
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RunSettings.h"
-#include "rangefuse/fuse/ScanLoader.h"
+#include "rangefuse/options/RunSettings.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
+#include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/volume/BrickLayout.h"
 

@@ -7,8 +7,10 @@
 #include <memory>
 #include <string>
 
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse {

@@ -8,8 +8,11 @@
 #include <functional>
 #include <optional>
 
-#include "rangefuse/fuse/FuseJob.h"
 #include "rangefuse/io/Conf.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/Progress.h"
+#include "rangefuse/pipeline/RankCounters.h"
 #include "rangefuse/robust/SurfaceHypotheses.h"
 
 namespace rangefuse {

@@ -8,7 +8,7 @@
 
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/core/RangeGrid.h"
-#include "rangefuse/robust/RangeNoise.h"
+#include "rangefuse/surface/RangeNoise.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <functional>
 
-#include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/core/RangeGrid.h"  // and bandCount
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
@@ -25,13 +25,6 @@ struct BandRules {
   double angular = 0;               ///< angular step of the merged grid (a station's sight map)
   GridTriangulation triangulation;  ///< for the merged grid (the seam, if any, closed by halos)
 };
-
-/// The number of column bands for a grid of cols x rows cells: 1 up to maxCells (0: always 1),
-/// else enough that each holds about maxCells, with at least kMinBandColumns columns each.
-int bandCount(int cols, int rows, uint64_t maxCells);
-
-/// Bands narrower than this would read more halo than cells of their own.
-constexpr int kMinBandColumns = 128;
 
 /// The rules of a cols x rows grid from a sample of pairs of neighbouring (merged) columns
 /// spread over the grid, its first and last included; the same for every band.

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "rangefuse/core/RangeGrid.h"
-#include "rangefuse/robust/RangeNoise.h"
+#include "rangefuse/surface/RangeNoise.h"
 
 namespace rangefuse {
 

@@ -1,4 +1,4 @@
-// The motion between two depth frames from their pixels (private to the fuse stage): the
+// The motion between two depth frames from their pixels : the
 // second start a tracked frame gets when the field's fit from the predicted pose fails.
 #pragma once
 
@@ -8,7 +8,7 @@
 #include <memory>
 #include <utility>
 
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
 #include "rangefuse/register/ProjectiveIcp.h"
 
 namespace rangefuse::internal {

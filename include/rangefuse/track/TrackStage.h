@@ -7,9 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RunSettings.h"
-#include "rangefuse/io/Checkpoint.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/parallelio/Checkpoint.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/Progress.h"
+#include "rangefuse/pipeline/RankCounters.h"
 #include "rangefuse/register/Tracking.h"
 
 namespace rangefuse {

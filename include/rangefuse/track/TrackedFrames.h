@@ -7,12 +7,14 @@
 
 #include <memory>
 
-#include "PixelMotion.h"
-#include "TrackingField.h"
 #include "rangefuse/core/MeshPart.h"
-#include "rangefuse/fuse/FuseJob.h"
-#include "rangefuse/fuse/RunSettings.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 #include "rangefuse/register/Tracking.h"
+#include "rangefuse/track/PixelMotion.h"
+#include "rangefuse/track/TrackingField.h"
 
 namespace rangefuse::internal {
 

@@ -7,7 +7,9 @@
 
 #include <memory>
 
-#include "rangefuse/fuse/FuseJob.h"
+#include "rangefuse/pipeline/FusedField.h"
+#include "rangefuse/pipeline/LoadedScans.h"
+#include "rangefuse/pipeline/RankCounters.h"
 #include "rangefuse/register/Registration.h"
 
 namespace rangefuse {
