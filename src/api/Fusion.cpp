@@ -19,6 +19,7 @@
 #include "rangefuse/pipeline/FieldBuild.h"
 #include "rangefuse/pipeline/FinishRun.h"
 #include "rangefuse/rangefuse.h"
+#include "rangefuse/track/StreamColour.h"
 #include "rangefuse/track/TrackedFrames.h"
 
 namespace rangefuse {
@@ -261,17 +262,6 @@ io::MemoryScan depthFrame(io::DepthImage&& depth, const io::DepthCamera& camera,
   return frame;
 }
 
-/// The colour a tracking field fuses, from its first frame: as the command decides for a
-/// stream whose frames arrive as it runs.
-ColourKind streamColour(const FieldSettings& f, bool coloured, const std::string& n) {
-  if (f.colour == "none" || f.method != FieldMethod::Prism) return ColourKind::none;
-  if (f.colour == "intensity")
-    throw InputError(n + ": colour intensity: depth frames carry colour images (rgb)");
-  if (f.colour == "rgb" && !coloured)
-    throw InputError(n + ": has no colour image, but colour rgb asks every frame");
-  return coloured ? ColourKind::rgb : ColourKind::none;
-}
-
 }  // namespace
 
 void Fusion::addDepth(io::DepthImage depth, const io::DepthCamera& camera,
@@ -293,7 +283,8 @@ TrackedFrame Fusion::track(io::DepthImage depth, const io::DepthCamera& camera, 
   if (!s.stream && !s.list->scans.empty())
     throw InputError(n + ": this fusion was given frames with their poses; track in another");
   // The stream's colour is its first frame's: every later frame brings it too.
-  const ColourKind kind = s.stream ? s.trackedColour : streamColour(s.field, colour != nullptr, n);
+  const ColourKind kind =
+      s.stream ? s.trackedColour : streamColour(s.field, {{n}, {colour != nullptr}, false}, n);
   if (kind == ColourKind::rgb && !colour)
     throw InputError(n + ": has no colour image, but the stream's first frame had one");
   io::MemoryScan frame =

@@ -1,4 +1,4 @@
-#include "rangefuse/pipeline/ColourChoice.h"
+#include "ColourChoice.h"
 
 #include "rangefuse/core/Error.h"
 

@@ -118,13 +118,8 @@ bool loadScans(const ReadSettings& read, MPI_Comm comm, Progress& progress, Load
   if (!readList(read, comm, poses, lost, false, conf)) return false;
   scans.rank = mpi::rank(comm);
   scans.posed = conf.posed;
-  for (size_t i = 0; i < conf.scans.size(); ++i) scans.readers.push_back(i % mpi::size(comm));
-  for (const auto& c : conf.scans) {
-    scans.names.push_back(c.name);
-    scans.paths.push_back(c.path);
-    scans.poses.push_back(c.pose);
-    scans.times.push_back(c.time);
-  }
+  for (size_t i = 0; i < conf.scans.size(); ++i)
+    scans.add(conf.scans[i], readerOf(i, mpi::size(comm)));
   scans.held = heldScans(conf.scans, scans.readers, scans.rank, read);
   // Each rank reads its scans and keeps those that fit the budget; the others are read again
   // whenever a registration field needs them.

@@ -1,6 +1,7 @@
 #include "rangefuse/pipeline/FinishRun.h"
 
 #include "PreviewView.h"
+#include "RunReport.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/Png.h"
@@ -12,7 +13,6 @@
 #include "rangefuse/pipeline/Checkpointing.h"
 #include "rangefuse/pipeline/OutputChecks.h"
 #include "rangefuse/pipeline/RunLines.h"
-#include "rangefuse/pipeline/RunReport.h"
 #include "rangefuse/render/MeshPicture.h"
 #include "rangefuse/robust/SpaceCarving.h"
 

@@ -19,9 +19,9 @@ using mpi::collectively;
 
 namespace {
 
-RegistrationOptions registrationOptions(const RegistrationSettings& o, double voxel, double eps,
-                                        const LoadedScans& scans) {
-  RegistrationOptions r;
+FitControl registrationOptions(const RegistrationSettings& o, double voxel, double eps,
+                               const LoadedScans& scans) {
+  FitControl r;
   r.mode = o.mode;
   r.controlStride = o.controlStride;
   r.maxIterations = o.maxIterations;
@@ -199,7 +199,7 @@ bool registerPoses(const RegistrationSettings& o, const FieldSettings& f,
                    Progress& progress, LoadedScans& scans, RegistrationProgress& state,
                    std::vector<RegistrationStep>& steps) {
   if (o.mode == RegistrationMode::None) return true;
-  RegistrationOptions r;
+  FitControl r;
   if (!collectively(comm, [&] { r = registrationOptions(o, f.voxel, f.eps(), scans); }))
     return false;
   const std::unique_ptr<RegistrationField> grown =

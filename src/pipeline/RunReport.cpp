@@ -1,4 +1,4 @@
-#include "rangefuse/pipeline/RunReport.h"
+#include "RunReport.h"
 
 #include <sys/resource.h>
 

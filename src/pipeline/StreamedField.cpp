@@ -10,12 +10,12 @@
 #include <map>
 #include <optional>
 
+#include "ColourChoice.h"
 #include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
-#include "rangefuse/pipeline/ColourChoice.h"
 #include "rangefuse/pipeline/HeldScans.h"
 #include "rangefuse/pipeline/VoxelCheck.h"
 #include "rangefuse/route/RoutingPlan.h"

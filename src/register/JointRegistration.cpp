@@ -1,4 +1,4 @@
-#include "rangefuse/register/JointRegistration.h"
+#include "JointRegistration.h"
 
 #include <algorithm>
 #include <cmath>

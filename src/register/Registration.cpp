@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "JointRegistration.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/register/ControlRouting.h"
-#include "rangefuse/register/JointRegistration.h"
 
 namespace rangefuse {
 namespace {
@@ -46,7 +46,7 @@ double acceleration(const Twist& now, const FitHistory& h) {
 
 /// How far to extrapolate a fit: the acceleration, but no farther than maxExtrapolation (noisy
 /// fits can look steady enough to be stretched eightfold, and then leave the field's reach).
-double extrapolation(const Twist& now, const FitHistory& h, const RegistrationOptions& o) {
+double extrapolation(const Twist& now, const FitHistory& h, const FitControl& o) {
   const double scale = o.accelerate ? acceleration(now, h) : 1.0;
   const double length = asVector(now).norm();
   if (scale <= 1 || !(length > 0)) return 1;
@@ -55,7 +55,7 @@ double extrapolation(const Twist& now, const FitHistory& h, const RegistrationOp
 
 /// One fit of scan i against the field: correspondences, sums across ranks, rigid update.
 RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlRouting& control,
-                         const RegistrationOptions& o, MPI_Comm comm, FitHistory& history) {
+                         const FitControl& o, MPI_Comm comm, FitHistory& history) {
   const ControlPoints c = control.at(i, pose, field);
   const RigidSums sums =
       correspondenceSums(field, c.points, c.normals, c.weights, o.correspondences, comm);
@@ -78,14 +78,14 @@ RegistrationStep fitOnce(size_t i, Pose& pose, const BrickStore& field, ControlR
   return step;
 }
 
-bool converged(const RegistrationStep& s, const RegistrationOptions& o) {
+bool converged(const RegistrationStep& s, const FitControl& o) {
   if (!s.applied) return true;
   if (s.algorithm == FitAlgorithm::Joint)  // Gauss-Newton: later steps only follow the noise
     return s.rotationDeg < o.jointRotationTolDeg && s.translation < o.jointTranslationTol;
   return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
 }
 
-void incremental(const ScanSource& scans, std::vector<Pose>& poses, const RegistrationOptions& o,
+void incremental(const ScanSource& scans, std::vector<Pose>& poses, const FitControl& o,
                  RegistrationField& field, ControlRouting& control, MPI_Comm comm,
                  const std::function<void(const RegistrationStep&)>& onStep,
                  RegistrationProgress& progress, const BoundaryCallback& onBoundary) {
@@ -167,8 +167,8 @@ void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
 
 /// One iteration of Algorithm 2's fits: every scan's, jointly or one by one.
 std::vector<RegistrationStep> fitAll(std::vector<Pose>& poses, const BrickStore& store,
-                                     ControlRouting& control, const RegistrationOptions& o,
-                                     MPI_Comm comm, std::vector<FitHistory>& history) {
+                                     ControlRouting& control, const FitControl& o, MPI_Comm comm,
+                                     std::vector<FitHistory>& history) {
   if (o.solve == RegistrationSolve::Joint) {
     const JointStepSettings settings{o.anchor, o.minCorrespondences, o.maxExtrapolation,
                                      o.correspondences};
@@ -185,7 +185,7 @@ std::vector<RegistrationStep> fitAll(std::vector<Pose>& poses, const BrickStore&
   return steps;
 }
 
-void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, RegistrationOptions o,
+void simultaneous(const ScanSource& scans, std::vector<Pose>& poses, FitControl o,
                   RegistrationField& field, ControlRouting& control, MPI_Comm comm,
                   const std::function<void(const RegistrationStep&)>& onStep,
                   RegistrationProgress& p, const BoundaryCallback& onBoundary) {
@@ -269,7 +269,7 @@ double rotationDegrees(const Eigen::Matrix3d& R) {
   return std::abs(Eigen::AngleAxisd(R).angle()) * 180 / M_PI;
 }
 
-void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const RegistrationOptions& o,
+void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const FitControl& o,
                    RegistrationField& field, MPI_Comm comm,
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& p, const BoundaryCallback& onBoundary) {

@@ -40,7 +40,7 @@ Pose scaledMotion(const Pose& m, double scale) {
   return Pose{R, twistV(ws) * (scale * v)};
 }
 
-bool settled(const RegistrationStep& s, const RegistrationOptions& o) {
+bool settled(const RegistrationStep& s, const FitControl& o) {
   return s.rotationDeg < o.rotationTolDeg && s.translation < o.translationTol;
 }
 
@@ -70,7 +70,7 @@ bool cycled(const std::vector<Pose>& path, Pose& pose, double reach) {
 class FrameFit {
  public:
   /// `predicted`: where the camera's motion so far puts the frame.
-  FrameFit(const TrackingSettings& s, ControlRouting& control, const BrickStore& store,
+  FrameFit(const TrackerSettings& s, ControlRouting& control, const BrickStore& store,
            const Pose& predicted, MPI_Comm comm)
       : s_(s), control_(control), store_(store), predicted_(predicted), comm_(comm) {}
 
@@ -166,7 +166,7 @@ class FrameFit {
     return "";
   }
 
-  const TrackingSettings& s_;
+  const TrackerSettings& s_;
   ControlRouting& control_;
   const BrickStore& store_;
   Pose predicted_;
@@ -174,7 +174,7 @@ class FrameFit {
 };
 
 /// True when two starts lie within the convergence tolerance of each other.
-bool samePlace(const Pose& a, const Pose& b, const RegistrationOptions& o) {
+bool samePlace(const Pose& a, const Pose& b, const FitControl& o) {
   const Pose d = relative(a, b);
   return rotationDegrees(d.R) < 10 * o.rotationTolDeg && d.t.norm() < 10 * o.translationTol;
 }
@@ -215,7 +215,7 @@ Pose predictPose(const std::vector<Pose>& poses, const std::vector<Pose>* guide,
 
 FrameTracker::FrameTracker(const ScanSource& frames, std::vector<Pose>& poses,
                            const std::vector<double>& times, const std::vector<Pose>* guide,
-                           const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
+                           const TrackerSettings& s, RegistrationField& field, MPI_Comm comm,
                            TrackingState& state, const StreamCalls& calls)
     : frames_(frames),
       poses_(poses),
@@ -331,7 +331,7 @@ bool FrameTracker::next() {
 
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
                  const std::vector<double>& times, const std::vector<Pose>* guide,
-                 const TrackingSettings& s, RegistrationField& field, MPI_Comm comm,
+                 const TrackerSettings& s, RegistrationField& field, MPI_Comm comm,
                  TrackingState& state, const StreamCalls& calls) {
   FrameTracker tracker(frames, poses, times, guide, s, field, comm, state, calls);
   if (!tracker.start()) return false;

@@ -92,7 +92,7 @@ bool FollowedFolder::more(LoadedScans& scans) {
   });
   std::vector<int> readers;
   for (size_t i = have; i < take; ++i) {
-    readers.push_back(static_cast<int>(i % mpi::size(comm_)));
+    readers.push_back(readerOf(i, mpi::size(comm_)));
     scans.readers.push_back(readers.back());
     scans.names.push_back(fresh[i - have].name);
     scans.paths.push_back(fresh[i - have].path);

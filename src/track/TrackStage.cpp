@@ -21,6 +21,7 @@
 #include "rangefuse/register/ProjectiveIcp.h"
 #include "rangefuse/render/Render.h"
 #include "rangefuse/track/PixelMotion.h"
+#include "rangefuse/track/StreamColour.h"
 #include "rangefuse/track/TrackingField.h"
 
 namespace rangefuse {
@@ -53,10 +54,10 @@ Pose parseCameraPose(const std::string& text) {
   return Pose{q.normalized().toRotationMatrix(), Eigen::Vector3d(v[0], v[1], v[2])};
 }
 
-TrackingSettings trackingSettings(const StreamSettings& t, int controlStride, double voxel,
-                                  double eps) {
-  TrackingSettings s;
-  RegistrationOptions& f = s.fit;
+TrackerSettings trackingSettings(const StreamSettings& t, int controlStride, double voxel,
+                                 double eps) {
+  TrackerSettings s;
+  FitControl& f = s.fit;
   f.controlStride = controlStride;
   f.rotationTolDeg = 0.01;
   f.translationTol = 0.01 * voxel;
@@ -244,27 +245,17 @@ class StreamCheckpointer {
   std::vector<std::string> hashes_;
 };
 
-/// The colour the tracking field fuses: its frames' colour images when every frame has one
-/// (auto), none when asked. A followed folder's frames arrive later, unseen: auto fuses depth
-/// alone there. When another field follows the tracking (other methods, or refined poses), that
-/// field reads the colour itself and the tracking field fuses none.
-ColourKind streamColour(const RunSettings& s, const io::ConfFile& conf) {
-  const std::string& colour = s.field.colour;
-  if (colour == "none" || s.field.method != FieldMethod::Prism ||
-      s.registration.mode == RegistrationMode::Simultaneous)
-    return ColourKind::none;
-  if (colour == "intensity")
-    throw InputError(s.read.scans +
-                     ": --colour intensity: depth streams carry colour images (rgb)");
-  const bool explicitRgb = colour == "rgb";
-  if (s.track.follow && !explicitRgb) return ColourKind::none;
-  for (const io::ConfScan& s : conf.scans)
-    if (s.colour.empty()) {
-      if (explicitRgb)
-        throw InputError(s.path + ": has no colour image, but --colour rgb asks every frame");
-      return ColourKind::none;
-    }
-  return conf.scans.empty() ? ColourKind::none : ColourKind::rgb;
+/// The colour the tracking field fuses. When another field follows the tracking (refined
+/// poses), that field reads the colour itself and the tracking field fuses none.
+ColourKind trackedColour(const RunSettings& s, const io::ConfFile& conf) {
+  if (s.registration.mode == RegistrationMode::Simultaneous) return ColourKind::none;
+  StreamFrames frames;
+  for (const io::ConfScan& scan : conf.scans) {
+    frames.names.push_back(scan.path);
+    frames.coloured.push_back(!scan.colour.empty());
+  }
+  frames.moreLater = s.track.follow;
+  return streamColour(s.field, frames, s.read.scans);
 }
 
 /// The voxel checked against the first frame's extent, as scans are against theirs: a stream
@@ -289,7 +280,7 @@ bool openStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedS
   if (!collectively(comm, [&] {
         conf = s.track.follow ? internal::FollowedFolder(o, s.track.followTimeout, comm).first()
                               : io::readScanList(o.scans, o.limits, o.source);
-        scans.colour = streamColour(s, conf);
+        scans.colour = trackedColour(s, conf);
         if (scans.colour == ColourKind::none)
           for (io::ConfScan& s : conf.scans) s.colour.clear();  // not read for nothing
       }))
@@ -302,13 +293,8 @@ bool openStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedS
     return false;
   scans.rank = mpi::rank(comm);
   scans.posed = conf.posed;
-  for (size_t i = 0; i < conf.scans.size(); ++i) {
-    scans.readers.push_back(static_cast<int>(i % mpi::size(comm)));
-    scans.names.push_back(conf.scans[i].name);
-    scans.paths.push_back(conf.scans[i].path);
-    scans.poses.push_back(conf.scans[i].pose);
-    scans.times.push_back(conf.scans[i].time);
-  }
+  for (size_t i = 0; i < conf.scans.size(); ++i)
+    scans.add(conf.scans[i], readerOf(i, mpi::size(comm)));
   scans.held = heldScans(conf.scans, scans.readers, scans.rank, o);
   progress.stage("open", std::to_string(conf.scans.size()) + " frames, each read when it comes");
   return true;
@@ -319,7 +305,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
                  const io::CheckpointMeta* resumed) {
   const FieldSettings& f = s.field;
   const StreamSettings& t = s.track;
-  TrackingSettings settings;
+  TrackerSettings settings;
   std::vector<Pose> guide;
   TrackingState state;
   if (!collectively(comm, [&] {
@@ -336,8 +322,8 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
     progress.stage("resume", s.outputs.resume + ": tracking from frame " +
                                  std::to_string(state.nextFrame + 1) + " (the " +
                                  std::to_string(state.nextFrame) + " before fused again)");
-  const TrackingFieldSettings fieldSettings{f.voxel,     f.brick,   f.eps(),
-                                            f.maxVoxels, f.threads, scans.colour};
+  const TrackingLattice fieldSettings{f.voxel,     f.brick,   f.eps(),
+                                      f.maxVoxels, f.threads, scans.colour};
   TrackingField tracked(fieldSettings, scans, comm);
   StreamCheckpointer checkpointer(s.checkpoints(), scans, comm);
   FrameLines lines(scans, f.voxel, progress.shows(Verbosity::verbose));

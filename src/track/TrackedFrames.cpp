@@ -37,8 +37,8 @@ void TrackedFrames::open(const io::ConfScan& first) {
   scans_.readers = {0};
   scans_.poses = {io::scanPose(Pose{})};
   scans_.held = heldScans({first}, scans_.readers, scans_.rank, read_);
-  const TrackingFieldSettings f{field_.voxel,     field_.brick,   field_.eps(),
-                                field_.maxVoxels, field_.threads, scans_.colour};
+  const TrackingLattice f{field_.voxel,     field_.brick,   field_.eps(),
+                          field_.maxVoxels, field_.threads, scans_.colour};
   tracked_ = std::make_unique<TrackingField>(f, scans_, comm_);
   mpi::collectivelyOrThrow(
       comm_, [&] { pixels_ = std::make_unique<PixelMotion>(read_, field_.voxel, comm_); });

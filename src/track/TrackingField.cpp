@@ -18,7 +18,7 @@ using namespace internal;
 
 }  // namespace
 
-TrackingField::TrackingField(const TrackingFieldSettings& settings, const LoadedScans& scans,
+TrackingField::TrackingField(const TrackingLattice& settings, const LoadedScans& scans,
                              MPI_Comm comm)
     : settings_(settings), scans_(scans), comm_(comm) {}
 

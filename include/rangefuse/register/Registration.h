@@ -19,7 +19,9 @@
 
 namespace rangefuse {
 
-struct RegistrationOptions {
+/// How registration fits run and when they stop: the algorithm's own parameters (the user's
+/// are RegistrationSettings, converted by the registration stage).
+struct FitControl {
   RegistrationMode mode = RegistrationMode::None;
   size_t anchor = 0;        ///< the scan that fixes the frame
   int controlStride = 1;    ///< every k-th vertex is a control point
@@ -129,8 +131,8 @@ using BoundaryCallback = std::function<void(const RegistrationProgress&, const s
 /// are in their own frames; a rank holds only the scans it read (the others are empty), and
 /// the field's calls route them. `onStep` sees every fit (rank 0 prints it); `onBoundary` every
 /// point a checkpoint may be taken. Every rank ends with the same poses.
-void registerScans(const ScanSource& scans, std::vector<Pose>& poses,
-                   const RegistrationOptions& options, RegistrationField& field, MPI_Comm comm,
+void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const FitControl& options,
+                   RegistrationField& field, MPI_Comm comm,
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& progress, const BoundaryCallback& onBoundary);
 

@@ -15,8 +15,10 @@
 
 namespace rangefuse {
 
-struct TrackingSettings {
-  RegistrationOptions fit;    ///< correspondences and the convergence rule of one fit
+/// The frame tracker's parameters: its fits, levels and when a frame is lost (the user's are
+/// StreamSettings, converted by the tracking stage).
+struct TrackerSettings {
+  FitControl fit;             ///< correspondences and the convergence rule of one fit
   int coarse = 4;             ///< the coarse level takes every coarse-th control point
   int coarseIterations = 12;  ///< fits at the coarse level
   int fineIterations = 12;    ///< fits with every control point
@@ -81,7 +83,7 @@ class ControlRouting;
 class FrameTracker {
  public:
   FrameTracker(const ScanSource& frames, std::vector<Pose>& poses, const std::vector<double>& times,
-               const std::vector<Pose>* guide, const TrackingSettings& settings,
+               const std::vector<Pose>* guide, const TrackerSettings& settings,
                RegistrationField& field, MPI_Comm comm, TrackingState& state,
                const StreamCalls& calls);
   ~FrameTracker();
@@ -103,7 +105,7 @@ class FrameTracker {
   std::vector<Pose>& poses_;
   const std::vector<double>& times_;
   const std::vector<Pose>* guide_;
-  const TrackingSettings& s_;
+  const TrackerSettings& s_;
   RegistrationField& field_;
   MPI_Comm comm_;
   TrackingState& state_;
@@ -121,7 +123,7 @@ class FrameTracker {
 /// poses and state. Returns false, with state.failure set, when a lost frame ends the stream.
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
                  const std::vector<double>& times, const std::vector<Pose>* guide,
-                 const TrackingSettings& settings, RegistrationField& field, MPI_Comm comm,
+                 const TrackerSettings& settings, RegistrationField& field, MPI_Comm comm,
                  TrackingState& state, const StreamCalls& calls);
 
 /// The pose the motion so far predicts for a frame after `last`: the guide's motion from frame

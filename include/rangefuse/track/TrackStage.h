@@ -26,8 +26,8 @@ Pose parseCameraPose(const std::string& text);
 
 /// How each frame is fitted: the stream's settings, the control points' stride, the voxel and
 /// the prism envelope (world units).
-TrackingSettings trackingSettings(const StreamSettings& track, int controlStride, double voxel,
-                                  double eps);
+TrackerSettings trackingSettings(const StreamSettings& track, int controlStride, double voxel,
+                                 double eps);
 
 /// Collective: the frames of the stream listed in `scans` (names, paths, times, readers), none
 /// read yet: each is read by its reader when tracking comes to it. False on failure (printed).

@@ -51,7 +51,7 @@ class TrackedFrames {
   FieldSettings field_;
   MPI_Comm comm_;
   LoadedScans scans_;
-  TrackingSettings settings_;
+  TrackerSettings settings_;
   TrackingState state_;
   StreamCalls calls_;
   FrameReport last_;

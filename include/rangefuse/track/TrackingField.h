@@ -17,8 +17,8 @@ namespace internal {
 class GrowingBricks;
 }
 
-/// What the tracking field needs of the job.
-struct TrackingFieldSettings {
+/// The lattice and colour of the tracking field (from the run's FieldSettings).
+struct TrackingLattice {
   double voxel = 0;
   int brick = 8;
   double eps = 0;  ///< prism half-thickness, world units
@@ -40,7 +40,7 @@ class TrackingField : public RegistrationField {
  public:
   static constexpr int kRoom = 1 << 14;  ///< voxels of lattice around the first frames
 
-  TrackingField(const TrackingFieldSettings& settings, const LoadedScans& scans, MPI_Comm comm);
+  TrackingField(const TrackingLattice& settings, const LoadedScans& scans, MPI_Comm comm);
   ~TrackingField() override;
 
   std::vector<double> fixLattice(const std::vector<double>& origin,
@@ -65,7 +65,7 @@ class TrackingField : public RegistrationField {
   /// Collective: scan i added to the sums.
   void integrate(size_t i, const std::vector<Pose>& poses);
 
-  TrackingFieldSettings settings_;
+  TrackingLattice settings_;
   const LoadedScans& scans_;
   MPI_Comm comm_;
   VoxelGrid grid_;
