@@ -72,21 +72,30 @@ const FuseParameter& parameter(const std::string& option) {
   throw std::logic_error("no option --" + option);
 }
 
-TEST(SettingsAgreement, FusionRefusesWhatTheCommandRefusesWithItsMessage) {
+/// For every setting of `table`, at values of its type: `library(options, option)` refuses
+/// exactly what the command refuses, with its message. Returns how many values were refused.
+template <class S, class Library>
+int expectAgreement(const std::vector<Setting<S>>& table, Library library) {
   int refused = 0;
-  for (const Setting<FieldSettings>& s : FieldSettings::settings()) {
-    const FuseParameter& p = parameter(s.option);  // every field setting is an option
+  for (const Setting<S>& s : table) {
+    const FuseParameter& p = parameter(s.option);  // every such setting is an option
     FuseOptions probe = valid();
     for (const std::string& text : candidates(p.value(probe))) {
       FuseOptions o = valid();
       parseParameter(p, o, text);
       const std::string command = commandRefusal(o);
-      const std::string library =
-          libraryRefusal([&] { Fusion f(o.field, MPI_COMM_NULL); }, s.option);
-      EXPECT_EQ(library, command) << "--" << s.option << " " << text;
+      EXPECT_EQ(library(o, s.option), command) << "--" << s.option << " " << text;
       refused += !command.empty();
     }
   }
+  return refused;
+}
+
+TEST(SettingsAgreement, FusionRefusesWhatTheCommandRefusesWithItsMessage) {
+  const int refused = expectAgreement(
+      FieldSettings::settings(), [](const FuseOptions& o, const std::string& option) {
+        return libraryRefusal([&] { Fusion f(o.field, MPI_COMM_NULL); }, option);
+      });
   EXPECT_GT(refused, 20);  // the values do reach the checks
 }
 
@@ -94,20 +103,10 @@ TEST(SettingsAgreement, AddScansRefusesWhatTheCommandRefusesWithItsMessage) {
   FieldSettings field;
   field.voxel = 0.01;
   Fusion fusion(field, MPI_COMM_NULL);
-  int refused = 0;
-  for (const Setting<io::ScanSourceOptions>& s : io::ScanSourceOptions::settings()) {
-    const FuseParameter& p = parameter(s.option);
-    FuseOptions probe = valid();
-    for (const std::string& text : candidates(p.value(probe))) {
-      FuseOptions o = valid();
-      parseParameter(p, o, text);
-      const std::string command = commandRefusal(o);
-      const std::string library =
-          libraryRefusal([&] { fusion.addScans("none.conf", o.source); }, s.option);
-      EXPECT_EQ(library, command) << "--" << s.option << " " << text;
-      refused += !command.empty();
-    }
-  }
+  const int refused = expectAgreement(
+      io::ScanSourceOptions::settings(), [&](const FuseOptions& o, const std::string& option) {
+        return libraryRefusal([&] { fusion.addScans("none.conf", o.source); }, option);
+      });
   EXPECT_GT(refused, 5);
 }
 
