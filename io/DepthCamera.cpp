@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "TextLines.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/Json.h"
 
@@ -146,6 +147,27 @@ DepthCamera readIntrinsicJson(const std::string& path) {
   return c;
 }
 
+DepthCamera readIntrinsicMatrix(const std::string& path) {
+  const auto lines = internal::dataLines(path);
+  if (lines.size() != 3)
+    throw InputError(path + ": expected a 3 x 3 camera matrix K (3 rows of 3 numbers), found " +
+                     std::to_string(lines.size()) + " lines");
+  Eigen::Matrix3d k;
+  for (int r = 0; r < 3; ++r) {
+    const auto row = internal::numbers(lines[r].second, 3, internal::lineOf(path, lines[r].first),
+                                       "a row of 3 numbers");
+    for (int c = 0; c < 3; ++c) k(r, c) = row[c];
+  }
+  if (k(0, 1) != 0 || k(1, 0) != 0 || k(2, 0) != 0 || k(2, 1) != 0 || k(2, 2) != 1)
+    throw InputError(path +
+                     ": not a pinhole camera matrix (expected 'fx 0 cx', '0 fy cy', "
+                     "'0 0 1')");
+  DepthCamera c;
+  c.fx = k(0, 0), c.fy = k(1, 1), c.cx = k(0, 2), c.cy = k(1, 2);
+  checkCamera(path, c);
+  return c;
+}
+
 void writeIntrinsicJson(const std::string& path, const DepthCamera& c) {
   writeJson(path, {{"width", c.width},
                    {"height", c.height},
@@ -153,7 +175,9 @@ void writeIntrinsicJson(const std::string& path, const DepthCamera& c) {
 }
 
 DepthCamera parseIntrinsics(const std::string& text) {
-  if (text.find(',') == std::string::npos) return readIntrinsicJson(text);
+  if (text.find(',') == std::string::npos)
+    return text.size() > 4 && text.substr(text.size() - 4) == ".txt" ? readIntrinsicMatrix(text)
+                                                                     : readIntrinsicJson(text);
   DepthCamera c;
   std::istringstream in(text);
   char comma1 = 0, comma2 = 0, comma3 = 0;

@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "SequenceParts.h"
 #include "TextLines.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/AtomicFile.h"
@@ -17,12 +18,66 @@
 namespace fs = std::filesystem;
 
 namespace rangefuse::io {
-namespace {
+namespace internal {
 
 bool present(const fs::path& p) {
   std::error_code ec;
   return fs::exists(p, ec);
 }
+
+DepthCamera sequenceCamera(const std::string& dir, const DepthReading& reading,
+                           double countsPerMetre) {
+  const std::optional<DepthCamera>& given = reading.camera;
+  const fs::path json = fs::path(dir) / "camera_intrinsic.json";
+  const fs::path kFile = fs::path(dir) / kSevenScenesIntrinsics;
+  if (!given && !present(json) && !present(kFile))
+    throw InputError(dir +
+                     ": no camera intrinsics: give --intrinsics fx,fy,cx,cy (pixels) or a "
+                     "camera_intrinsic.json file, or put camera_intrinsic.json (or 7-Scenes' " +
+                     std::string(kSevenScenesIntrinsics) + ") in the folder");
+  DepthCamera c = given           ? *given
+                  : present(json) ? readIntrinsicJson(json.string())
+                                  : readIntrinsicMatrix(kFile.string());
+  c.unit = 1.0 / (reading.depthScale > 0 ? reading.depthScale : countsPerMetre);
+  c.depthMax = reading.depthMax;
+  return c;
+}
+
+ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& cameraToWorld,
+                   const DepthCamera& camera, double time) {
+  ConfScan scan{file, (fs::path(dir) / file).lexically_normal().string(), scanPose(cameraToWorld),
+                std::nullopt, camera};
+  scan.time = time;
+  return scan;
+}
+
+ConfFile unposed(const std::string& dir, const std::vector<std::string>& files,
+                 const std::vector<double>& times, const DepthCamera& camera) {
+  ConfFile list;
+  list.posed = false;
+  for (size_t k = 0; k < files.size(); ++k)
+    list.scans.push_back(frameScan(dir, files[k], Pose{}, camera, times[k]));
+  return list;
+}
+
+}  // namespace internal
+namespace {
+
+/// True when folder `dir` holds a 7-Scenes depth image (frame-*.depth.png).
+bool holdsSevenScenesFrames(const std::string& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind("frame-", 0) == 0 && name.size() > 16 &&
+        name.compare(name.size() - 10, 10, ".depth.png") == 0)
+      return true;
+  }
+  return false;
+}
+
+using internal::frameScan;
+using internal::present;
+using internal::unposed;
 
 /// The .png files of DIR/depth, sorted by name; hidden ones (a recorder's files being
 /// written, .name.png) are not frames.
@@ -52,19 +107,6 @@ fs::path trajectoryLog(const std::string& dir) {
                      std::to_string(logs.size()) +
                      "; trajectory.log is taken when there are several)");
   return logs.empty() ? fs::path() : logs[0];
-}
-
-DepthCamera cameraFor(const std::string& dir, const DepthReading& reading, double countsPerMetre) {
-  const std::optional<DepthCamera>& given = reading.camera;
-  const fs::path json = fs::path(dir) / "camera_intrinsic.json";
-  if (!given && !present(json))
-    throw InputError(dir +
-                     ": no camera intrinsics: give --intrinsics fx,fy,cx,cy (pixels) or a "
-                     "camera_intrinsic.json file, or put camera_intrinsic.json in the folder");
-  DepthCamera c = given ? *given : readIntrinsicJson(json.string());
-  c.unit = 1.0 / (reading.depthScale > 0 ? reading.depthScale : countsPerMetre);
-  c.depthMax = reading.depthMax;
-  return c;
 }
 
 std::string at(const fs::path& path, int line) {
@@ -130,14 +172,6 @@ std::vector<Timed> tumFrames(const std::string& dir) {
   return frames;
 }
 
-ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& cameraToWorld,
-                   const DepthCamera& camera, double time) {
-  ConfScan scan{file, (fs::path(dir) / file).lexically_normal().string(), scanPose(cameraToWorld),
-                std::nullopt, camera};
-  scan.time = time;
-  return scan;
-}
-
 /// rgb.txt's colour images ("t rgb/t.png"), or none when the folder has no rgb.txt.
 std::vector<Timed> tumColours(const std::string& dir) {
   const fs::path list = fs::path(dir) / "rgb.txt";
@@ -198,27 +232,27 @@ void redwoodColours(const std::string& dir, ConfFile& list) {
   }
 }
 
-/// Every frame at the first camera's pose (the identity): the list of a sequence to track.
-ConfFile unposed(const std::string& dir, const std::vector<std::string>& files,
-                 const std::vector<double>& times, const DepthCamera& camera) {
-  ConfFile list;
-  list.posed = false;
-  for (size_t k = 0; k < files.size(); ++k)
-    list.scans.push_back(frameScan(dir, files[k], Pose{}, camera, times[k]));
-  return list;
-}
-
 }  // namespace
 
 std::optional<SequenceLayout> sequenceLayout(const std::string& dir) {
   const fs::path d(dir);
   if (present(d / "depth.txt") || present(d / "groundtruth.txt")) return SequenceLayout::Tum;
   if (present(d / "depth")) return SequenceLayout::Redwood;
+  if (holdsSevenScenesFrames(dir)) return SequenceLayout::SevenScenes;
   return std::nullopt;
 }
 
 std::string layoutContradiction(const std::string& dir, SequenceLayout forced) {
   const fs::path d(dir);
+  if (forced == SequenceLayout::SevenScenes) {
+    for (const char* other : {"depth.txt", "groundtruth.txt", "depth"})
+      if (present(d / other))
+        return std::string("it holds ") + other + ", a TUM or Redwood folder's file";
+    return "";
+  }
+  if (!present(d / "depth") && !present(d / "depth.txt") && holdsSevenScenesFrames(dir))
+    return "its depth images are frame-NNNNNN.depth.png beside their poses, as a 7-Scenes "
+           "folder's";
   if (forced == SequenceLayout::Redwood) {
     for (const char* tum : {"depth.txt", "groundtruth.txt"})
       if (present(d / tum)) return std::string("it holds ") + tum + ", a TUM RGB-D folder's file";
@@ -256,7 +290,8 @@ std::string notASequence(const std::string& dir) {
       return std::string("holds colour images (") + colour +
              "/) but no depth images: a sequence needs depth/ (16-bit PNG) or depth.txt";
   return "a folder of scans must be a depth-image sequence: TUM RGB-D (depth.txt, optionally "
-         "groundtruth.txt) or Redwood / Open3D recorder (depth/, optionally a .log trajectory)";
+         "groundtruth.txt), Redwood / Open3D recorder (depth/, optionally a .log trajectory) or "
+         "7-Scenes (frame-NNNNNN.depth.png, optionally frame-NNNNNN.pose.txt)";
 }
 
 std::vector<long> nearestTimes(const std::vector<double>& frames, const std::vector<double>& poses,
@@ -278,7 +313,7 @@ std::vector<long> nearestTimes(const std::vector<double>& frames, const std::vec
 
 ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
                          double maxDifference) {
-  const DepthCamera cam = cameraFor(dir, reading, 5000);
+  const DepthCamera cam = internal::sequenceCamera(dir, reading, 5000);
   const std::vector<Timed> frames = tumFrames(dir);
   std::vector<double> frameTimes, poseTimes;
   std::vector<std::string> files;
@@ -314,7 +349,7 @@ ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
 }
 
 ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading) {
-  const DepthCamera cam = cameraFor(dir, reading, 1000);
+  const DepthCamera cam = internal::sequenceCamera(dir, reading, 1000);
   const std::vector<fs::path> images = depthImages(dir);
   if (images.empty()) throw InputError(dir + "/depth: no .png depth images");
   std::vector<std::string> files;

@@ -81,6 +81,7 @@ ConfFile readSequence(const std::string& dir, const std::string& format,
   std::optional<SequenceLayout> layout = sequenceLayout(dir);
   if (format == "tum") layout = SequenceLayout::Tum;
   if (format == "redwood") layout = SequenceLayout::Redwood;
+  if (format == "7scenes") layout = SequenceLayout::SevenScenes;
   if (!layout) throw InputError(dir + ": " + notASequence(dir));
   if (format != "auto")
     if (const std::string why = layoutContradiction(dir, *layout); !why.empty())
@@ -88,16 +89,27 @@ ConfFile readSequence(const std::string& dir, const std::string& format,
                        "; leave --scan-format out to read it by its own files (--depth-scale "
                        "sets the counts a metre)");
   const DepthReading reading{givenCamera(source), source.depthMax, source.depthScale};
-  return *layout == SequenceLayout::Tum ? readTumSequence(dir, reading)
-                                        : readRedwoodSequence(dir, reading);
+  switch (*layout) {
+    case SequenceLayout::Tum:
+      return readTumSequence(dir, reading);
+    case SequenceLayout::Redwood:
+      return readRedwoodSequence(dir, reading);
+    case SequenceLayout::SevenScenes:
+      break;
+  }
+  return readSevenScenesSequence(dir, reading);
 }
 
-/// A .conf's depth images (NAME.png) take the camera of the sequence folder above their own.
+/// A .conf's depth images (NAME.png) take the camera of their sequence folder.
 void locateDepthImages(ConfFile& conf, const ScanSourceOptions& source) {
   std::map<std::string, DepthCamera> cameras;
   for (ConfScan& s : conf.scans) {
     if (std::filesystem::path(s.path).extension() != ".png") continue;
-    const std::string dir = std::filesystem::path(s.path).parent_path().parent_path().string();
+    // A 7-Scenes frame lies in its sequence's folder; the others lie in its depth/ folder.
+    const std::filesystem::path image(s.path);
+    const bool sevenScenes = image.filename().string().rfind("frame-", 0) == 0;
+    const std::string dir =
+        (sevenScenes ? image.parent_path() : image.parent_path().parent_path()).string();
     auto it = cameras.find(dir);
     if (it == cameras.end()) {
       const ConfFile probe = readSequence(dir, "auto", source);
@@ -156,12 +168,10 @@ std::string notAScanList(const std::string& path) {
 ConfFile readScanList(const std::string& path, const InputLimits& limits,
                       const ScanSourceOptions& source) {
   const std::string& format = source.format;
-  if (format != "auto" && format != "conf" && format != "ptx" && format != "e57" &&
-      format != "tum" && format != "redwood")
-    throw InputError("--scan-format: '" + format + "' is not auto, conf, ptx, e57, tum or redwood");
+  source.validate();
   std::error_code ec;
   const bool folder = std::filesystem::is_directory(path, ec);
-  if (format == "tum" || format == "redwood" || (format == "auto" && folder))
+  if (format == "tum" || format == "redwood" || format == "7scenes" || (format == "auto" && folder))
     return readSequence(path, format, source);
   if (format == "ptx" || (format == "auto" && isPtx(path))) return readPtxList(path, limits);
   if (format == "e57" || (format == "auto" && isE57(path))) return readE57List(path, limits);

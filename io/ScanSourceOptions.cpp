@@ -12,13 +12,13 @@ std::vector<Setting<Source>> sourceTable() {
   using G = OptionGroup;
   return {
       {"scan-format", "scan_format", R::CheckpointOnly, false, G::Input,
-       "how to read --scans: auto (from the name: folder, .ptx, .e57, else .conf), conf, ptx, "
-       "e57, tum or redwood",
+       "how to read --scans: " + scanFormatWords() +
+           " (auto: from the name: a folder by its files, .ptx, .e57, else .conf)",
        at(&Source::format),
-       [](const Source& s) {
-         for (const char* f : {"auto", "conf", "ptx", "e57", "tum", "redwood"})
+       [](const Source& s) -> std::string {
+         for (const char* f : kScanFormats)
            if (s.format == f) return "";
-         return "must be auto, conf, ptx, e57, tum or redwood";
+         return "'" + s.format + "': must be " + scanFormatWords();
        }},
       {"intrinsics", "intrinsics", R::Result, false, G::Input,
        "depth images: camera intrinsics 'fx,fy,cx,cy' in pixels or an Open3D "
@@ -41,6 +41,16 @@ std::vector<Setting<Source>> sourceTable() {
 }
 
 }  // namespace
+
+std::string scanFormatWords() {
+  std::string words;
+  for (size_t k = 0; k < kScanFormats.size(); ++k)
+    words += (k == 0                         ? ""
+              : k + 1 == kScanFormats.size() ? " or "
+                                             : ", ") +
+             std::string(kScanFormats[k]);
+  return words;
+}
 
 const std::vector<Setting<ScanSourceOptions>>& ScanSourceOptions::settings() {
   static const std::vector<Setting<ScanSourceOptions>> table = sourceTable();

@@ -11,6 +11,12 @@ namespace rangefuse::io::internal {
 /// InputError naming the file when it cannot be opened.
 std::vector<std::pair<int, std::string>> dataLines(const std::string& path);
 
+/// Reads `count` finite numbers from a line, refusing fewer, more or non-finite ones (strtod,
+/// unlike stream extraction, reads "nan" and "inf", so they are named as such); `where` and
+/// `expected` make the message ("FILE: line 3: expected a matrix row of 4 numbers").
+std::vector<double> numbers(const std::string& text, size_t count, const std::string& where,
+                            const char* expected);
+
 /// "PATH: line N", for messages.
 std::string lineOf(const std::string& path, int line);
 

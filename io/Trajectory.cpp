@@ -15,28 +15,10 @@ namespace rangefuse::io {
 namespace {
 
 using internal::dataLines;
+using internal::numbers;
 
 std::string at(const std::string& path, int line) {
   return internal::lineOf(path, line);
-}
-
-/// Reads `count` finite numbers from a line, refusing fewer, more or non-finite ones (strtod,
-/// unlike stream extraction, reads "nan" and "inf", so they are named as such).
-std::vector<double> numbers(const std::string& text, size_t count, const std::string& where,
-                            const char* expected) {
-  std::istringstream in(text);
-  std::vector<double> v;
-  std::string word;
-  while (in >> word) {
-    char* end = nullptr;
-    const double x = std::strtod(word.c_str(), &end);
-    if (*end != '\0' || v.size() == count)
-      throw InputError(where + ": expected " + expected + ", found '" + word + "'");
-    if (!std::isfinite(x)) throw InputError(where + ": NaN or Inf in " + expected);
-    v.push_back(x);
-  }
-  if (v.size() != count) throw InputError(where + ": expected " + expected);
-  return v;
 }
 
 std::vector<TimedPose> readTum(const std::string& path) {

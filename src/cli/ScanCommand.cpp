@@ -85,6 +85,15 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
   return j;
 }
 
+bool isSequenceFormat(const std::string& format) {
+  return format == "tum" || format == "redwood" || format == "7scenes";
+}
+
+/// A depth sequence's unit, as its layout has it: TUM's 1/5000 m, the others' millimetre.
+double depthUnit(const std::string& format) {
+  return format == "tum" ? 1.0 / 5000 : 1e-3;
+}
+
 /// Throws InputError when the scans' depths do not fit 16-bit PNG counts of `unit` world units:
 /// the farthest past 65535 counts, or a voxel under four counts (the depth steps would show),
 /// with the --scale that would fit.
@@ -110,21 +119,26 @@ void checkDepthsFit(const ScanOptions& o, const SyntheticSet& set, double unit) 
   }
 }
 
-/// Writes the scans as a TUM or Redwood depth sequence in `dir`, and perturbed.conf beside it
-/// (its names are the frames' images, so it reads back as a scan list).
+/// Writes the scans as a TUM, Redwood or 7-Scenes depth sequence in `dir`, and perturbed.conf
+/// beside it (its names are the frames' images, so it reads back as a scan list).
 void writeSequence(const ScanOptions& o, const SyntheticSet& set, const std::string& dir) {
-  const bool tum = o.format == "tum";
-  const double unit = tum ? 1.0 / 5000 : 1e-3;
+  const double unit = depthUnit(o.format);
   std::vector<io::DepthFrame> frames;
   for (const auto& s : set.scans)
     frames.push_back({io::depthImage(s.grid, unit), io::cameraPose(s.truth),
                       s.grid.colours.empty() ? Image{} : io::colourImage(s.grid)});
   const io::DepthCamera camera = io::depthCamera(set.scans.front().grid, unit);
-  if (tum)
+  io::ConfFile listed;
+  if (o.format == "tum") {
     io::writeTumSequence(dir, frames, camera, 1000.0, 30.0, o.jpeg);
-  else
+    listed = io::readTumSequence(dir, {});
+  } else if (o.format == "redwood") {
     io::writeRedwoodSequence(dir, frames, camera, o.jpeg);
-  const io::ConfFile listed = tum ? io::readTumSequence(dir, {}) : io::readRedwoodSequence(dir, {});
+    listed = io::readRedwoodSequence(dir, {});
+  } else {
+    io::writeSevenScenesSequence(dir, frames, camera);
+    listed = io::readSevenScenesSequence(dir, {});
+  }
   std::vector<io::ConfScan> perturbed = listed.scans;
   for (size_t k = 0; k < perturbed.size(); ++k) perturbed[k].pose = set.scans[k].perturbed;
   io::writeConf(dir + "/perturbed.conf", perturbed);
@@ -190,9 +204,8 @@ ScanOptions checked(ScanOptions o) {
   if (!paths.count(o.path))
     throw InputError("scan: --path must be sphere, orbit, stations, handheld or walk");
   o.settings.path = paths.at(o.path);
-  if (o.format != "ply" && o.format != "tum" && o.format != "redwood" && o.format != "ptx" &&
-      o.format != "e57")
-    throw InputError("scan: --format must be ply, tum, redwood, ptx or e57");
+  if (o.format != "ply" && !isSequenceFormat(o.format) && o.format != "ptx" && o.format != "e57")
+    throw InputError("scan: --format must be ply, tum, redwood, 7scenes, ptx or e57");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
   if (o.e57Coordinates != "double" && o.e57Coordinates != "single" &&
       o.e57Coordinates != "scaled" && o.e57Coordinates != "spherical")
@@ -220,8 +233,7 @@ int run(const ScanOptions& given) {
   TriangleMesh mesh = o.mesh.empty() ? makeShape(o.shape) : io::readMeshPly(o.mesh, o.limits);
   for (Eigen::Vector3d& v : mesh.vertices) v *= o.scale;
   const SyntheticSet set = scanMesh(mesh, o.settings);
-  if (o.format == "tum" || o.format == "redwood")
-    checkDepthsFit(o, set, o.format == "tum" ? 1.0 / 5000 : 1e-3);
+  if (isSequenceFormat(o.format)) checkDepthsFit(o, set, depthUnit(o.format));
   std::filesystem::create_directories(o.out);
   const auto file = [&](const std::string& name) {
     return (std::filesystem::path(o.out) / name).string();
@@ -276,8 +288,8 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "stations (terrestrial scanners inside the scene, e.g. --shape room; width x "
       "height is a full turn x 160 degrees)")(
       "format", po::value(&o.format)->default_value(o.format),
-      "ply (range grids, truth.conf), tum or redwood (a depth-image sequence: 16-bit PNG, poses, "
-      "camera_intrinsic.json), or ptx or e57 (one Leica PTX or ASTM E57 file of every station, "
+      "ply (range grids, truth.conf), tum, redwood or 7scenes (a depth-image sequence: 16-bit "
+      "PNG, poses, intrinsics), or ptx or e57 (one Leica PTX or ASTM E57 file of every station, "
       "truth.conf)")("scale", po::value(&o.scale)->default_value(o.scale),
                      "multiply the mesh's coordinates (e.g. to room size)")(
       "outliers", po::value(&s.outliers)->default_value(0.0), "fraction of outlier samples")(

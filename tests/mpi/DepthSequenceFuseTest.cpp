@@ -1,6 +1,6 @@
 // A depth camera's sequence (16-bit PNG frames along one orbit, noise growing with the square of
-// the range) fuses from its TUM folder, its Redwood folder and a .conf naming its images: close
-// to the truth, and to the same mesh whichever list names the same images and poses.
+// the range) fuses from its TUM, Redwood and 7-Scenes folders and a .conf naming its images:
+// close to the truth, and to the same mesh whichever list names the same images and poses.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -39,7 +39,8 @@ TriangleMesh scene() {
   return m;
 }
 
-/// Writes the sequence as TUM (0.2 mm counts) and Redwood (1 mm counts) folders on rank 0.
+/// Writes the sequence as TUM (0.2 mm counts), Redwood and 7-Scenes (1 mm counts) folders on
+/// rank 0.
 void writeSequences(const std::string& dir) {
   if (mpi::rank() != 0) return;
   ScanSettings s;
@@ -51,10 +52,12 @@ void writeSequences(const std::string& dir) {
     for (const SyntheticScan& sc : set.scans)
       frames.push_back({io::depthImage(sc.grid, unit), io::cameraPose(sc.truth)});
     const io::DepthCamera camera = io::depthCamera(set.scans[0].grid, unit);
-    if (std::string(name) == "tum")
+    if (std::string(name) == "tum") {
       io::writeTumSequence(dir + "/tum", frames, camera);
-    else
+    } else {
       io::writeRedwoodSequence(dir + "/redwood", frames, camera);
+      io::writeSevenScenesSequence(dir + "/7scenes", frames, camera);
+    }
   }
 }
 
@@ -68,19 +71,20 @@ FuseOptions fuseOptions(const std::string& scans, const std::string& out) {
 
 }  // namespace
 
-TEST(DepthSequenceFuse, TumRedwoodAndNamedImagesFuseCloseToTheTruth) {
+TEST(DepthSequenceFuse, TumRedwoodSevenScenesAndNamedImagesFuseCloseToTheTruth) {
   const std::string dir = test::sharedTempPath("depth-seq");
   writeSequences(dir);
   MPI_Barrier(MPI_COMM_WORLD);
   ASSERT_EQ(runFuse(fuseOptions(dir + "/tum", dir + "/tum.ply"), MPI_COMM_WORLD), 0);
   ASSERT_EQ(runFuse(fuseOptions(dir + "/redwood", dir + "/redwood.ply"), MPI_COMM_WORLD), 0);
+  ASSERT_EQ(runFuse(fuseOptions(dir + "/7scenes", dir + "/7scenes.ply"), MPI_COMM_WORLD), 0);
   if (mpi::rank() == 0)
     io::writeConf(dir + "/tum/named.conf", io::readScanList(dir + "/tum").scans);
   MPI_Barrier(MPI_COMM_WORLD);
   ASSERT_EQ(runFuse(fuseOptions(dir + "/tum/named.conf", dir + "/named.ply"), MPI_COMM_WORLD), 0);
   if (mpi::rank() == 0) {
     EXPECT_EQ(bytes(dir + "/tum.ply"), bytes(dir + "/named.ply"));
-    for (const char* name : {"tum", "redwood"}) {
+    for (const char* name : {"tum", "redwood", "7scenes"}) {
       const TriangleMesh mesh = io::readMeshPly(dir + "/" + name + ".ply");
       const MeshComparison c =
           compareMeshes(mesh, scene(), CompareSettings{kVoxel, 3 * kVoxel, 50000, 1});

@@ -265,7 +265,7 @@ TEST(DepthSequence, MalformedRedwoodFoldersNameTheFileAndLine) {
   std::filesystem::create_directories(dir.file("empty"));
   expectMessage(failure(dir.file("empty")), "empty: a folder of scans must be");
   expectMessage(failure(dir.file("rw"), {"ptx", "", 0}), "rw");
-  expectMessage(failure(dir.file("rw"), {"las", "", 0}), "--scan-format: 'las'");
+  expectMessage(failure(dir.file("rw"), {"las", "", 0}), "--scan-format 'las': must be auto,");
   expectMessage(failure(dir.file("rw"), {"e57", "", 0}), "rw: is a folder, not an E57 file");
 }
 
@@ -438,4 +438,89 @@ TEST(Jpeg, GreyscaleBecomesRgbAndLimitsHold) {
     message = e.what();
   }
   expectMessage(message, "g.tif: colour images must be PNG or JPEG");
+}
+
+TEST(DepthSequence, SevenScenesFolderRoundTripsWithAndWithoutPoses) {
+  TempDir dir;
+  const auto written = frames(3);
+  io::writeSevenScenesSequence(dir.file("7s"), written, camera(9, 7));
+  EXPECT_EQ(io::sequenceLayout(dir.file("7s")), io::SequenceLayout::SevenScenes);
+  const io::ConfFile list = io::readScanList(dir.file("7s"));
+  EXPECT_TRUE(list.posed);
+  ASSERT_EQ(list.scans.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    const io::ConfScan& s = list.scans[k];
+    EXPECT_EQ(s.name, "frame-00000" + std::to_string(k) + ".depth.png");
+    EXPECT_DOUBLE_EQ(s.time, k / 30.0);
+    ASSERT_TRUE(s.depth);
+    EXPECT_DOUBLE_EQ(s.depth->unit, 1e-3);
+    EXPECT_EQ(s.depth->fx, 525);
+    EXPECT_EQ(s.depth->cy, 0.5 * (7 - 1) - 0.5);
+    const Pose cam = io::cameraPose(s.pose);
+    EXPECT_LT((cam.R - written[k].cameraToWorld.R).norm(), 1e-14);
+    EXPECT_LT((cam.t - written[k].cameraToWorld.t).norm(), 1e-15);
+    EXPECT_EQ(io::readScanGrid(s).points, io::depthGrid(written[k].image, *s.depth, "").points);
+  }
+  // A .conf beside the frames names them and finds their camera.
+  io::writeConf(dir.file("7s/refined.conf"), list.scans);
+  const io::ConfFile named = io::readScanList(dir.file("7s/refined.conf"));
+  ASSERT_EQ(named.scans.size(), 3u);
+  ASSERT_TRUE(named.scans[2].depth);
+  EXPECT_EQ(named.scans[2].depth->fx, 525);
+  // Without pose files: every frame unposed, in number order (a gap keeps its time).
+  io::writeSevenScenesSequence(dir.file("bare"), written, camera(9, 7), false);
+  std::filesystem::rename(dir.file("bare/frame-000002.depth.png"),
+                          dir.file("bare/frame-000010.depth.png"));
+  const io::ConfFile bare = io::readScanList(dir.file("bare"));
+  EXPECT_FALSE(bare.posed);
+  ASSERT_EQ(bare.scans.size(), 3u);
+  EXPECT_EQ(bare.scans[2].name, "frame-000010.depth.png");
+  EXPECT_DOUBLE_EQ(bare.scans[2].time, 10 / 30.0);
+  EXPECT_LT((io::cameraPose(bare.scans[1].pose).t).norm(), 1e-15);
+  // The camera matrix file is also an --intrinsics file.
+  std::filesystem::remove(dir.file("bare/camera-intrinsics.txt"));
+  io::ScanSourceOptions given;
+  given.intrinsics = dir.file("7s/camera-intrinsics.txt");
+  EXPECT_EQ(io::readScanList(dir.file("bare"), {}, given).scans[0].depth->fx, 525);
+}
+
+TEST(DepthSequence, MalformedSevenScenesFoldersNameTheFile) {
+  TempDir dir;
+  auto fresh = [&] {
+    std::filesystem::remove_all(dir.file("7s"));
+    io::writeSevenScenesSequence(dir.file("7s"), frames(3), camera(9, 7));
+  };
+  fresh();
+  dir.write("7s/frame-000001.pose.txt", "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  expectMessage(failure(dir.file("7s")), "frame-000001.pose.txt: the matrix is not rigid");
+  fresh();
+  dir.write("7s/frame-000001.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 1 1\n");
+  expectMessage(failure(dir.file("7s")), "frame-000001.pose.txt: the last row is not '0 0 0 1'");
+  fresh();
+  dir.write("7s/frame-000002.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n");
+  expectMessage(failure(dir.file("7s")), "frame-000002.pose.txt: expected a 4 x 4");
+  fresh();
+  std::filesystem::remove(dir.file("7s/frame-000001.pose.txt"));
+  expectMessage(failure(dir.file("7s")),
+                "frame-000001.pose.txt: missing (3 depth images but 2 pose files)");
+  fresh();
+  std::filesystem::remove(dir.file("7s/frame-000002.depth.png"));
+  expectMessage(failure(dir.file("7s")),
+                "frame-000002.pose.txt: a pose without its depth image frame-000002.depth.png");
+  fresh();
+  std::filesystem::remove(dir.file("7s/camera-intrinsics.txt"));
+  expectMessage(failure(dir.file("7s")), "7s: no camera intrinsics");
+  EXPECT_EQ(failure(dir.file("7s"), {"auto", "525,525,4,3", 0}), "");
+  fresh();
+  dir.write("7s/camera-intrinsics.txt", "585 0 320\n0 585 240\n");
+  expectMessage(failure(dir.file("7s")), "camera-intrinsics.txt: expected a 3 x 3 camera matrix");
+  dir.write("7s/camera-intrinsics.txt", "585 1 320\n0 585 240\n0 0 1\n");
+  expectMessage(failure(dir.file("7s")), "camera-intrinsics.txt: not a pinhole camera matrix");
+  fresh();
+  // Forced onto another layout, and another layout forced onto it.
+  io::writeRedwoodSequence(dir.file("rw"), frames(2), camera(9, 7));
+  expectMessage(failure(dir.file("rw"), {"7scenes", "", 0}), "it holds depth");
+  EXPECT_EQ(failure(dir.file("7s"), {"7scenes", "", 0}), "");
+  expectMessage(failure(dir.file("7s"), {"redwood", "", 0}), "as a 7-Scenes folder's");
+  expectMessage(failure(dir.file("7s"), {"tum", "", 0}), "as a 7-Scenes folder's");
 }

@@ -50,10 +50,14 @@ Pose cameraPose(const Pose& scanToWorld);
 /// major}. Throws InputError naming the file.
 DepthCamera readIntrinsicJson(const std::string& path);
 
-/// Writes the same layout (atomically).
+/// A 7-Scenes camera-intrinsics.txt: the 3 x 3 matrix K ("fx 0 cx", "0 fy cx", "0 0 1"), the
+/// image size not given (any is accepted). Throws InputError naming the file (and line).
+DepthCamera readIntrinsicMatrix(const std::string& path);
+
+/// Writes Open3D's layout (atomically).
 void writeIntrinsicJson(const std::string& path, const DepthCamera& camera);
 
-/// `--intrinsics`: "fx,fy,cx,cy" or a camera_intrinsic.json path.
+/// `--intrinsics`: "fx,fy,cx,cy", a camera_intrinsic.json path or a K matrix's .txt path.
 DepthCamera parseIntrinsics(const std::string& text);
 
 }  // namespace rangefuse::io

@@ -1,10 +1,11 @@
 // Depth-image sequences as scan lists: the TUM RGB-D layout (depth.txt or depth/*.png named by
-// timestamp, groundtruth.txt matched by nearest timestamp, depth = count / 5000 m) and the
+// timestamp, groundtruth.txt matched by nearest timestamp, depth = count / 5000 m), the
 // Redwood / Open3D layout (depth/*.png in name order, a .log trajectory with one pose per
 // image, depth in mm, camera_intrinsic.json; Open3D's RealSense recorder writes the same
-// folder without the trajectory). Every frame is one scan. A sequence without a trajectory
-// (no groundtruth.txt, no .log) is read with every frame at the first camera's pose, the
-// identity, and marked unposed: its frames must be tracked.
+// folder without the trajectory) and the 7-Scenes / 3DMatch layout (frame-NNNNNN.depth.png in
+// mm, frame-NNNNNN.pose.txt camera to world, camera-intrinsics.txt). Every frame is one scan. A
+// sequence without a trajectory (no groundtruth.txt, no .log) is read with every frame at the first
+// camera's pose, the identity, and marked unposed: its frames must be tracked.
 #pragma once
 
 #include <optional>
@@ -16,10 +17,14 @@
 
 namespace rangefuse::io {
 
-enum class SequenceLayout { Tum, Redwood };
+enum class SequenceLayout { Tum, Redwood, SevenScenes };
 
-/// The layout of folder `dir`, or nothing when it is neither: TUM when it holds depth.txt or
-/// groundtruth.txt, else Redwood when it holds depth/.
+/// 7-Scenes' camera matrix file, in the sequence's folder.
+inline constexpr const char* kSevenScenesIntrinsics = "camera-intrinsics.txt";
+
+/// The layout of folder `dir`, or nothing when it is none: TUM when it holds depth.txt or
+/// groundtruth.txt, else Redwood when it holds depth/, else 7-Scenes when it holds
+/// frame-*.depth.png images.
 std::optional<SequenceLayout> sequenceLayout(const std::string& dir);
 
 /// What in folder `dir` contradicts reading it in layout `forced` (--scan-format): a TUM frame
@@ -55,6 +60,14 @@ ConfFile readTumSequence(const std::string& dir, const DepthReading& reading,
 /// JPEG colour images are not read (a warning).
 ConfFile readRedwoodSequence(const std::string& dir, const DepthReading& reading);
 
+/// The frames of a 7-Scenes folder (frame-NNNNNN.depth.png, in number order), frame N at
+/// N / 30 s, each posed by its frame-NNNNNN.pose.txt (a 4 x 4 camera-to-world matrix); with no
+/// pose files, every frame unposed. The camera: --intrinsics, camera_intrinsic.json or
+/// camera-intrinsics.txt. Colour images (frame-NNNNNN.color.png) are not read: 7-Scenes' are
+/// not registered to the depth. Throws InputError naming the file: some frames without a pose
+/// (or poses without a frame), a pose that is not a rigid motion, no intrinsics.
+ConfFile readSevenScenesSequence(const std::string& dir, const DepthReading& reading);
+
 /// One frame to write: the image and its camera-to-world pose.
 struct DepthFrame {
   DepthImage image;
@@ -74,5 +87,10 @@ void writeTumSequence(const std::string& dir, const std::vector<DepthFrame>& fra
 /// Open3D's recorder writes them).
 void writeRedwoodSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
                           const DepthCamera& camera, bool jpegColour = false);
+
+/// Writes a 7-Scenes folder: frame-NNNNNN.depth.png (mm), frame-NNNNNN.pose.txt unless
+/// `withPoses` is false, camera-intrinsics.txt.
+void writeSevenScenesSequence(const std::string& dir, const std::vector<DepthFrame>& frames,
+                              const DepthCamera& camera, bool withPoses = true);
 
 }  // namespace rangefuse::io

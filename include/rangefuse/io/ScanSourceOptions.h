@@ -3,6 +3,7 @@
 // described once (settings()).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -10,9 +11,16 @@
 
 namespace rangefuse::io {
 
+/// The values of --scan-format: auto (from the path), then one per kind of scan list.
+inline constexpr std::array<const char*, 7> kScanFormats = {"auto", "conf",    "ptx",    "e57",
+                                                            "tum",  "redwood", "7scenes"};
+
+/// kScanFormats in words: "auto, conf, ptx, e57, tum, redwood or 7scenes".
+std::string scanFormatWords();
+
 /// How to read a scan list beyond its own contents.
 struct ScanSourceOptions {
-  std::string format = "auto";  ///< auto (from the path), conf, ptx, e57, tum or redwood
+  std::string format = "auto";  ///< one of kScanFormats
   std::string intrinsics;       ///< depth cameras: "fx,fy,cx,cy" or a json file ("": the folder's)
   double depthMax = 0;          ///< depth cameras: farther measurements are dropped (0: none)
   double depthScale = 0;        ///< depth images: counts per metre (0: the layout's own)
