@@ -25,7 +25,7 @@ namespace rangefuse::cli {
 namespace {
 
 struct ScanOptions {
-  std::string mesh, shape, out, path = "sphere", format = "ply";
+  std::string mesh, shape, out, path = "sphere", format = "ply", sensor = "none", sensorWithout;
   std::string e57Coordinates = "double";  ///< double, single, scaled (0.1 mm steps), spherical
   bool e57Loose = false;                  ///< E57 without row and column indices
   double scale = 1;
@@ -50,6 +50,8 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
               {"noise_voxels", s.noise},
               {"depth_noise", s.depthNoise},
               {"disparity_baseline", s.disparityBaseline},
+              {"sensor", o.sensor},
+              {"sensor_without", o.sensorWithout},
               {"path", o.path},
               {"format", o.format},
               {"scale", o.scale},
@@ -196,14 +198,14 @@ io::E57Writing e57Writing(const ScanOptions& o) {
 }
 
 ScanOptions checked(ScanOptions o) {
-  const std::map<std::string, ViewPath> paths = {{"sphere", ViewPath::Sphere},
-                                                 {"orbit", ViewPath::Orbit},
-                                                 {"stations", ViewPath::Stations},
-                                                 {"handheld", ViewPath::Handheld},
-                                                 {"walk", ViewPath::Walk}};
+  const std::map<std::string, ViewPath> paths = {
+      {"sphere", ViewPath::Sphere},     {"orbit", ViewPath::Orbit},
+      {"stations", ViewPath::Stations}, {"handheld", ViewPath::Handheld},
+      {"walk", ViewPath::Walk},         {"fastturns", ViewPath::FastTurns}};
   if (!paths.count(o.path))
-    throw InputError("scan: --path must be sphere, orbit, stations, handheld or walk");
+    throw InputError("scan: --path must be sphere, orbit, stations, handheld, fastturns or walk");
   o.settings.path = paths.at(o.path);
+  o.settings.sensor = DepthSensorModel::preset(o.sensor).without(o.sensorWithout);
   if (o.format != "ply" && !isSequenceFormat(o.format) && o.format != "ptx" && o.format != "e57")
     throw InputError("scan: --format must be ply, tum, redwood, 7scenes, ptx or e57");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
@@ -278,13 +280,21 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "noise", po::value(&s.noise)->default_value(0.0), "range noise sigma along the ray, voxels")(
       "depth-noise", po::bool_switch(&s.depthNoise),
       "noise grows with the square of the range (depth cameras); --noise holds at the path's "
-      "distance")("disparity-baseline", po::value(&s.disparityBaseline)->default_value(0.0),
-                  "depth from disparity in 1/8-pixel steps, as a structured-light camera (a "
-                  "Kinect: 0.075 m) with this baseline measures it (0: exact depth)")(
+      "distance")("sensor", po::value(&o.sensor)->default_value(o.sensor),
+                  "a depth camera's faults: kinect (a Kinect v1 as 7-Scenes recorded it: depth "
+                  "from 1/8-pixel disparity steps with noise, projector shadows, holes at edges, "
+                  "grazing angles and dark spots, mixed returns, 0.8-3.5 m, a rolling shutter "
+                  "and depth 10 ms late; scene in metres) or none")(
+      "sensor-without", po::value(&o.sensorWithout),
+      ("the --sensor without these faults (comma-separated): " + faultNames()).c_str())(
+      "disparity-baseline", po::value(&s.disparityBaseline)->default_value(0.0),
+      "depth from disparity in 1/8-pixel steps, as a structured-light camera (a "
+      "Kinect: 0.075 m) with this baseline measures it (0: exact depth)")(
       "path", po::value(&o.path)->default_value(o.path),
       "viewpoints: sphere (spread around the object), orbit (one turn, a "
       "hand-held sequence), handheld (one turn, nearer and farther, swaying in fast "
-      "turns), walk (a depth camera carried inside the scene, e.g. --shape room) or "
+      "turns), fastturns (the same swaying twice as far, 2.5 times as often: up to about 6 degrees "
+      "a frame), walk (a depth camera carried inside the scene, e.g. --shape room) or "
       "stations (terrestrial scanners inside the scene, e.g. --shape room; width x "
       "height is a full turn x 160 degrees)")(
       "format", po::value(&o.format)->default_value(o.format),

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 
 #include "rangefuse/core/Error.h"
@@ -27,14 +28,22 @@ void validate(const TriangleMesh& mesh, const ScanSettings& s) {
   if (s.rotDeg < 0 || s.transVox < 0)
     throw InputError("scan: --rot-deg and --trans-vox must not be negative");
   if (s.fovDeg < 0 || s.fovDeg >= 180) throw InputError("scan: --fov must be in (0, 180) degrees");
+  if (s.sensor.active() && (s.noise > 0 || s.outliers > 0 || s.disparityBaseline > 0))
+    throw InputError(
+        "scan: --sensor models the camera's noise itself: leave out --noise, --outliers and "
+        "--disparity");
+  if (s.sensor.active() && s.path == ViewPath::Stations)
+    throw InputError("scan: --sensor is a depth camera's: give camera views, not --path stations");
   if (s.path == ViewPath::Stations && s.patches > 0)
     throw InputError("scan: --patches needs camera views (--path sphere or orbit), not stations");
 }
 
-/// Camera looking at `target` from `eye`: columns x, y, z with the sensor looking along -z.
-Pose cameraPose(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+/// Camera looking at `target` from `eye`: columns x, y, z with the sensor looking along -z, x
+/// level (z up) unless the view is steeper than `steepest` (|z.z| above it: y up instead).
+Pose cameraPose(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, double steepest = 0.9) {
   const Eigen::Vector3d z = (eye - target).normalized();
-  Eigen::Vector3d up = std::abs(z.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  Eigen::Vector3d up =
+      std::abs(z.z()) < steepest ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d x = up.cross(z).normalized(), y = z.cross(x);
   Pose p;
   p.R.col(0) = x;
@@ -74,28 +83,29 @@ Eigen::Vector3d pinholeRay(const RangeGrid& g, int r, int c) {
 
 /// One turn around the object, 15-45 degrees above its equator: consecutive frames overlap
 /// as in a hand-held sequence.
-Eigen::Vector3d orbitDirection(int i, int n) {
+Eigen::Vector3d orbitDirection(double i, int n) {
   const double phi = 2 * M_PI * i / n, elevation = (30 + 15 * std::sin(3 * phi)) * M_PI / 180;
   return Eigen::Vector3d(std::cos(elevation) * std::cos(phi), std::cos(elevation) * std::sin(phi),
                          std::sin(elevation));
 }
 
-/// A hand-held camera around the object: one turn at 0.75-0.95 of the orbit's distance,
-/// rising and falling, aimed at a point that sways by up to 0.8 bounding radii (about 15
-/// degrees of turn) with periods of 40-60 frames.
-Pose handheldPose(int i, int n, const Eigen::Vector3d& centre, double radius, double distance) {
-  const double phi = 2 * M_PI * i / n;
+/// A hand-held camera around the object at time i (frames): one turn at 0.75-0.95 of the
+/// orbit's distance, rising and falling, aimed at a point that sways by up to `sway` bounding
+/// radii (0.8: about 15 degrees of turn) with periods of 40-60 frames divided by `pace`.
+Pose handheldPose(double i, int n, const Eigen::Vector3d& centre, double radius, double distance,
+                  double sway = 0.8, double pace = 1) {
+  const double phi = 2 * M_PI * i / n, a = 2 * M_PI * i * pace;
   const double reach = distance * (0.85 + 0.1 * std::sin(2.3 * phi));
   const Eigen::Vector3d eye = centre + reach * orbitDirection(i, n);
-  const Eigen::Vector3d sway(std::sin(2 * M_PI * i / 43), std::cos(2 * M_PI * i / 59),
-                             0.5 * std::sin(2 * M_PI * i / 37));
-  return cameraPose(eye, centre + 0.8 * radius * sway);
+  const Eigen::Vector3d aim(std::sin(a / 43), std::cos(a / 59), 0.5 * std::sin(a / 37));
+  // Level up to nearly straight down: a hand-held camera does not roll a quarter turn in a frame.
+  return cameraPose(eye, centre + sway * radius * aim, 0.999);
 }
 
 /// A camera carried inside the scene along a loop a third of the way to its walls, at half its
 /// height, aimed across the room at a point that wanders around its middle (what a person
 /// scanning a room looks at), so each view holds more than a wall and the floor.
-Pose walkPose(int i, int n, const Eigen::AlignedBox3d& box) {
+Pose walkPose(double i, int n, const Eigen::AlignedBox3d& box) {
   const double phi = 2 * M_PI * i / n;
   const Eigen::Vector3d half = 0.5 * box.sizes(), c = box.center();
   const Eigen::Vector3d eye(c.x() + 0.33 * half.x() * std::cos(phi),
@@ -189,6 +199,96 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
     }
 }
 
+/// What a depth camera's rays meet: the scene and its extraneous patches.
+struct Scene {
+  const TriangleMesh& mesh;
+  const Bvh& bvh;
+  const TriangleMesh& patches;
+
+  /// The first hit along the unit ray from `eye` (NaN: none) and the surface's unit normal
+  /// there; `onPatch` tells whether it is a patch.
+  double cast(const Eigen::Vector3d& eye, const Eigen::Vector3d& dir, Eigen::Vector3d& normal,
+              bool& onPatch) const {
+    RayHit hit;
+    double t = bvh.firstHit(eye, dir, 0, INFINITY, hit) ? hit.t : NAN;
+    if (!std::isnan(t)) normal = faceNormal(mesh, hit.face);
+    onPatch = false;
+    for (size_t f = 0; f < patches.faces.size(); ++f) {
+      const Triangle& tri = patches.faces[f];
+      double tp;
+      if (intersectTriangle(eye, dir, patches.vertices[tri[0]], patches.vertices[tri[1]],
+                            patches.vertices[tri[2]], 0, std::isnan(t) ? INFINITY : t, tp))
+        t = tp, onPatch = true, normal = faceNormal(patches, static_cast<int32_t>(f));
+    }
+    return t;
+  }
+
+  /// True when something lies between `from` and `to`.
+  bool blocked(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const {
+    const Eigen::Vector3d d = to - from;
+    const double length = d.norm();
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    bool onPatch;
+    const double t = cast(from + 1e-6 * length * d / length, d / length, n, onPatch);
+    return t < length * (1 - 2e-6);
+  }
+
+  static Eigen::Vector3d faceNormal(const TriangleMesh& m, int32_t f) {
+    const Triangle& t = m.faces[f];
+    return (m.vertices[t[1]] - m.vertices[t[0]])
+        .cross(m.vertices[t[2]] - m.vertices[t[0]])
+        .normalized();
+  }
+};
+
+/// Frame i of a depth camera under set.sensor: each row seen from where the camera was when
+/// the row was read (rolling shutter, time offset), rays the projector cannot reach (its
+/// shadows), grazing rays, dark surfaces and depths out of range return nothing, then the
+/// image's own faults (DepthSensorModel.h). The points are stored in the frame of the pose
+/// reported for the frame, s.truth, as a sensor's driver gives them.
+void renderSensor(SyntheticScan& s, const Scene& scene, const std::function<Pose(double)>& poseAt,
+                  int i, const ScanSettings& set, std::mt19937_64& rng) {
+  const DepthSensorModel& m = set.sensor;
+  RangeGrid& g = s.grid;
+  g.colourKind = set.texture > 0 ? ColourKind::rgb : ColourKind::none;
+  g.cols = set.width, g.rows = set.height;
+  const size_t cells = static_cast<size_t>(g.cols) * g.rows;
+  std::vector<double> depth(cells, 0);
+  std::vector<Colour> colour(set.texture > 0 ? cells : 0);
+  for (int r = 0; r < g.rows; ++r) {
+    // Grid row r is image row rows - 1 - r; the image is read from its top row down.
+    const double read = (g.rows - 1 - r) / std::max(1.0, g.rows - 1.0) - 0.5;
+    const Pose cam = poseAt(i + m.timeOffset + m.rollingShutter * read);
+    const Eigen::Vector3d projector = cam.apply(Eigen::Vector3d(m.baseline, 0, 0));
+    for (int c = 0; c < g.cols; ++c) {
+      const Eigen::Vector3d ray = pinholeRay(g, r, c), dir = cam.R * ray;
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+      bool onPatch;
+      const double t = scene.cast(cam.t, dir, normal, onPatch);
+      const double z = -t * ray.z();
+      if (std::isnan(t) || z < m.nearest || (m.farthest > 0 && z > m.farthest)) continue;
+      const Eigen::Vector3d hit = cam.t + t * dir;
+      if (std::abs(normal.dot(dir)) < m.grazingCos) continue;
+      if (onDarkSurface(hit.x(), hit.y(), hit.z(), m)) continue;
+      if (m.shadows && scene.blocked(hit, projector)) continue;
+      const size_t k = static_cast<size_t>(r) * g.cols + c;
+      depth[k] = z;
+      if (set.texture > 0) colour[k] = onPatch ? patchColour() : checkColour(hit, set.texture);
+    }
+  }
+  applyImageFaults(depth, g.cols, g.rows, g.pinhole->fx, m, rng);
+  g.cell.assign(cells, -1);
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) {
+      const size_t k = static_cast<size_t>(r) * g.cols + c;
+      if (!(depth[k] > 0)) continue;
+      const Eigen::Vector3d ray = pinholeRay(g, r, c);
+      g.cell[k] = static_cast<int32_t>(g.points.size());
+      g.points.push_back(depth[k] / -ray.z() * ray);
+      if (set.texture > 0) g.colours.push_back(colour[k]);
+    }
+}
+
 }  // namespace
 
 Colour checkColour(const Eigen::Vector3d& p, double size) {
@@ -233,15 +333,24 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
       s.grid.spherical = true;
       render(s, bvh, {}, 0.1 * out.radius, 2 * out.radius, out.radius, set, rng);
     } else {
-      if (set.path == ViewPath::Handheld)
-        s.truth = handheldPose(i, set.views, out.centre, out.radius, eyeDistance);
-      else if (walk)
-        s.truth = walkPose(i, set.views, box);
-      else
-        s.truth = cameraPose(out.centre + eyeDistance * (set.path == ViewPath::Orbit
-                                                             ? orbitDirection(i, set.views)
-                                                             : fibonacciDirection(i, set.views)),
-                             out.centre);
+      // The camera at time tau (frames); views spread over a sphere have no time between them.
+      auto poseAt = [&](double tau) {
+        switch (set.path) {
+          case ViewPath::Handheld:
+            return handheldPose(tau, set.views, out.centre, out.radius, eyeDistance);
+          case ViewPath::FastTurns:
+            return handheldPose(tau, set.views, out.centre, out.radius, eyeDistance, 0.8, 1.6);
+          case ViewPath::Walk:
+            return walkPose(tau, set.views, box);
+          case ViewPath::Orbit:
+            return cameraPose(out.centre + eyeDistance * orbitDirection(tau, set.views),
+                              out.centre);
+          default:
+            return cameraPose(out.centre + eyeDistance * fibonacciDirection(i, set.views),
+                              out.centre);
+        }
+      };
+      s.truth = poseAt(i);
       s.viewpoint = s.truth.t;
       s.grid.pinhole = Pinhole{f, f, 0.5 * (set.width - 1), 0.5 * (set.height - 1)};
       TriangleMesh patches;
@@ -251,7 +360,10 @@ SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& set) {
       }
       const double near = walk ? 0.02 * out.radius : eyeDistance - out.radius;
       const double far = walk ? 2 * out.radius : eyeDistance + out.radius;
-      render(s, bvh, patches, near, far, eyeDistance, set, rng);
+      if (set.sensor.active())
+        renderSensor(s, Scene{mesh, bvh, patches}, poseAt, i, set, rng);
+      else
+        render(s, bvh, patches, near, far, eyeDistance, set, rng);
     }
     s.perturbed = s.truth;
     if (i > 0)

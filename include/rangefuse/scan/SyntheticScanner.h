@@ -10,6 +10,7 @@
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/scan/DepthSensorModel.h"
 
 namespace rangefuse {
 
@@ -20,7 +21,9 @@ namespace rangefuse {
 /// degrees below the horizon to 80 above). Two depth-camera paths as a person walks them: around
 /// the object, nearer and farther, the view swaying left, right, up and down in fast turns
 /// (handheld); or inside the scene, along a loop, looking ahead and swaying (walk: rooms).
-enum class ViewPath { Sphere, Orbit, Stations, Handheld, Walk };
+/// FastTurns is the hand-held path with the view swaying twice as far, 2.5 times as often: turns
+/// of up to about 6 degrees a frame, as TUM's fr1/rpy records them.
+enum class ViewPath { Sphere, Orbit, Stations, Handheld, Walk, FastTurns };
 
 struct ScanSettings {
   int views = 24;
@@ -41,7 +44,8 @@ struct ScanSettings {
   double rotDeg = 0;    ///< perturbation: rotation about each axis uniform in [-A, A]
   double transVox = 0;  ///< perturbation: translation along each axis uniform in [-T, T]
   uint64_t seed = 1;
-  double texture = 0;  ///< checks of this side (world units) colour the surface; 0: no colour
+  double texture = 0;       ///< checks of this side (world units) colour the surface; 0: no colour
+  DepthSensorModel sensor;  ///< a depth camera's faults (pinhole views; inactive by default)
 };
 
 /// An extraneous patch: a square floating in front of the object in one scan only.
