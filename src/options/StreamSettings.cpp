@@ -39,8 +39,8 @@ std::vector<Setting<Stream>> streamTable() {
        must<Stream, double>(
            &Stream::maxStep, [](double v) { return v > 0; }, "must be positive voxels")},
       {"skip-lost", "skip_lost", R::Result, false, G::Tracking,
-       "tracking: leave frames that lost tracking out and go on (else the run stops at the first "
-       "with an error)",
+       "tracking: leave frames that lose tracking out, report them and go on; false: the run "
+       "stops at the first with an error",
        at(&Stream::skipLost), nullptr, "true"},
       {"preview-every", "", R::No, false, G::Tracking,
        "tracking: every N frames, write --preview as the partial model seen from the current "

@@ -1,6 +1,7 @@
 #include "rangefuse/register/Tracking.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -70,9 +71,15 @@ bool cycled(const std::vector<Pose>& path, Pose& pose, double reach) {
 class FrameFit {
  public:
   /// `predicted`: where the camera's motion so far puts the frame.
+  /// `usual`: the inlier share of the frames before (0: none yet).
   FrameFit(const TrackerSettings& s, ControlRouting& control, const BrickStore& store,
-           const Pose& predicted, MPI_Comm comm)
-      : s_(s), control_(control), store_(store), predicted_(predicted), comm_(comm) {}
+           const Pose& predicted, double usual, MPI_Comm comm)
+      : s_(s),
+        control_(control),
+        store_(store),
+        predicted_(predicted),
+        usual_(usual),
+        comm_(comm) {}
 
   /// Fits frame i from `start`; the report's `why` is empty when the fit holds.
   FrameReport fit(size_t i, std::vector<Pose>& poses, const Pose& start, size_t last,
@@ -110,11 +117,8 @@ class FrameFit {
   /// One Gauss-Newton step of frame i's control points (every `every`-th) against the field's
   /// distance and gradient, point to plane, about the camera centre; reports the sums before.
   RegistrationStep planeStep(size_t i, Pose& pose, int every) {
-    ControlPoints c = control_.at(i, pose, store_, every);
+    const ControlPoints c = control_.at(i, pose, store_, every);
     const Eigen::Vector3d centre = c.sensor.isPoint ? c.sensor.point : pose.t;
-    if (c.sensor.isPoint && s_.rangeWeightPower != 0)
-      for (size_t k = 0; k < c.points.size(); ++k)
-        c.weights[k] *= std::pow((c.points[k] - centre).norm(), -s_.rangeWeightPower);
     const PlaneSums sums =
         planeSums(store_, c.points, c.normals, c.weights, centre, s_.fit.correspondences, comm_);
     RegistrationStep step;
@@ -143,6 +147,11 @@ class FrameFit {
     if (r.inliers < s_.minInliers)
       return "only " + percent(r.inliers) + " of its points lie on the field (needs " +
              percent(s_.minInliers) + ")";
+    // A frame that does not belong here (another scene, a glitch) finds the field with far
+    // fewer of its points than the frames before; new surface coming into view costs a few.
+    if (r.inliers < s_.inlierDrop * usual_)
+      return "only " + percent(r.inliers) + " of its points lie on the field against " +
+             percent(usual_) + " for the frames before";
     if (s_.maxResidual > 0 && r.rms > s_.maxResidual) {
       std::snprintf(text, sizeof text, "residual %.3g above %.3g", r.rms, s_.maxResidual);
       return text;
@@ -170,8 +179,17 @@ class FrameFit {
   ControlRouting& control_;
   const BrickStore& store_;
   Pose predicted_;
+  double usual_;
   MPI_Comm comm_;
 };
+
+/// The median of the shares (0 when there are none).
+double medianShare(std::vector<double> shares) {
+  if (shares.empty()) return 0;
+  const auto mid = shares.begin() + static_cast<std::ptrdiff_t>(shares.size() / 2);
+  std::nth_element(shares.begin(), mid, shares.end());
+  return *mid;
+}
 
 /// True when two starts lie within the convergence tolerance of each other.
 bool samePlace(const Pose& a, const Pose& b, const FitControl& o) {
@@ -226,7 +244,8 @@ FrameTracker::FrameTracker(const ScanSource& frames, std::vector<Pose>& poses,
       comm_(comm),
       state_(state),
       calls_(calls),
-      control_(std::make_unique<ControlRouting>(frames, s.fit.controlStride, comm, true)) {}
+      control_(std::make_unique<ControlRouting>(frames, s.fit.controlStride, comm, true,
+                                                s.noiseFloor)) {}
 
 FrameTracker::~FrameTracker() = default;
 
@@ -275,7 +294,7 @@ bool FrameTracker::next() {
   // the last frame and this one give a second start (they reach farther, but are blind along
   // directions the view does not pin down), and the field decides between the two.
   const Pose predicted = predictPose(poses_, guide_, prev, last, i, times_);
-  FrameFit fit(s_, *control_, *store_, predicted, comm_);
+  FrameFit fit(s_, *control_, *store_, predicted, medianShare(state_.recentInliers), comm_);
   report = fit.fit(i, poses_, predicted, last, report);
   Pose chosen = poses_[i];
   const Pose moved = relative(predicted, chosen);
@@ -307,6 +326,9 @@ bool FrameTracker::next() {
     store_ = &field_.add(i, poses_);
     state_.latticeOrigin = field_.latticeOrigin();
     state_.lostInRow = 0;
+    state_.recentInliers.push_back(report.inliers);
+    if (state_.recentInliers.size() > kRecentFrames)
+      state_.recentInliers.erase(state_.recentInliers.begin());
   } else {
     poses_[i] = poses_[last];
     state_.lost[i] = 1;

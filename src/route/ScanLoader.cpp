@@ -52,9 +52,9 @@ PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
   if (c.bands > 1) return prepareBand(c, options, eps);
   PrismScan s;
   const RangeGrid grid = io::readScanGrid(c, limits);
-  // Measured once: smoothing and the sight map's tests read the same curve.
-  const bool needsNoise = options.sightMap || options.smoothTarget > 0;
-  const RangeNoise noise = needsNoise ? RangeNoise::measure(grid) : RangeNoise{};
+  // Measured once: smoothing, the sight map's tests and tracking's weights read the same curve.
+  s.noise = RangeNoise::measure(grid);
+  const RangeNoise& noise = s.noise;
   s.surface = buildScanSurface(grid, Pose{}, options, &noise);
   s.limits = computePrismLimits(s.surface, eps);
   if (options.sightMap)
@@ -93,6 +93,7 @@ uint64_t scanBytes(const PrismScan& s) {
 PrismScan placeScan(PrismScan s, const Pose& pose) {
   for (auto& p : s.surface.points) p = pose.apply(p);
   for (auto& n : s.surface.normals) n = pose.rotate(n);
+  s.noise = RangeNoise{};  // its depths are the scan frame's
   if (s.sight) {
     s.sight = std::make_shared<SightMap>(*s.sight);  // copies of the scan may sit elsewhere
     s.sight->place(pose);

@@ -35,6 +35,7 @@ RangeNoise RangeNoise::measure(const RangeGrid& grid) {
       depth[i] = z, lo = std::min(lo, z), hi = std::max(hi, z);
     }
   RangeNoise out;
+  out.spherical_ = grid.spherical;
   if (!(hi > lo)) return out;
   const double ratio = std::log(hi / lo) / kBins;
   std::vector<std::vector<double>> bins(kBins);
@@ -63,6 +64,15 @@ RangeNoise RangeNoise::fromPoints(std::vector<double> depths, std::vector<double
   RangeNoise out;
   out.depth_ = std::move(depths), out.sigma_ = std::move(sigmas);
   return out;
+}
+
+double RangeNoise::quadratic() const {
+  double num = 0, den = 0;
+  for (size_t k = 0; k < depth_.size(); ++k) {
+    const double z2 = depth_[k] * depth_[k];
+    num += sigma_[k] * z2, den += z2 * z2;
+  }
+  return den > 0 ? num / den : 0;
 }
 
 double RangeNoise::at(double depth) const {

@@ -67,6 +67,8 @@ TrackerSettings trackingSettings(const StreamSettings& t, int controlStride, dou
   s.minInliers = t.minInliers;
   s.maxStep = t.maxStep * voxel;
   s.skipLost = t.skipLost;
+  // A voxel's rounding error, the field's own: points noisier than that weigh less.
+  s.noiseFloor = voxel / std::sqrt(12.0);
   return s;
 }
 
@@ -183,7 +185,8 @@ nlohmann::json toJson(const TrackingState& s) {
   return {{"next_frame", s.nextFrame},
           {"lost", lost},
           {"lost_in_row", s.lostInRow},
-          {"lattice_origin", s.latticeOrigin}};
+          {"lattice_origin", s.latticeOrigin},
+          {"recent_inliers", s.recentInliers}};
 }
 
 /// A stream's state from its checkpoint; throws InputError naming the checkpoint when it does
@@ -197,6 +200,9 @@ TrackingState trackingState(const io::CheckpointMeta& meta, size_t frames,
     for (const int v : j.at("lost").get<std::vector<int>>()) s.lost.push_back(v ? 1 : 0);
     s.lostInRow = j.at("lost_in_row").get<int>();
     s.latticeOrigin = j.at("lattice_origin").get<std::vector<double>>();
+    // A checkpoint written before the judge compared frames with the ones before has none.
+    if (j.contains("recent_inliers"))
+      s.recentInliers = j.at("recent_inliers").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
     throw InputError(checkpoint + ": tracking progress unreadable (" + e.what() + ")");
   }
@@ -367,7 +373,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
     if (progress.isRoot())
       std::fprintf(stderr, "rangefuse: error: %s: %s%s\n", scans.paths[state.failedFrame].c_str(),
                    state.failure.c_str(),
-                   t.skipLost ? "" : " (--skip-lost leaves such frames out and goes on)");
+                   t.skipLost ? "" : " (--skip-lost true leaves such frames out and goes on)");
     return false;
   }
   field.scanCount = scans.names.size() - lostCount;

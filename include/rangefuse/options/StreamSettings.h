@@ -14,7 +14,7 @@ struct StreamSettings {
   std::string firstPose;       ///< "tx,ty,tz,qx,qy,qz,qw" (empty: the identity)
   double minInliers = 0.25;    ///< share of a frame's points that must find the field
   double maxStep = 10;         ///< how far from its prediction a frame may land, voxels
-  bool skipLost = false;       ///< leave lost frames out and go on
+  bool skipLost = true;        ///< leave lost frames out and go on (false: stop at the first)
   bool follow = false;         ///< read frames that appear while the stream runs
   double followTimeout = 10;   ///< --follow ends after this long with no new frame, seconds
   int previewEvery = 0;        ///< frames between previews (0: none)

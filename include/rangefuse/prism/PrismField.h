@@ -9,6 +9,7 @@
 #include "rangefuse/prism/PrismRaster.h"
 #include "rangefuse/robust/SightMap.h"
 #include "rangefuse/robust/SurfaceHypotheses.h"
+#include "rangefuse/surface/RangeNoise.h"
 #include "rangefuse/surface/ScanSurface.h"
 #include "rangefuse/volume/BrickPlanning.h"
 #include "rangefuse/volume/BrickStore.h"
@@ -25,6 +26,7 @@ struct PrismScan {
   ScanSurface surface;
   PrismLimits limits;
   std::shared_ptr<SightMap> sight;  ///< what the scan saw (robust fusion; else null)
+  RangeNoise noise;  ///< the grid's depth noise as read (empty for bands of a station)
 };
 
 /// The prism of triangle `t` of a scan.

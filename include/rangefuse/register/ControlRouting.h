@@ -30,8 +30,10 @@ struct ControlPoints {
 class ControlRouting {
  public:
   /// Collective. A rank holds only the scans it read. `lazy`: each scan is looked at when first
-  /// routed (a stream's frames are read as they come), not all of them now.
-  ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm, bool lazy = false);
+  /// routed (a stream's frames are read as they come), not all of them now. `noiseFloor` > 0
+  /// weighs each point by its scan's depth noise there (controlWeight).
+  ControlRouting(const ScanSource& scans, int stride, MPI_Comm comm, bool lazy = false,
+                 double noiseFloor = 0);
 
   /// Collective: sends scans `which`, placed at `poses`, to the owners of `store`'s bricks. Call
   /// it whenever the store's bricks change.
@@ -75,6 +77,10 @@ class ControlRouting {
     std::vector<uint32_t> pointVertices;  ///< the vertex each copied point came from
   };
 
+  /// Vertex v's weight: its confidence, times (with a noise floor) floor / (floor + sigma),
+  /// sigma its depth noise, `quadratic` * depth^2 (RangeNoise::quadratic).
+  double weightOf(const PrismScan& scan, size_t v, double quadratic) const;
+
   /// Appends scan i's control points at `pose` to out[r] for every rank r owning their brick or
   /// a neighbour (owners caches the ranks around each brick); its own go to held_[i].
   void packControlPoints(size_t i, const Pose& pose, const BrickLayout& layout, int me,
@@ -91,6 +97,7 @@ class ControlRouting {
 
   const ScanSource& scans_;
   int stride_;
+  double noiseFloor_;
   MPI_Comm comm_;
   std::vector<Eigen::Vector4d> spheres_;  ///< per scan: centre and radius of its control points
   std::vector<Sensor> sensors_;           ///< per scan, in its frame

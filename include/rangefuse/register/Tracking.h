@@ -23,15 +23,19 @@ struct TrackerSettings {
   int coarseIterations = 12;  ///< fits at the coarse level
   int fineIterations = 12;    ///< fits with every control point
   double minInliers = 0.25;   ///< share of control points that must find the field
-  /// Control points weigh range^-rangeWeightPower (0: evenly). A depth camera's noise grows
-  /// with range, but 2 made the bunny streams' ATE twice as large (0.60 -> 1.19 mm) for a room
-  /// walk that is lost either way, so it is off.
-  double rangeWeightPower = 0;
+  /// A frame is lost when its inlier share falls below this times the median of the last
+  /// kRecentFrames fused frames' (it does not belong where the fit put it).
+  double inlierDrop = 0.6;
+  /// The field's own error (world units): a control point weighs floor / (floor + sigma),
+  /// sigma its frame's measured depth noise at its depth (0: evenly).
+  double noiseFloor = 0;
   double maxResidual = 0;  ///< RMS residual a frame may keep, world units (0: any)
   double maxStep = 0;      ///< camera motion a frame may make, world units (0: any)
-  double maxTurnDeg = 30;  ///< camera turn a frame may make, degrees
-  bool skipLost = false;   ///< go on past a lost frame (else the stream ends there)
-  int maxLostInRow = 30;   ///< with skipLost: give up after this many lost frames in a row
+  /// Camera turn a frame may make, degrees: 15 is 450 deg/s at 30 frames/s, three times the
+  /// fastest hand-held turns recorded (TUM fr1/rpy: 5.5 deg a frame).
+  double maxTurnDeg = 15;
+  bool skipLost = false;  ///< go on past a lost frame (else the stream ends there)
+  int maxLostInRow = 30;  ///< with skipLost: give up after this many lost frames in a row
 };
 
 /// What became of one frame.
@@ -47,12 +51,16 @@ struct FrameReport {
   std::string why;               ///< why it was lost (empty when fused)
 };
 
+/// How many fused frames' inlier shares the judge remembers.
+inline constexpr size_t kRecentFrames = 10;
+
 /// Where a stream stands, enough to continue it (checkpoints).
 struct TrackingState {
   size_t nextFrame = 0;
   std::vector<char> lost;  ///< per frame: 1 when left out
   int lostInRow = 0;
   std::vector<double> latticeOrigin;  ///< the field's lattice (empty: not chosen yet)
+  std::vector<double> recentInliers;  ///< inlier shares of the last fused frames, oldest first
   std::string failure;                ///< set when the stream was given up ...
   size_t failedFrame = 0;             ///< ... at this frame
 };

@@ -31,6 +31,15 @@ class RangeNoise {
   /// The noise at `depth`.
   double at(double depth) const;
 
+  /// k of the curve k depth^2 nearest the measured one (least squares over the bins): a depth
+  /// camera's noise, which grows with the square of the depth, from one number that a few
+  /// noisy bins do not sway as they sway the curve itself. 0 when nothing was measured.
+  double quadratic() const;
+
+  /// The depth of a point of the measured grid (scan frame) as the curve counts it: -z, or the
+  /// range for a station.
+  double depthOfPoint(const Eigen::Vector3d& p) const { return spherical_ ? p.norm() : -p.z(); }
+
   bool empty() const { return depth_.empty(); }
 
   /// Depths and noise of the measured bins, for reports and messages.
@@ -42,6 +51,7 @@ class RangeNoise {
 
  private:
   std::vector<double> depth_, sigma_;
+  bool spherical_ = false;  ///< measured on a station: depth is the range
 };
 
 }  // namespace rangefuse
