@@ -9,6 +9,8 @@
 #   benchmark_weak_scaling.sh the same work on every rank, 1 to 8 ranks
 #   benchmark_sequence.sh     a depth-camera sequence at true poses beside ScalableTSDFVolume
 #   benchmark_tracking.sh     depth streams without poses beside Open3D's frame-to-frame ICP
+#   benchmark_kitchen.sh      real Kinect frames (7-Scenes, read in place), poses hidden,
+#                             beside Open3D's frame-to-frame ICP: the dev and held-out sets
 # Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md, the
 # summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about an hour on two cores;
 # SEQ_ROOT and SEQUENCES pass to benchmark_tracking.sh (SEQUENCES="orbit handheld desk" leaves
@@ -29,5 +31,6 @@ run benchmark_memory 48 1024 1 4
 run benchmark_weak_scaling 6 1 2 4 8
 run benchmark_sequence
 run benchmark_tracking
+run benchmark_kitchen
 echo "== summary ($(date +%H:%M:%S)); tables in $out/"
 python3 jobs/summarize_benchmarks.py "$out" | tee "$out/summary.md"

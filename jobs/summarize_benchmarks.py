@@ -77,6 +77,15 @@ def summary(out):
                 a, b = number(ours["ATE (mm)"]), number(peer["ATE (mm)"])
                 rows.append(("ATE (mm), tracked without poses, Open3D ICP beside", sequence,
                              show(a), show(b), ratio(a, b)))
+    for table in tables(os.path.join(out, "benchmark_kitchen.md"))[:1]:
+        for r in table:
+            a, b = number(r.get("rangefuse ATE")), number(r.get("Open3D ICP ATE"))
+            rows.append(("ATE (cm), real Kinect, poses hidden, Open3D ICP beside",
+                         "7-Scenes kitchen, %s, frames %s" % (r["set"], r["frames"]), show(a),
+                         show(b), ratio(a, b)))
+            a, b = number(r.get("frames/s")), number(r.get("Open3D frames/s"))
+            rows.append(("frames/s, real Kinect, Open3D ICP beside",
+                         "7-Scenes kitchen, %s" % r["set"], show(a, 1), show(b, 1), ratio(a, b)))
     memory = tables(os.path.join(out, "benchmark_memory.md"))
     if memory:
         peaks = {r["ranks"]: max(number(x) for x in r["peak memory per rank (MiB)"].split("/"))
