@@ -348,8 +348,11 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
     calls.motion = [&](size_t last, size_t next, const Pose& guess) {
       return (*pixels)(last, next, guess);
     };
+    double lastOutcome = MPI_Wtime();
     calls.onFrame = [&](const FrameReport& r) {
-      summary.add(r, scans.paths[r.frame]);
+      const double now = MPI_Wtime();
+      summary.add(r, scans.paths[r.frame], now - lastOutcome);
+      lastOutcome = now;
       lostCount += !r.fused;
       if (progress.shows(Verbosity::normal)) lines(r);
       fused += r.fused;
@@ -383,11 +386,12 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
   field.store = tracked.release();
   field.layout = field.store->layout();
   counters.bricks = field.store->brickCount();
-  progress.stage("track", std::to_string(field.scanCount) + " of " +
-                              std::to_string(scans.names.size()) + " frames tracked and fused" +
-                              (lostCount ? ", " + std::to_string(lostCount) + " lost and left out"
-                                         : std::string()) +
-                              "; " + std::to_string(field.layout.totalBricks()) + " bricks");
+  progress.stage(
+      "track",
+      std::to_string(field.scanCount) + " of " + std::to_string(scans.names.size()) +
+          " frames tracked and fused" +
+          (lostCount ? ", " + std::to_string(lostCount) + " lost and left out" : std::string()) +
+          "; " + std::to_string(field.layout.totalBricks()) + " bricks; " + summary.frameTimes());
   return true;
 }
 
