@@ -14,8 +14,7 @@ kitchen=${KITCHEN:-$(pwd)/../shared/data/7scenes-kitchen}
 source jobs/mpi_env.sh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-ate() { "$bin" eval --trajectory "$1" --reference "$2" --json |
-  python3 -c 'import json, sys; j = json.load(sys.stdin); print("%.2f cm (max %.2f)" % (100 * j["ate_rmse"], 100 * j["ate_max"]))'; }
+source jobs/trajectory_ate.sh
 echo "| set | frames | rangefuse ATE | frames/s | lost | peak MiB/rank | Open3D ICP ATE | Open3D frames/s |"
 echo "|---|---|---|---|---|---|---|---|"
 for set in ${1:-dev judge}; do

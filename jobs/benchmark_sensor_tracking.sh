@@ -11,8 +11,7 @@ bin=$(realpath "${2:-build/rangefuse}")
 source jobs/mpi_env.sh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-ate() { "$bin" eval --trajectory "$1" --reference "$2" --json |
-  python3 -c 'import json, sys; j = json.load(sys.stdin); print("%.2f cm (max %.2f)" % (100 * j["ate_rmse"], 100 * j["ate_max"]))'; }
+source jobs/trajectory_ate.sh
 echo "| path | sensor | rangefuse ATE | lost | frames/s | Open3D ICP ATE |"
 echo "|---|---|---|---|---|---|"
 for path in ${1:-fastturns handheld}; do
