@@ -42,6 +42,11 @@ std::vector<Setting<Stream>> streamTable() {
        "tracking: leave frames that lose tracking out, report them and go on; false: the run "
        "stops at the first with an error",
        at(&Stream::skipLost), nullptr, "true"},
+      {"close-loops", "close_loops", R::Result, false, G::Tracking,
+       "tracking: keep key frames as the camera moves and, when it comes back to where one saw "
+       "the scene, fit the two, correct the poses of every frame so far and fuse them again "
+       "(each closure costs about what fusing the frames so far did; docs/tracking.md)",
+       at(&Stream::closeLoops), nullptr, "true"},
       {"preview-every", "", R::No, false, G::Tracking,
        "tracking: every N frames, write --preview as the partial model seen from the current "
        "camera (the last picture is the finished field's)",

@@ -40,22 +40,27 @@ void TrackingSummary::add(const FrameReport& r, const std::string& name, double 
   rms_.push_back(r.rms);
 }
 
+void TrackingSummary::setLoops(size_t keyFrames, size_t measured, size_t closed, double seconds) {
+  loops_ = {
+      {"key_frames", keyFrames}, {"measured", measured}, {"closed", closed}, {"seconds", seconds}};
+}
+
 nlohmann::json TrackingSummary::toJson() const {
   const auto [least, most] = std::minmax_element(inliers_.begin(), inliers_.end());
-  return {
-      {"frames", frames_},
-      {"fused", inliers_.size()},
-      {"lost", lost_.size()},
-      {"recovered", recovered_},
-      {"lost_frames", lost_},
-      {"inliers", {{"min", inliers_.empty() ? 0.0 : *least}, {"median", median(inliers_)}}},
-      {"rms_residual",
-       {{"median", median(rms_)},
-        {"max", rms_.empty() ? 0.0 : *std::max_element(rms_.begin(), rms_.end())}}},
-      {"frame_seconds",
-       {{"mean", mean(seconds_)},
-        {"p95", quantile(seconds_, 0.95)},
-        {"max", seconds_.empty() ? 0.0 : *std::max_element(seconds_.begin(), seconds_.end())}}}};
+  return {{"frames", frames_},
+          {"fused", inliers_.size()},
+          {"lost", lost_.size()},
+          {"recovered", recovered_},
+          {"lost_frames", lost_},
+          {"inliers", {{"min", inliers_.empty() ? 0.0 : *least}, {"median", median(inliers_)}}},
+          {"rms_residual",
+           {{"median", median(rms_)},
+            {"max", rms_.empty() ? 0.0 : *std::max_element(rms_.begin(), rms_.end())}}},
+          {"frame_seconds",
+           {{"mean", mean(seconds_)},
+            {"p95", quantile(seconds_, 0.95)},
+            {"max", seconds_.empty() ? 0.0 : *std::max_element(seconds_.begin(), seconds_.end())}}},
+          {"loops", loops_}};
 }
 
 std::string TrackingSummary::frameTimes() const {

@@ -261,6 +261,7 @@ bool FrameTracker::start() {
   state_.latticeOrigin = field_.fixLattice(state_.latticeOrigin, poses_);
   if (state_.nextFrame == 0) {  // the first frame defines the world frame
     store_ = &field_.build({0}, poses_);
+    if (calls_.closeLoops) calls_.closeLoops(0, poses_);  // the first key frame
     calls_.frame(0, true);
     state_.nextFrame = 1;
     FrameReport first;
@@ -324,6 +325,10 @@ bool FrameTracker::next() {
   if (report.fused) {
     fused_.push_back(i);
     store_ = &field_.add(i, poses_);
+    if (calls_.closeLoops && calls_.closeLoops(i, poses_)) {
+      store_ = &field_.build(fused_, poses_);
+      report.closedLoop = true;
+    }
     state_.latticeOrigin = field_.latticeOrigin();
     state_.lostInRow = 0;
     state_.recentInliers.push_back(report.inliers);
@@ -351,6 +356,10 @@ bool FrameTracker::next() {
   return true;
 }
 
+void FrameTracker::finish() {
+  if (calls_.finishLoops && calls_.finishLoops(poses_)) store_ = &field_.build(fused_, poses_);
+}
+
 bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
                  const std::vector<double>& times, const std::vector<Pose>* guide,
                  const TrackerSettings& s, RegistrationField& field, MPI_Comm comm,
@@ -364,6 +373,7 @@ bool trackFrames(const ScanSource& frames, std::vector<Pose>& poses,
     }
     if (!tracker.next()) return false;
   }
+  tracker.finish();
   return true;
 }
 

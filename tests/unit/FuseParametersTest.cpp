@@ -35,7 +35,7 @@ FuseOptions changed() {
   o.field.threads = 3, o.source.format = "tum", o.source.intrinsics = "525,525,319.5,239.5";
   o.source.depthMax = 3, o.bandCells = 1e6, o.source.depthScale = 4000, o.stream.track = "on";
   o.stream.firstPose = "1,2,3,0,0,0,1", o.stream.minInliers = 0.4, o.stream.maxStep = 12,
-  o.stream.skipLost = false;
+  o.stream.skipLost = false, o.stream.closeLoops = true;
   o.outputs.trajectoryOut = "t.txt", o.stream.previewEvery = 5, o.stream.follow = true,
   o.stream.followTimeout = 30;
   o.field.colour = "none", o.outputs.previewView = "30,-10", o.quiet = true, o.verbose = true;

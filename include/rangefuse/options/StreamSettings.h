@@ -15,6 +15,7 @@ struct StreamSettings {
   double minInliers = 0.25;    ///< share of a frame's points that must find the field
   double maxStep = 10;         ///< how far from its prediction a frame may land, voxels
   bool skipLost = true;        ///< leave lost frames out and go on (false: stop at the first)
+  bool closeLoops = false;     ///< keep key frames and close loops between them
   bool follow = false;         ///< read frames that appear while the stream runs
   double followTimeout = 10;   ///< --follow ends after this long with no new frame, seconds
   int previewEvery = 0;        ///< frames between previews (0: none)

@@ -48,6 +48,7 @@ struct FrameReport {
   double rms = 0;                ///< RMS residual at the last fit, world units
   double step = 0, turnDeg = 0;  ///< camera motion from the last good frame
   double surprise = 0;           ///< distance of the fitted camera from the predicted one
+  bool closedLoop = false;       ///< it closed a loop: the frames before moved, the field rebuilt
   std::string why;               ///< why it was lost (empty when fused)
 };
 
@@ -79,6 +80,12 @@ struct StreamCalls {
   FrameMotion motion;  ///< optional: a second start from the pixels
   std::function<void(const FrameReport&)> onFrame;       ///< every frame's outcome
   std::function<void(const TrackingState&)> onBoundary;  ///< where a checkpoint may be taken
+  /// Optional, once a frame is fused (and still held): true when it moved the poses of the
+  /// frames so far (it closed a loop); the field is then built again at them.
+  std::function<bool(size_t frame, std::vector<Pose>& poses)> closeLoops;
+  /// Optional, once the last frame is tracked: true when it moved the poses (the loops
+  /// measured since the last closed one); the field is then built again at them.
+  std::function<bool(std::vector<Pose>& poses)> finishLoops;
   /// Optional: once every frame is tracked, whether more have joined `frames` (and `times`);
   /// false ends the stream.
   std::function<bool()> moreFrames;
@@ -107,6 +114,8 @@ class FrameTracker {
   /// Tracks frame state.nextFrame (which `frames` must hold) and fuses it when the fit holds.
   /// False, with state.failure set, when the stream is to be given up.
   bool next();
+  /// The stream has ended: loops measured and not yet closed are closed (calls.finishLoops).
+  void finish();
 
  private:
   const ScanSource& frames_;
