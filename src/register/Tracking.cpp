@@ -261,7 +261,7 @@ bool FrameTracker::start() {
   state_.latticeOrigin = field_.fixLattice(state_.latticeOrigin, poses_);
   if (state_.nextFrame == 0) {  // the first frame defines the world frame
     store_ = &field_.build({0}, poses_);
-    if (calls_.closeLoops) calls_.closeLoops(0, poses_);  // the first key frame
+    if (calls_.closeLoops) calls_.closeLoops(0, poses_, *store_);  // the first key frame
     calls_.frame(0, true);
     state_.nextFrame = 1;
     FrameReport first;
@@ -325,7 +325,7 @@ bool FrameTracker::next() {
   if (report.fused) {
     fused_.push_back(i);
     store_ = &field_.add(i, poses_);
-    if (calls_.closeLoops && calls_.closeLoops(i, poses_)) {
+    if (calls_.closeLoops && calls_.closeLoops(i, poses_, *store_)) {
       store_ = &field_.build(fused_, poses_);
       report.closedLoop = true;
     }

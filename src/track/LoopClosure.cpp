@@ -9,6 +9,7 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/prism/PrismField.h"
+#include "rangefuse/register/Correspondences.h"
 
 namespace rangefuse {
 namespace internal {
@@ -54,6 +55,37 @@ KeyFramePoints keyFramePoints(const ScanSource& frames, size_t i, size_t most, M
   return KeyFramePoints(std::move(points), std::move(normals));
 }
 
+/// The key frame's points (at `pose`) moved onto the field's surface, those without a
+/// correspondence left out: the field averages the depth steps and noise of the frames fused
+/// into it, which a loop's target should not carry. The rank owning each point's voxel moves it.
+KeyFramePoints onField(const KeyFramePoints& raw, const Pose& pose, const BrickStore& field,
+                       double eps, MPI_Comm comm) {
+  const size_t n = raw.points().size();
+  std::vector<double> moved(4 * n, 0.0);
+  CorrespondenceSettings cs;
+  cs.maxDistance = eps;
+  BrickCache cache;
+  for (size_t k = 0; k < n; ++k) {
+    Correspondence c;
+    if (!correspondence(field, pose.apply(raw.points()[k]), pose.R * raw.normals()[k], cs, c,
+                        &cache))
+      continue;
+    const Eigen::Vector3d local = pose.inverse().apply(c.q);
+    moved[4 * k] = local.x(), moved[4 * k + 1] = local.y(), moved[4 * k + 2] = local.z();
+    moved[4 * k + 3] = 1;
+  }
+  // One rank owns each voxel: the sum is that rank's value, exactly, on any rank count.
+  MPI_Allreduce(MPI_IN_PLACE, moved.data(), static_cast<int>(moved.size()), MPI_DOUBLE, MPI_SUM,
+                comm);
+  std::vector<Eigen::Vector3d> points, normals;
+  for (size_t k = 0; k < n; ++k)
+    if (moved[4 * k + 3] == 1) {
+      points.emplace_back(moved[4 * k], moved[4 * k + 1], moved[4 * k + 2]);
+      normals.push_back(raw.normals()[k]);
+    }
+  return KeyFramePoints(std::move(points), std::move(normals));
+}
+
 /// The information of a measured motion with a floor, so that a direction the two key frames
 /// do not pin (a plane seen by both) leaves the graph solvable and takes what the others give.
 Matrix6d floored(Matrix6d information) {
@@ -84,10 +116,11 @@ class KeyFrames {
   KeyFrames(const LoopSettings& s, const ScanSource& frames, MPI_Comm comm)
       : s_(s), frames_(frames), comm_(comm) {}
 
-  bool fused(size_t i, std::vector<Pose>& poses) {
+  bool fused(size_t i, std::vector<Pose>& poses, const BrickStore& field) {
     if (!s_.enabled || !isKey(i, poses)) return false;
     const double start = MPI_Wtime();
     add(i, poses);
+    surface_.push_back(onField(points_.back(), poses[i], field, s_.eps, comm_));
     const bool moved = closeLoop(poses);
     seconds_ += MPI_Wtime() - start;
     return moved;
@@ -143,9 +176,12 @@ class KeyFrames {
     }
     for (const size_t f : keyFrames_)
       if (f >= frames_.size()) throw InputError(where + ": a key frame is not in the stream");
-    points_.clear();
-    for (const size_t f : keyFrames_)
+    points_.clear(), surface_.clear();
+    for (const size_t f : keyFrames_) {
       points_.push_back(keyFramePoints(frames_, f, s_.keyPoints, comm_));
+      // The field each was fused into is gone: a resumed stream's loops fit raw points.
+      surface_.push_back(KeyFramePoints(points_.back().points(), points_.back().normals()));
+    }
   }
 
   size_t keyFrames() const { return keyFrames_.size(); }
@@ -208,9 +244,9 @@ class KeyFrames {
     for (size_t m = first; m <= j + kMapSide && m < keyFrames_.size(); ++m) {
       if (keyFrames_[m] + s_.minLoopFrames > before) break;
       const Pose into = relative(poses[keyFrames_[j]], poses[keyFrames_[m]]);
-      for (size_t p = 0; p < points_[m].points().size(); ++p) {
-        points.push_back(into.apply(points_[m].points()[p]));
-        normals.push_back(into.R * points_[m].normals()[p]);
+      for (size_t p = 0; p < surface_[m].points().size(); ++p) {
+        points.push_back(into.apply(surface_[m].points()[p]));
+        normals.push_back(into.R * surface_[m].normals()[p]);
       }
     }
     return KeyFramePoints(std::move(points), std::move(normals));
@@ -278,8 +314,9 @@ class KeyFrames {
   const LoopSettings s_;
   const ScanSource& frames_;
   MPI_Comm comm_;
-  std::vector<size_t> keyFrames_;  ///< frame numbers, in order
-  std::vector<KeyFramePoints> points_;
+  std::vector<size_t> keyFrames_;        ///< frame numbers, in order
+  std::vector<KeyFramePoints> points_;   ///< as the frame measured them
+  std::vector<KeyFramePoints> surface_;  ///< moved onto the field they were fused into
   std::vector<PoseEdge> edges_;
   size_t loops_ = 0, closures_ = 0;
   bool pending_ = false;   ///< a loop measured since the last closure disagrees with the poses
@@ -292,8 +329,8 @@ class KeyFrames {
 LoopClosure::LoopClosure(const LoopSettings& s, const ScanSource& frames, MPI_Comm comm)
     : keys_(std::make_unique<internal::KeyFrames>(s, frames, comm)) {}
 LoopClosure::~LoopClosure() = default;
-bool LoopClosure::fused(size_t i, std::vector<Pose>& poses) {
-  return keys_->fused(i, poses);
+bool LoopClosure::fused(size_t i, std::vector<Pose>& poses, const BrickStore& field) {
+  return keys_->fused(i, poses, field);
 }
 bool LoopClosure::finish(std::vector<Pose>& poses) {
   return keys_->finish(poses);

@@ -55,10 +55,11 @@ Pose parseCameraPose(const std::string& text) {
   return Pose{q.normalized().toRotationMatrix(), Eigen::Vector3d(v[0], v[1], v[2])};
 }
 
-LoopSettings loopSettings(const StreamSettings& t, double voxel) {
+LoopSettings loopSettings(const StreamSettings& t, double voxel, double eps) {
   LoopSettings s;
   s.enabled = t.closeLoops;
   s.voxel = voxel;
+  s.eps = eps;
   return s;
 }
 
@@ -352,7 +353,7 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
   const TrackingLattice fieldSettings{f.voxel,     f.brick,   f.eps(),
                                       f.maxVoxels, f.threads, scans.colour};
   TrackingField tracked(fieldSettings, scans, comm);
-  LoopClosure loops(loopSettings(t, f.voxel), *scans.held, comm);
+  LoopClosure loops(loopSettings(t, f.voxel, f.eps()), *scans.held, comm);
   if (resumed && !collectively(comm, [&] {
         const nlohmann::json& j = resumed->progress.at("tracking");
         // A checkpoint written before loops were closed has no key frames.
@@ -389,7 +390,9 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
                     s.mesh.minWeight, s.outputs.preview, comm);
     };
     calls.onBoundary = [&](const TrackingState& now) { checkpointer(now); };
-    calls.closeLoops = [&](size_t i, std::vector<Pose>& poses) { return loops.fused(i, poses); };
+    calls.closeLoops = [&](size_t i, std::vector<Pose>& poses, const BrickStore& field) {
+      return loops.fused(i, poses, field);
+    };
     calls.finishLoops = [&](std::vector<Pose>& poses) { return loops.finish(poses); };
     if (t.follow)
       calls.moreFrames = [&] {

@@ -80,9 +80,9 @@ struct StreamCalls {
   FrameMotion motion;  ///< optional: a second start from the pixels
   std::function<void(const FrameReport&)> onFrame;       ///< every frame's outcome
   std::function<void(const TrackingState&)> onBoundary;  ///< where a checkpoint may be taken
-  /// Optional, once a frame is fused (and still held): true when it moved the poses of the
-  /// frames so far (it closed a loop); the field is then built again at them.
-  std::function<bool(size_t frame, std::vector<Pose>& poses)> closeLoops;
+  /// Optional, once a frame is fused into `field` (and still held): true when it moved the
+  /// poses of the frames so far (it closed a loop); the field is then built again at them.
+  std::function<bool(size_t frame, std::vector<Pose>& poses, const BrickStore& field)> closeLoops;
   /// Optional, once the last frame is tracked: true when it moved the poses (the loops
   /// measured since the last closed one); the field is then built again at them.
   std::function<bool(std::vector<Pose>& poses)> finishLoops;

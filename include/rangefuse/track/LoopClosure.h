@@ -13,6 +13,7 @@
 
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/register/ScanSource.h"
+#include "rangefuse/volume/BrickStore.h"
 
 namespace rangefuse {
 namespace internal {
@@ -23,6 +24,7 @@ class KeyFrames;
 struct LoopSettings {
   bool enabled = true;
   double voxel = 0;
+  double eps = 0;  ///< the prism envelope: key frames are moved onto the field within it
   /// A fused frame becomes a key frame once the camera moved this share of the last key
   /// frame's median range, or turned this far, since it.
   double keyStepShare = 0.1, keyTurnDeg = 10;
@@ -31,13 +33,15 @@ struct LoopSettings {
   /// Key frames are fitted with correspondences from this far (the drift a loop may close)
   /// down to the end radius, residuals beyond one voxel weighing less.
   double startVoxels = 10, endVoxels = 3;
-  double minInliers = 0.3;   ///< share of a key frame's points that must meet the other's
-  double closeVoxels = 0.5;  ///< a loop that moves a key frame less than this is left as it is
+  double minInliers = 0.3;  ///< share of a key frame's points that must meet the other's
+  /// A loop that moves a key frame less than this is left as it is: a loop between key frames
+  /// is a few voxels uncertain, and one closed at half a voxel gains nothing (docs/tracking.md).
+  double closeVoxels = 2;
   /// While the stream runs, a loop is closed (the field built again) only when it moves a key
   /// frame by this much and no loop was closed in the last closeEvery frames; the others are
   /// kept and closed when the stream ends. Closing every loop at once is what holds tracking
   /// where it comes back (docs/tracking.md), at the cost of fusing the frames again.
-  double trackVoxels = 0.5;
+  double trackVoxels = 2;
   size_t closeEvery = 0;
 };
 
@@ -50,9 +54,9 @@ class LoopClosure {
   LoopClosure(const LoopClosure&) = delete;
   LoopClosure& operator=(const LoopClosure&) = delete;
 
-  /// Frame i was just fused at poses[i] (its reader still holds it). True when it closed a
-  /// loop and moved the poses of frames 0..i: the field must be built again at them.
-  bool fused(size_t i, std::vector<Pose>& poses);
+  /// Frame i was just fused at poses[i] into `field` (its reader still holds it). True when it
+  /// closed a loop and moved the poses of frames 0..i: the field must be built again at them.
+  bool fused(size_t i, std::vector<Pose>& poses, const BrickStore& field);
 
   /// The stream has ended: true when the loops measured since the last closure move the
   /// poses by closeVoxels or more (they were then moved: the field must be built again).

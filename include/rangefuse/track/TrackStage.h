@@ -25,8 +25,9 @@ bool tracksFrames(const std::string& track, bool posed, const std::string& scans
 /// The camera pose "tx,ty,tz,qx,qy,qz,qw" (camera to world). Throws InputError naming --first-pose.
 Pose parseCameraPose(const std::string& text);
 
-/// When key frames are kept and loops closed: the stream's settings and the voxel.
-LoopSettings loopSettings(const StreamSettings& track, double voxel);
+/// When key frames are kept and loops closed: the stream's settings, the voxel and the prism
+/// envelope (world units).
+LoopSettings loopSettings(const StreamSettings& track, double voxel, double eps);
 
 /// How each frame is fitted: the stream's settings, the control points' stride, the voxel and
 /// the prism envelope (world units).
