@@ -148,16 +148,10 @@ DepthCamera readIntrinsicJson(const std::string& path) {
 }
 
 DepthCamera readIntrinsicMatrix(const std::string& path) {
-  const auto lines = internal::dataLines(path);
-  if (lines.size() != 3)
-    throw InputError(path + ": expected a 3 x 3 camera matrix K (3 rows of 3 numbers), found " +
-                     std::to_string(lines.size()) + " lines");
+  const auto rows = internal::squareRows(path, 3, "a 3 x 3 camera matrix K");
   Eigen::Matrix3d k;
-  for (int r = 0; r < 3; ++r) {
-    const auto row = internal::numbers(lines[r].second, 3, internal::lineOf(path, lines[r].first),
-                                       "a row of 3 numbers");
-    for (int c = 0; c < 3; ++c) k(r, c) = row[c];
-  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) k(r, c) = rows[r][c];
   if (k(0, 1) != 0 || k(1, 0) != 0 || k(2, 0) != 0 || k(2, 1) != 0 || k(2, 2) != 1)
     throw InputError(path +
                      ": not a pinhole camera matrix (expected 'fx 0 cx', '0 fy cy', "

@@ -68,9 +68,7 @@ bool holdsSevenScenesFrames(const std::string& dir) {
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.rfind("frame-", 0) == 0 && name.size() > 16 &&
-        name.compare(name.size() - 10, 10, ".depth.png") == 0)
-      return true;
+    if (internal::sevenScenesNumber(name, "depth.png") >= 0) return true;
   }
   return false;
 }

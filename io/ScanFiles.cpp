@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "SequenceParts.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/DepthSequence.h"
 #include "rangefuse/io/Jpeg.h"
@@ -107,7 +108,8 @@ void locateDepthImages(ConfFile& conf, const ScanSourceOptions& source) {
     if (std::filesystem::path(s.path).extension() != ".png") continue;
     // A 7-Scenes frame lies in its sequence's folder; the others lie in its depth/ folder.
     const std::filesystem::path image(s.path);
-    const bool sevenScenes = image.filename().string().rfind("frame-", 0) == 0;
+    const bool sevenScenes =
+        internal::sevenScenesNumber(image.filename().string(), "depth.png") >= 0;
     const std::string dir =
         (sevenScenes ? image.parent_path() : image.parent_path().parent_path()).string();
     auto it = cameras.find(dir);

@@ -24,6 +24,10 @@ DepthCamera sequenceCamera(const std::string& dir, const DepthReading& reading,
 ConfScan frameScan(const std::string& dir, const std::string& file, const Pose& cameraToWorld,
                    const DepthCamera& camera, double time);
 
+/// The number of a 7-Scenes file named frame-NNNNNN.<kind> (kind "depth.png" or "pose.txt"),
+/// or -1 when `file` is not named so.
+long sevenScenesNumber(const std::string& file, const std::string& kind);
+
 /// Every frame at the first camera's pose (the identity): the list of a sequence to track.
 ConfFile unposed(const std::string& dir, const std::vector<std::string>& files,
                  const std::vector<double>& times, const DepthCamera& camera);

@@ -26,13 +26,12 @@ struct Numbered {
 
 /// The folder's files named frame-NNNNNN.<kind>, by number.
 std::vector<Numbered> numberedFiles(const std::string& dir, const std::string& kind) {
-  static const std::regex name("frame-([0-9]+)\\.(depth\\.png|pose\\.txt)");
   std::vector<Numbered> files;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string file = it->path().filename().string();
-    std::smatch m;
-    if (std::regex_match(file, m, name) && m[2] == kind) files.push_back({std::stol(m[1]), file});
+    const long number = internal::sevenScenesNumber(file, kind);
+    if (number >= 0) files.push_back({number, file});
   }
   if (ec) throw InputError(dir + ": cannot list the folder: " + ec.message());
   std::sort(files.begin(), files.end(),
@@ -48,18 +47,10 @@ std::string frameName(long number, const char* kind) {
 
 /// A frame's camera-to-world pose: 4 rows of 4 numbers, the last 0 0 0 1, a rigid motion.
 Pose readPoseMatrix(const std::string& path) {
-  const auto lines = internal::dataLines(path);
-  if (lines.size() != 4)
-    throw InputError(path +
-                     ": expected a 4 x 4 camera-to-world matrix (4 rows of 4 numbers), "
-                     "found " +
-                     std::to_string(lines.size()) + " lines");
+  const auto rows = internal::squareRows(path, 4, "a 4 x 4 camera-to-world matrix");
   Eigen::Matrix4d m;
-  for (int r = 0; r < 4; ++r) {
-    const auto row = internal::numbers(lines[r].second, 4, internal::lineOf(path, lines[r].first),
-                                       "a matrix row of 4 numbers");
-    for (int c = 0; c < 4; ++c) m(r, c) = row[c];
-  }
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = rows[r][c];
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
     throw InputError(path + ": the last row is not '0 0 0 1': not a rigid motion");
   const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
@@ -90,6 +81,12 @@ void checkPairs(const std::string& dir, const std::vector<Numbered>& images,
 }
 
 }  // namespace
+
+long internal::sevenScenesNumber(const std::string& file, const std::string& kind) {
+  static const std::regex name("frame-([0-9]{1,9})\\.(depth\\.png|pose\\.txt)");
+  std::smatch m;
+  return std::regex_match(file, m, name) && m[2] == kind ? std::stol(m[1]) : -1;
+}
 
 ConfFile readSevenScenesSequence(const std::string& dir, const DepthReading& reading) {
   const DepthCamera cam = internal::sequenceCamera(dir, reading, 1000);

@@ -43,4 +43,18 @@ std::string lineOf(const std::string& path, int line) {
   return path + ": line " + std::to_string(line);
 }
 
+std::vector<std::vector<double>> squareRows(const std::string& path, size_t n,
+                                            const std::string& what) {
+  const auto lines = dataLines(path);
+  const std::string rows = std::to_string(n) + " rows of " + std::to_string(n) + " numbers";
+  if (lines.size() != n)
+    throw InputError(path + ": expected " + what + " (" + rows + "), found " +
+                     std::to_string(lines.size()) + " lines");
+  const std::string row = "a matrix row of " + std::to_string(n) + " numbers";
+  std::vector<std::vector<double>> out;
+  for (const auto& [number, text] : lines)
+    out.push_back(numbers(text, n, lineOf(path, number), row.c_str()));
+  return out;
+}
+
 }  // namespace rangefuse::io::internal

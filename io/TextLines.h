@@ -17,6 +17,12 @@ std::vector<std::pair<int, std::string>> dataLines(const std::string& path);
 std::vector<double> numbers(const std::string& text, size_t count, const std::string& where,
                             const char* expected);
 
+/// The n rows of n numbers a small matrix file holds (comments and blank lines skipped).
+/// Throws InputError naming the file (and the line) otherwise; `what` says what it should
+/// hold ("a 3 x 3 camera matrix K").
+std::vector<std::vector<double>> squareRows(const std::string& path, size_t n,
+                                            const std::string& what);
+
 /// "PATH: line N", for messages.
 std::string lineOf(const std::string& path, int line);
 

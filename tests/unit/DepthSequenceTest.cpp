@@ -516,6 +516,9 @@ TEST(DepthSequence, MalformedSevenScenesFoldersNameTheFile) {
   expectMessage(failure(dir.file("7s")), "camera-intrinsics.txt: expected a 3 x 3 camera matrix");
   dir.write("7s/camera-intrinsics.txt", "585 1 320\n0 585 240\n0 0 1\n");
   expectMessage(failure(dir.file("7s")), "camera-intrinsics.txt: not a pinhole camera matrix");
+  dir.write("7s/camera-intrinsics.txt", "585 0 320\n0 585\n0 0 1\n");
+  expectMessage(failure(dir.file("7s")),
+                "camera-intrinsics.txt: line 2: expected a matrix row of 3 numbers");
   fresh();
   // Forced onto another layout, and another layout forced onto it.
   io::writeRedwoodSequence(dir.file("rw"), frames(2), camera(9, 7));
