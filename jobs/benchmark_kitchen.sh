@@ -6,7 +6,8 @@
 # agrees to about 1 cm at best, not truth).
 # Sets: dev (frames 0-299, looked at while developing) and judge (frames 500-899, held out:
 # its settings were fixed before it was first run).
-# Usage: bash jobs/benchmark_kitchen.sh [SETS ("dev judge")] [BIN (build/rangefuse)]
+# Usage: [FUSE_ARGS="--close-loops"] bash jobs/benchmark_kitchen.sh [SETS ("dev judge")] [BIN]
+# (FUSE_ARGS: options added to rangefuse's command; BIN: build/rangefuse)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$(realpath "${2:-build/rangefuse}")
@@ -29,7 +30,7 @@ for set in ${1:-dev judge}; do
   NOPOSES=1 bash jobs/kitchen_as_redwood.sh "$tmp/$set-o3d" "$count" "$first" >/dev/null
   start=$(date +%s.%N)
   /usr/bin/time -f %M -o "$tmp/mem" mpirun -np 2 "$bin" fuse --scans "$tmp/$set" --voxel 0.01 \
-    --trajectory-out "$tmp/$set.txt" --out "$tmp/$set.ply" >"$tmp/$set.log" 2>&1
+    --trajectory-out "$tmp/$set.txt" --out "$tmp/$set.ply" ${FUSE_ARGS:-} >"$tmp/$set.log" 2>&1
   seconds=$(echo "$(date +%s.%N) - $start" | bc)
   # The reference is a .log (frame k at k / 30 s); our times are the frame numbers / 30.
   python3 - "$tmp/$set.txt" "$first" <<'PY'

@@ -6,6 +6,7 @@
 #include "rangefuse/core/Error.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/pipeline/GrowingBricks.h"
+#include "rangefuse/pipeline/HeldScans.h"
 #include "rangefuse/pipeline/PlacedScans.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/volume/BrickPlanning.h"
@@ -49,7 +50,17 @@ const BrickStore& TrackingField::build(const std::vector<size_t>& which,
   bricks_ = std::make_unique<GrowingBricks>(grid_, settings_.maxVoxels, settings_.threads, comm_);
   bricks_->startEmpty(settings_.colour);
   integrator_.reset();
-  for (size_t i : which) add(i, poses);
+  for (size_t i : which) {
+    // A frame let go of since is read once for both of add()'s passes, not once for each
+    // (a read-ahead thread gained nothing on two cores busy with two ranks).
+    bool read = false;
+    collectivelyOrThrow(comm_, [&] {
+      read = scans_.holds(i) && !scans_.held->kept(i);
+      if (read) scans_.held->readAndOffer(i);
+    });
+    add(i, poses);
+    if (read) scans_.held->release(i);
+  }
   return bricks_->store();
 }
 
