@@ -10,14 +10,11 @@
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/prism/PrismField.h"
 #include "rangefuse/register/Correspondences.h"
+#include "rangefuse/register/Registration.h"
 
 namespace rangefuse {
 namespace internal {
 namespace {
-
-double turnDegrees(const Eigen::Matrix3d& R) {
-  return Eigen::AngleAxisd(R).angle() * 180 / M_PI;
-}
 
 /// How far a motion moves points at `range` from its origin: its translation plus its turn.
 double displacement(const Pose& motion, double range) {
@@ -196,7 +193,7 @@ class KeyFrames {
     if (keyFrames_.empty()) return true;
     const Pose m = relative(poses[keyFrames_.back()], poses[i]);
     return m.t.norm() > s_.keyStepShare * points_.back().medianRange() ||
-           turnDegrees(m.R) > s_.keyTurnDeg;
+           rotationDegrees(m.R) > s_.keyTurnDeg;
   }
 
   /// Keeps frame i as a key frame, with the tracked motion from the last one as an edge.
