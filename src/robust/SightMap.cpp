@@ -1,6 +1,7 @@
 #include "rangefuse/robust/SightMap.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -17,6 +18,33 @@ constexpr int kMaxSide = 8192;  // cells along a raster side; a coarser cell bey
 constexpr double kLookedSigmas = 3;
 
 }  // namespace
+
+void SightMap::markBlind(const std::array<int, 4>& lines, int k, int cols, int rows) {
+  const int x0 = lines[0] / k, x1 = (cols - lines[1] + k - 1) / k;
+  const int y0 = lines[2] / k, y1 = (rows - lines[3] + k - 1) / k;
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x)
+      if (x < x0 || x >= x1 || y < y0 || y >= y1) depthAt(x, y) = kUnknown;
+}
+
+void SightMap::forgetEnclosedHoles() {
+  // Flood the holes the border reaches (views past what the frame saw) from the border inward.
+  std::vector<uint8_t> open(depth_.size(), 0);
+  std::vector<int32_t> queue;
+  const auto flood = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+    const int32_t i = y * width_ + x;
+    if (depth_[i] == kNothing && !open[i]) open[i] = 1, queue.push_back(i);
+  };
+  for (int x = 0; x < width_; ++x) flood(x, 0), flood(x, height_ - 1);
+  for (int y = 0; y < height_; ++y) flood(0, y), flood(width_ - 1, y);
+  for (size_t next = 0; next < queue.size(); ++next) {
+    const int x = queue[next] % width_, y = queue[next] / width_;
+    flood(x - 1, y), flood(x + 1, y), flood(x, y - 1), flood(x, y + 1);
+  }
+  for (size_t i = 0; i < depth_.size(); ++i)
+    if (depth_[i] == kNothing && !open[i]) depth_[i] = kUnknown;
+}
 
 void SightMap::allocate(int width, int height, float fill) {
   width_ = width, height_ = height;
@@ -35,7 +63,46 @@ Eigen::Vector3d SightMap::project(const Eigen::Vector3d& q) const {
   return {au_ * X + bu_, av_ * Y + bv_, depth};
 }
 
-SightMap SightMap::fromPinholeGrid(const RangeGrid& grid, int k) {
+namespace {
+
+/// The depth below which all but the farthest 0.1 % of a pinhole grid's returns lie: how far
+/// its sensor reached in this frame. A few stray far returns (flying pixels) do not stretch it.
+double farDepth(const RangeGrid& grid) {
+  std::vector<double> depths;
+  depths.reserve(grid.points.size());
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (const int32_t i = grid.at(r, c); i >= 0) depths.push_back(-grid.points[i].z());
+  if (depths.empty()) return 0;
+  const size_t k = static_cast<size_t>(0.999 * (depths.size() - 1));
+  std::nth_element(depths.begin(), depths.begin() + k, depths.end());
+  return depths[k];
+}
+
+/// The pixel lines at each side of a pinhole grid (left, right, top, bottom) that its sensor
+/// cannot see through: a run of lines from the border, at most a sixteenth of the side,
+/// without a single return, next to a line that returned in at least half its pixels. A depth
+/// camera's blind band looks so (a Kinect's last 8 of 640 columns); an object seen against
+/// empty space fades out over its silhouette instead.
+std::array<int, 4> blindBorders(const RangeGrid& grid) {
+  std::vector<int> perCol(grid.cols, 0), perRow(grid.rows, 0);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (grid.at(r, c) >= 0) ++perCol[c], ++perRow[r];
+  const auto blind = [](const std::vector<int>& count, int length, bool fromEnd) {
+    const int n = static_cast<int>(count.size());
+    const auto at = [&](int i) { return count[fromEnd ? n - 1 - i : i]; };
+    int run = 0;
+    while (run < n && at(run) == 0) ++run;
+    return run > 0 && 16 * run <= n && 2 * at(run) >= length ? run : 0;
+  };
+  return {blind(perCol, grid.rows, false), blind(perCol, grid.rows, true),
+          blind(perRow, grid.cols, false), blind(perRow, grid.cols, true)};
+}
+
+}  // namespace
+
+SightMap SightMap::fromPinholeGrid(const RangeGrid& grid, int k, NoReturn noReturn) {
   SightMap m;
   m.rays_ = Rays::Pinhole;
   k = std::max(1, k);
@@ -51,6 +118,11 @@ SightMap SightMap::fromPinholeGrid(const RangeGrid& grid, int k) {
       float& d = m.depthAt(c / k, r / k);
       d = std::min(d, static_cast<float>(-grid.points[i].z()));
     }
+  if (noReturn == NoReturn::DepthCamera) {
+    m.reach_ = farDepth(grid);
+    m.markBlind(blindBorders(grid), k, grid.cols, grid.rows);
+    m.forgetEnclosedHoles();
+  }
   return m;
 }
 
@@ -255,6 +327,7 @@ double SightMap::clearanceAt(const Eigen::Vector3d& p, double& depth) const {
       if (std::isnan(d)) return NAN;
       nearest = std::min(nearest, d);
     }
+  if (nearest == kNothing && r.z() > reach_) return NAN;  // out of the sensor's reach
   return nearest - r.z();
 }
 
@@ -298,11 +371,12 @@ bool SightMap::mayCover(const Eigen::AlignedBox3d& box) const {
 }
 
 void SightMap::pack(std::vector<char>& out) const {
-  double head[17] = {static_cast<double>(rays_), au_, bu_, av_, bv_};
+  double head[18] = {static_cast<double>(rays_), au_, bu_, av_, bv_};
   for (int i = 0; i < 9; ++i) head[5 + i] = toScan_.R(i / 3, i % 3);
   for (int i = 0; i < 3; ++i) head[14 + i] = toScan_.t[i];
+  head[17] = reach_;
   const int32_t size[2] = {width_, height_};
-  mpi::pack(out, head, 17);
+  mpi::pack(out, head, 18);
   mpi::pack(out, size, 2);
   mpi::pack(out, depth_.data(), depth_.size());
   const int32_t points = static_cast<int32_t>(noise_.depths().size());
@@ -313,9 +387,9 @@ void SightMap::pack(std::vector<char>& out) const {
 }
 
 SightMap SightMap::unpack(const std::vector<char>& in, size_t& pos) {
-  double head[17];
+  double head[18];
   int32_t size[2];
-  mpi::unpack(in, pos, head, 17);
+  mpi::unpack(in, pos, head, 18);
   mpi::unpack(in, pos, size, 2);
   SightMap m;
   if (!(head[0] == 0 || head[0] == 1 || head[0] == 2))
@@ -324,6 +398,7 @@ SightMap SightMap::unpack(const std::vector<char>& in, size_t& pos) {
   m.au_ = head[1], m.bu_ = head[2], m.av_ = head[3], m.bv_ = head[4];
   for (int i = 0; i < 9; ++i) m.toScan_.R(i / 3, i % 3) = head[5 + i];
   for (int i = 0; i < 3; ++i) m.toScan_.t[i] = head[14 + i];
+  m.reach_ = head[17];
   m.allocate(size[0], size[1], kUnknown);
   mpi::unpack(in, pos, m.depth_.data(), m.depth_.size());
   int32_t points = 0;

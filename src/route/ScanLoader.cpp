@@ -14,16 +14,19 @@ namespace rangefuse {
 
 namespace {
 
-/// What the scan saw, on cells of about the merged grid's (the voxel's) scale.
+/// What the scan saw, on cells of about the merged grid's (the voxel's) scale. A depth
+/// image's pixels without a return are measurements its camera did not make.
 SightMap sightMapOf(const RangeGrid& grid, const ScanSurface& local, const SurfaceOptions& o,
-                    const RangeNoise& noise) {
+                    const RangeNoise& noise, bool depthImage) {
   const double spacing = lateralSpacing(grid);
   const int shortSide = std::min(grid.cols, grid.rows);
   const int k = o.mergeTarget > 0 ? mergeFactor(spacing, o.mergeTarget, shortSide) : 1;
   // A station's lines of sight fan out in angles: cells of its (merged) angular step.
   SightMap map = grid.spherical ? SightMap::fromStation(local, k * angularSpacing(grid))
                  : grid.pinhole
-                     ? SightMap::fromPinholeGrid(grid, k)
+                     ? SightMap::fromPinholeGrid(grid, k,
+                                                 depthImage ? SightMap::NoReturn::DepthCamera
+                                                            : SightMap::NoReturn::SawNothing)
                      : SightMap::fromSurface(local, std::max(o.mergeTarget, spacing), &grid);
   // A merged point is the mean of k x k cells: 1 / k of their noise.
   map.setNoise(noise, 1.0 / k);
@@ -58,7 +61,8 @@ PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
   s.surface = buildScanSurface(grid, Pose{}, options, &noise);
   s.limits = computePrismLimits(s.surface, eps);
   if (options.sightMap)
-    s.sight = std::make_shared<SightMap>(sightMapOf(grid, s.surface, options, noise));
+    s.sight = std::make_shared<SightMap>(
+        sightMapOf(grid, s.surface, options, noise, c.depth.has_value()));
   return s;
 }
 

@@ -82,6 +82,46 @@ TEST(SightMap, NoReturnSawThroughEverything) {
   EXPECT_LT(m.clearance(Eigen::Vector3d(0.0125 * 5, 0, -5)), 6);
 }
 
+/// planeGrid's map as a depth camera's frame.
+SightMap depthCameraMap(const RangeGrid& grid, int k) {
+  return SightMap::fromPinholeGrid(grid, k, SightMap::NoReturn::DepthCamera);
+}
+
+TEST(SightMap, ADepthCamerasEmptyPixelsSayNothingBeyondItsReach) {
+  // The plane at depth 10 is the farthest the frame measured: its empty half is empty space
+  // in front of that depth and unknown beyond it (the camera may not reach so far).
+  for (int k : {1, 2}) {
+    const SightMap m = depthCameraMap(planeGrid(20), k);
+    EXPECT_EQ(m.clearance(Eigen::Vector3d(0.4 * 8, 0, -8)), INFINITY);  // column 27.5
+    EXPECT_TRUE(std::isnan(m.clearance(Eigen::Vector3d(0.4 * 12, 0, -12))));
+    EXPECT_NEAR(m.clearance(Eigen::Vector3d(-0.25 * 5, 0, -5)), 5, 1e-5);  // column 14
+  }
+}
+
+TEST(SightMap, ADepthCamerasDropoutInsideWhatItSawSaysNothing) {
+  // A hole of 6 x 6 pixels in the plane (a dark patch): its rays may well have met the plane.
+  // Opened to the frame's top border, the same hole is a view past what the frame saw.
+  RangeGrid g = planeGrid(40);
+  for (int r = 12; r < 18; ++r)
+    for (int c = 17; c < 23; ++c) g.cell[r * g.cols + c] = -1;
+  const Eigen::Vector3d centre(0, 0, -5);
+  EXPECT_TRUE(std::isnan(depthCameraMap(g, 1).clearance(centre)));
+  EXPECT_EQ(SightMap::fromPinholeGrid(g, 1).clearance(centre), INFINITY);  // a scanner's
+  for (int r = 0; r < 12; ++r)
+    for (int c = 19; c < 21; ++c) g.cell[r * g.cols + c] = -1;
+  EXPECT_EQ(depthCameraMap(g, 1).clearance(centre), INFINITY);
+}
+
+TEST(SightMap, ADepthCamerasBlindBandSaysNothing) {
+  // The last 2 of 40 columns without a return beside a full column: the camera's blind band
+  // (a sixteenth of the side at most). Half the frame empty is a view into empty space (above).
+  for (int k : {1, 2}) {
+    const SightMap band = depthCameraMap(planeGrid(38), k);
+    EXPECT_TRUE(std::isnan(band.clearance(Eigen::Vector3d(0.925 * 5, 0, -5))));  // column 38
+    EXPECT_NEAR(band.clearance(Eigen::Vector3d(0.6 * 5, 0, -5)), 5, 1e-5);       // column 31
+  }
+}
+
 TEST(SightMap, OrthographicSurfaceAndUnknownOutsideIt) {
   ScanSurface s;  // the square [0, 10]^2 at z = 2, seen from +z
   s.points = {{0, 0, 2}, {10, 0, 2}, {10, 10, 2}, {0, 10, 2}};
@@ -232,6 +272,13 @@ TEST(SightMap, PackUnpackRoundTrip) {
   EXPECT_EQ(pos, bytes.size());
   for (const Eigen::Vector3d& p : {Eigen::Vector3d(1, 0, -4), Eigen::Vector3d(-2, 1, -7)})
     EXPECT_EQ(back.clearance(pose.apply(p)), m.clearance(pose.apply(p)));
+  SightMap camera = depthCameraMap(planeGrid(30), 2);  // its reach travels with it
+  camera.place(pose);
+  bytes.clear(), pos = 0;
+  camera.pack(bytes);
+  const SightMap cameraBack = SightMap::unpack(bytes, pos);
+  EXPECT_EQ(cameraBack.clearance(pose.apply(Eigen::Vector3d(5.6, 0, -8))), INFINITY);
+  EXPECT_TRUE(std::isnan(cameraBack.clearance(pose.apply(Eigen::Vector3d(7.7, 0, -11)))));
   SightMap station = SightMap::fromStation(stationSphere(), 0.05);
   station.place(pose);
   bytes.clear(), pos = 0;

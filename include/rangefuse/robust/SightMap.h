@@ -3,7 +3,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "rangefuse/core/Pose.h"
@@ -21,9 +23,22 @@ class SightMap {
  public:
   SightMap() = default;
 
-  /// A pinhole grid's own pixels, in blocks of k x k (scan frame): a block where the scanner
-  /// got no return saw through everything (free to infinity); outside the frame: unknown.
-  static SightMap fromPinholeGrid(const RangeGrid& grid, int k);
+  /// What a pixel without a return says of its ray.
+  enum class NoReturn : uint8_t {
+    /// Nothing lies along it: a scanner whose returns stop only at empty space.
+    SawNothing,
+    /// A depth image's 0, a measurement the camera did not make: a dark, shiny or grazing
+    /// surface, a projector's shadow, a surface out of range, a blind band at the image's
+    /// side. It says the ray is empty only in front of the frame's reach, and only where the
+    /// hole opens to the frame's border (a view past what the frame saw), not in a blind band.
+    DepthCamera,
+  };
+
+  /// A pinhole grid's own pixels, in blocks of k x k (scan frame): a block without a return
+  /// saw through everything (free to infinity) as `noReturn` says, else is unknown; outside
+  /// the frame: unknown.
+  static SightMap fromPinholeGrid(const RangeGrid& grid, int k,
+                                  NoReturn noReturn = NoReturn::SawNothing);
   /// A near-orthographic scan's triangles (scan frame) on cells `cell` wide. With the scan's
   /// `grid`, when its points lie on a regular lattice of columns and rows, the cells of its
   /// frame where the scanner got no return saw nothing (free to infinity); other cells no
@@ -89,6 +104,13 @@ class SightMap {
   /// Marks the raster cells of `grid`'s frame (x = fit[0] col + fit[1], y = fit[2] row +
   /// fit[3]) where it got no return and nothing else is known as having seen nothing.
   void markNoReturns(const RangeGrid& grid, const Eigen::Vector4d& fit);
+  /// Marks unknown the cells wholly inside a pinhole grid's blind lines (pixels counted from
+  /// each side: left, right, top, bottom), for blocks of k x k of a `cols` x `rows` grid.
+  void markBlind(const std::array<int, 4>& lines, int k, int cols, int rows);
+  /// Marks unknown the holes the raster's border does not reach through 4-connected cells
+  /// without a return: inside what a depth camera saw, a hole is a dropout, which says
+  /// nothing of what lies along its rays.
+  void forgetEnclosedHoles();
   void rasterize(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
   void allocate(int width, int height, float fill);
   /// Drops the rows and columns on the raster's borders where nothing is known: clearance
@@ -107,6 +129,9 @@ class SightMap {
   double au_ = 1, bu_ = 0, av_ = 1, bv_ = 0;
   int width_ = 0, height_ = 0;
   std::vector<float> depth_;  ///< NaN: unknown; +inf: saw nothing
+  /// Where cells that saw nothing stop being evidence: a depth image's reach (farDepth),
+  /// infinite for scanners that report no return only where nothing is.
+  double reach_ = std::numeric_limits<double>::infinity();
   RangeNoise noise_;
   double sampleShare_ = 1;
 };
