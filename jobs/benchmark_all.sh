@@ -8,6 +8,8 @@
 #                             what each peak was made of
 #   benchmark_weak_scaling.sh the same work on every rank, 1 to 8 ranks
 #   benchmark_sequence.sh     a depth-camera sequence at true poses beside ScalableTSDFVolume
+#   benchmark_robust_depth.sh robust fusion on depth-camera frames: the synthetic Kinect room
+#                             beside ScalableTSDFVolume, the real kitchen against prism
 #   benchmark_tracking.sh     depth streams without poses beside Open3D's frame-to-frame ICP
 #   benchmark_kitchen.sh      real Kinect frames (7-Scenes, read in place), poses hidden,
 #                             beside Open3D's frame-to-frame ICP: the dev and held-out sets
@@ -30,6 +32,7 @@ run benchmark_speed
 run benchmark_memory 48 1024 1 4
 run benchmark_weak_scaling 6 1 2 4 8
 run benchmark_sequence
+run benchmark_robust_depth
 run benchmark_tracking
 run benchmark_kitchen
 echo "== summary ($(date +%H:%M:%S)); tables in $out/"
