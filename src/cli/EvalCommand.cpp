@@ -29,7 +29,7 @@ namespace {
 
 struct EvalOptions {
   std::string mesh, reference, seen, poses, referencePoses, jsonOut, trajectory;
-  double voxel = 0, tau = 1, spurious = 3;
+  double voxel = 0, tau = 1, spurious = 3, nearEdge = 2;
   size_t samples = 200000;
   bool json = false, consistency = false;
   InputLimits limits;
@@ -66,7 +66,7 @@ json colourReport(const TriangleMesh& mesh, const TriangleMesh& ref, const EvalO
                   (mesh.colours.empty() ? o.mesh : o.reference).c_str());
     return nullptr;
   }
-  const ColourComparison c = compareColours(mesh, ref, o.spurious * o.voxel);
+  const ColourComparison c = compareColours(mesh, ref, o.spurious * o.voxel, o.nearEdge * o.voxel);
   if (!o.json) {
     std::printf(
         "colour error  mean %.3f  median %.3f  p90 %.3f  p99 %.3f  (of 255, %zu vertices within "
@@ -76,11 +76,20 @@ json colourReport(const TriangleMesh& mesh, const TriangleMesh& ref, const EvalO
         "edge contrast %.4f over %zu mesh edges across texture edges (1: as sharp as the "
         "reference)\n",
         c.edgeContrast, c.edges);
+    std::printf(
+        "colour error  near texture edges (within %.3g voxels) mean %.3f over %zu vertices; "
+        "farther mean %.3f over %zu\n",
+        o.nearEdge, c.nearEdgeError.mean, c.nearEdgeVertices, c.farEdgeError.mean,
+        c.farEdgeVertices);
   }
-  return {{"vertices", c.vertices},
-          {"error", statsJson(c.error)},
-          {"edge_contrast", c.edgeContrast},
-          {"edges", c.edges}};
+  return {
+      {"vertices", c.vertices},
+      {"error", statsJson(c.error)},
+      {"near_edge_voxels", o.nearEdge},
+      {"near_edge", {{"vertices", c.nearEdgeVertices}, {"error", statsJson(c.nearEdgeError)}}},
+      {"far_from_edge", {{"vertices", c.farEdgeVertices}, {"error", statsJson(c.farEdgeError)}}},
+      {"edge_contrast", c.edgeContrast},
+      {"edges", c.edges}};
 }
 
 json meshReport(const EvalOptions& o) {
@@ -460,6 +469,8 @@ int evalCommand(int argc, char** argv, MPI_Comm comm) {
       "the scanners saw")("tau", po::value(&o.tau)->default_value(1.0),
                           "F-score threshold, voxels")(
       "spurious", po::value(&o.spurious)->default_value(3.0), "spurious-area distance, voxels")(
+      "near-edge", po::value(&o.nearEdge)->default_value(2.0),
+      "colour: vertices this near a texture edge of the reference are reported apart, voxels")(
       "samples", po::value(&o.samples)->default_value(200000), "area-weighted samples per mesh");
   po::options_description poses("Poses and trajectories");
   poses.add_options()("poses", po::value(&o.poses), "estimated poses (.conf)")(

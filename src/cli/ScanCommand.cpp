@@ -60,7 +60,8 @@ json groundTruth(const ScanOptions& o, const SyntheticSet& set) {
               {"rot_deg", s.rotDeg},
               {"trans_voxels", s.transVox},
               {"seed", s.seed},
-              {"texture", s.texture}}},
+              {"texture", s.texture},
+              {"colour_shift", s.colourShift}}},
             {"object_centre", vec(set.centre)},
             {"object_radius", set.radius}};
   for (const auto& sc : set.scans) {
@@ -209,6 +210,8 @@ ScanOptions checked(ScanOptions o) {
   if (o.format != "ply" && !isSequenceFormat(o.format) && o.format != "ptx" && o.format != "e57")
     throw InputError("scan: --format must be ply, tum, redwood, 7scenes, ptx or e57");
   if (o.settings.texture < 0) throw InputError("scan: --texture must not be negative");
+  if (o.settings.colourShift != 0 && !(o.settings.texture > 0))
+    throw InputError("scan: --colour-shift needs --texture (a colour image to shift)");
   if (o.e57Coordinates != "double" && o.e57Coordinates != "single" &&
       o.e57Coordinates != "scaled" && o.e57Coordinates != "spherical")
     throw InputError("scan: --e57-coordinates must be double, single, scaled or spherical");
@@ -314,6 +317,9 @@ int scanCommand(int argc, char** argv, MPI_Comm comm) {
       "colour the surface with checks of this side (world units; 0: no colour): range grids and "
       "PTX get red green blue, sequences colour images (TUM rgb/, Redwood color/), truth.ply "
       "the checks' colour at its vertices")(
+      "colour-shift", po::value(&s.colourShift)->default_value(0.0),
+      "with --texture: the colour image misregistered with the depth by this many pixels along "
+      "its rows, as a colour camera calibrated to about a pixel (pinhole views)")(
       "jpeg", po::bool_switch(&o.jpeg),
       "write sequences' colour images as JPEG (quality 95), as Open3D's recorder does")(
       "e57-coordinates", po::value(&o.e57Coordinates)->default_value(o.e57Coordinates),

@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "rangefuse/core/KdTree.h"
+
 namespace rangefuse {
 namespace {
 
@@ -50,18 +52,56 @@ void edgeContrast(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& 
   c.edgeContrast = squared > 0 ? along / squared : 0;
 }
 
+/// Where the reference's texture edges run: the middle of each of its edges whose two ends
+/// differ by kTextureEdgeStep or more (the synthetic truth splits such edges finely).
+PointCloud textureEdges(const TriangleMesh& reference) {
+  std::set<std::pair<int64_t, int64_t>> seen;
+  PointCloud out;
+  for (const Triangle& t : reference.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int64_t a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
+      const Eigen::Vector3f step = reference.colours[a] - reference.colours[b];
+      if (step.norm() < kTextureEdgeStep || !seen.insert({a, b}).second) continue;
+      out.pts.push_back(0.5 * (reference.vertices[a] + reference.vertices[b]));
+    }
+  return out;
+}
+
+/// For each mesh vertex, whether a texture edge of the reference lies within `nearEdge`.
+std::vector<bool> nearTextureEdges(const TriangleMesh& mesh, const TriangleMesh& reference,
+                                   double nearEdge) {
+  const PointCloud edges = textureEdges(reference);
+  std::vector<bool> near(mesh.vertices.size(), false);
+  if (edges.pts.empty()) return near;
+  const auto tree = buildKdTree(edges);
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    uint32_t index;
+    double squared;
+    tree->knnSearch(mesh.vertices[i].data(), 1, &index, &squared);
+    near[i] = squared <= nearEdge * nearEdge;
+  }
+  return near;
+}
+
 }  // namespace
 
 ColourComparison compareColours(const TriangleMesh& mesh, const TriangleMesh& reference,
-                                double maxDistance) {
+                                double maxDistance, double nearEdge) {
   ColourComparison c;
   const std::vector<Eigen::Vector3f> ref = referenceColours(mesh, reference, maxDistance);
-  std::vector<double> errors;
-  for (size_t i = 0; i < ref.size(); ++i)
-    if (ref[i].allFinite())
-      errors.push_back(255.0 * (mesh.colours[i] - ref[i]).cwiseAbs().cast<double>().mean());
+  const std::vector<bool> near = nearTextureEdges(mesh, reference, nearEdge);
+  std::vector<double> errors, nearErrors, farErrors;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    if (!ref[i].allFinite()) continue;
+    const double e = 255.0 * (mesh.colours[i] - ref[i]).cwiseAbs().cast<double>().mean();
+    errors.push_back(e);
+    (near[i] ? nearErrors : farErrors).push_back(e);
+  }
   c.vertices = errors.size();
+  c.nearEdgeVertices = nearErrors.size(), c.farEdgeVertices = farErrors.size();
   c.error = summarize(std::move(errors));
+  c.nearEdgeError = summarize(std::move(nearErrors));
+  c.farEdgeError = summarize(std::move(farErrors));
   edgeContrast(mesh, ref, c);
   return c;
 }

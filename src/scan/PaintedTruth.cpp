@@ -31,24 +31,26 @@ class Midpoints {
   std::map<std::pair<int32_t, int32_t>, int32_t> made_;
 };
 
-bool crossesAnEdge(const TriangleMesh& m, const Triangle& t, double finest) {
-  const auto& c = m.colours;
-  if (c[t[0]] == c[t[1]] && c[t[1]] == c[t[2]]) return false;
+/// Whether a triangle is still too coarse: longer than `coarsest` (a check could lie inside it
+/// with its corners all one colour), or crossing a check edge and longer than `finest`.
+bool needsSplit(const TriangleMesh& m, const Triangle& t, double coarsest, double finest) {
   double longest = 0;
   for (int k = 0; k < 3; ++k)
     longest = std::max(longest, (m.vertices[t[k]] - m.vertices[t[(k + 1) % 3]]).norm());
-  return longest > finest;
+  if (longest > coarsest) return true;
+  const auto& c = m.colours;
+  return !(c[t[0]] == c[t[1]] && c[t[1]] == c[t[2]]) && longest > finest;
 }
 
-/// One pass: every triangle that crosses a check edge and is still coarse becomes four.
-/// Returns whether any was split.
+/// One pass: every triangle still too coarse (needsSplit) becomes four. Returns whether any was
+/// split.
 bool splitPass(TriangleMesh& m, double size, double finest) {
   Midpoints mid(m, size);
   std::vector<Triangle> faces;
   faces.reserve(m.faces.size());
   bool split = false;
   for (const Triangle& t : m.faces) {
-    if (!crossesAnEdge(m, t, finest)) {
+    if (!needsSplit(m, t, size / 4, finest)) {
       faces.push_back(t);
       continue;
     }
@@ -70,8 +72,8 @@ TriangleMesh paintedTruth(const TriangleMesh& mesh, double size, double finest) 
   m.normals.clear();
   m.colours.clear();
   for (const Eigen::Vector3d& v : m.vertices) m.colours.push_back(checkColour(v, size));
-  // Each pass halves the split triangles' edges; 12 passes bound it whatever the input.
-  for (int pass = 0; pass < 12 && splitPass(m, size, finest); ++pass) {
+  // Each pass halves the split triangles' edges; 24 passes bound it whatever the input.
+  for (int pass = 0; pass < 24 && splitPass(m, size, finest); ++pass) {
   }
   return m;
 }

@@ -75,7 +75,7 @@ Eigen::Vector3d stationRay(const RangeGrid& g, int r, int c) {
   return Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
 }
 
-Eigen::Vector3d pinholeRay(const RangeGrid& g, int r, int c) {
+Eigen::Vector3d pinholeRay(const RangeGrid& g, double r, double c) {
   return Eigen::Vector3d((c - g.pinhole->cx) / g.pinhole->fx, (r - g.pinhole->cy) / g.pinhole->fy,
                          -1)
       .normalized();
@@ -167,6 +167,17 @@ double quantisedRange(double t, const Eigen::Vector3d& ray, const Pinhole& lens,
   return fb / disparity / -ray.z();
 }
 
+/// The colour image's pixel at a depth pixel whose ray hit at range `t` (`onPatch`): the
+/// colour there, or with the colour image shifted (`shift` pixels) what its own ray `colourRay`
+/// (scan frame) hits.
+Colour pixelColour(const Bvh& bvh, const TriangleMesh& patches, const Pose& cam, double t,
+                   bool onPatch, double shift, const Eigen::Vector3d& colourRay,
+                   const ScanSettings& set) {
+  if (shift != 0) t = castPixel(bvh, patches, cam.t, cam.R * colourRay, onPatch);
+  if (std::isnan(t)) return Colour(0, 0, 0);  // the colour camera sees past the scene
+  return onPatch ? patchColour() : checkColour(cam.apply(t * colourRay), set.texture);
+}
+
 void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, double depthLo,
             double depthHi, double eyeDistance, const ScanSettings& set, std::mt19937_64& rng) {
   RangeGrid& g = s.grid;
@@ -187,8 +198,9 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
       if (std::isnan(t)) continue;
       // The colour of what the ray truly hits: a colour camera is not fooled by a depth outlier.
       if (set.texture > 0)
-        g.colours.push_back(onPatch ? patchColour()
-                                    : checkColour(s.truth.apply(t * ray), set.texture));
+        g.colours.push_back(
+            pixelColour(bvh, patches, s.truth, t, onPatch, g.spherical ? 0 : set.colourShift,
+                        g.spherical ? ray : pinholeRay(g, r, c + set.colourShift), set));
       if (set.outliers > 0 && unit(rng) < set.outliers)
         t = depth(rng);
       else if (set.noise > 0)
@@ -241,6 +253,18 @@ struct Scene {
   }
 };
 
+/// The colour image's pixel at depth pixel (r, c), whose ray hit `hit` (`onPatch`): shifted by
+/// set.colourShift pixels along the row, the colour camera's own ray may meet something else.
+Colour sensorColour(const Scene& scene, const Pose& cam, const Eigen::Vector3d& hit, bool onPatch,
+                    const RangeGrid& g, int r, int c, const ScanSettings& set) {
+  if (set.colourShift == 0) return onPatch ? patchColour() : checkColour(hit, set.texture);
+  const Eigen::Vector3d dir = cam.R * pinholeRay(g, r, c + set.colourShift);
+  Eigen::Vector3d normal;
+  const double t = scene.cast(cam.t, dir, normal, onPatch);
+  if (std::isnan(t)) return Colour(0, 0, 0);  // the colour camera sees past the scene
+  return onPatch ? patchColour() : checkColour(cam.t + t * dir, set.texture);
+}
+
 /// Frame i of a depth camera under set.sensor: each row seen from where the camera was when
 /// the row was read (rolling shutter, time offset), rays the projector cannot reach (its
 /// shadows), grazing rays, dark surfaces and depths out of range return nothing, then the
@@ -273,7 +297,7 @@ void renderSensor(SyntheticScan& s, const Scene& scene, const std::function<Pose
       if (m.shadows && scene.blocked(hit, projector)) continue;
       const size_t k = static_cast<size_t>(r) * g.cols + c;
       depth[k] = z;
-      if (set.texture > 0) colour[k] = onPatch ? patchColour() : checkColour(hit, set.texture);
+      if (set.texture > 0) colour[k] = sensorColour(scene, cam, hit, onPatch, g, r, c, set);
     }
   }
   applyImageFaults(depth, g.cols, g.rows, g.pinhole->fx, m, rng);
@@ -292,9 +316,12 @@ void renderSensor(SyntheticScan& s, const Scene& scene, const std::function<Pose
 }  // namespace
 
 Colour checkColour(const Eigen::Vector3d& p, double size) {
-  const long parity = static_cast<long>(std::floor(p.x() / size)) +
-                      static_cast<long>(std::floor(p.y() / size)) +
-                      static_cast<long>(std::floor(p.z() / size));
+  // Scenes put planes at round coordinates (a room's floor at 0): a check edge there would
+  // split the plane's colour by the sign of its noise.
+  constexpr double kOffset = 0.382;  // of a side
+  const long parity = static_cast<long>(std::floor(p.x() / size + kOffset)) +
+                      static_cast<long>(std::floor(p.y() / size + kOffset)) +
+                      static_cast<long>(std::floor(p.z() / size + kOffset));
   return parity % 2 == 0 ? Colour(0.85f, 0.35f, 0.15f) : Colour(0.15f, 0.45f, 0.80f);
 }
 

@@ -35,7 +35,7 @@ TriangleMesh checkedGrid(double z) {
 
 TEST(ColourError, AMeshEqualToItsReferenceHasNoErrorAndFullContrast) {
   const TriangleMesh m = checkedGrid(0);
-  const ColourComparison c = compareColours(m, m, 0.01);
+  const ColourComparison c = compareColours(m, m, 0.01, 0.06);
   EXPECT_EQ(c.vertices, m.vertices.size());
   EXPECT_NEAR(c.error.max, 0, 1e-4);
   // One column of edges crosses the step on each row: horizontal and diagonal edges.
@@ -52,7 +52,7 @@ TEST(ColourError, HalvedStepsGiveHalfTheContrastAndTheirError) {
     colour = 0.5f * colour + Eigen::Vector3f::Constant(0.25f);
     want += 255.0 * (colour - before).cwiseAbs().cast<double>().mean() / m.colours.size();
   }
-  const ColourComparison c = compareColours(m, ref, 0.01);
+  const ColourComparison c = compareColours(m, ref, 0.01, 0.06);
   EXPECT_NEAR(c.edgeContrast, 0.5, 1e-6);
   EXPECT_NEAR(c.error.mean, want, 1e-3);
 }
@@ -64,7 +64,7 @@ TEST(ColourError, NoiseDoesNotPassForContrast) {
   std::normal_distribution<float> noise(0, 0.05f);
   for (auto& colour : m.colours)
     for (int k = 0; k < 3; ++k) colour[k] += noise(rng);
-  const ColourComparison c = compareColours(m, ref, 0.01);
+  const ColourComparison c = compareColours(m, ref, 0.01, 0.06);
   EXPECT_NEAR(c.edgeContrast, 1, 0.1);
   // The mean of |N(0, s)| is s sqrt(2 / pi).
   EXPECT_NEAR(c.error.mean, 255 * 0.05 * std::sqrt(2 / M_PI), 0.5);
@@ -74,7 +74,27 @@ TEST(ColourError, VerticesBeyondTheLimitAreNotCompared) {
   const TriangleMesh ref = checkedGrid(0);
   TriangleMesh m = checkedGrid(0.02);
   for (size_t i = 0; i < m.vertices.size() / 2; ++i) m.vertices[i].z() = 0.005;
-  const ColourComparison c = compareColours(m, ref, 0.01);
+  const ColourComparison c = compareColours(m, ref, 0.01, 0.06);
   EXPECT_EQ(c.vertices, m.vertices.size() / 2);
   EXPECT_NEAR(c.error.max, 0, 1e-4);
+}
+
+TEST(ColourError, ErrorNearTextureEdgesIsReportedApart) {
+  // The step runs at x = 0.5, between columns 19 and 20 (spacing 1/39): within 0.06 of it lie
+  // columns 18 to 21 of every row. Only those are greyed, so the far error is zero.
+  const TriangleMesh ref = checkedGrid(0);
+  TriangleMesh m = ref;
+  const Eigen::Vector3f grey = Eigen::Vector3f::Constant(0.5f);
+  double want = 0;
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 18; i <= 21; ++i) {
+      auto& colour = m.colours[size_t(j * kSide + i)];
+      want += 255.0 * (grey - colour).cwiseAbs().cast<double>().mean();
+      colour = grey;
+    }
+  const ColourComparison c = compareColours(m, ref, 0.01, 0.06);
+  EXPECT_EQ(c.nearEdgeVertices, size_t(4 * kSide));
+  EXPECT_EQ(c.farEdgeVertices, m.vertices.size() - 4 * kSide);
+  EXPECT_NEAR(c.nearEdgeError.mean, want / (4 * kSide), 1e-3);
+  EXPECT_NEAR(c.farEdgeError.max, 0, 1e-4);
 }

@@ -19,6 +19,10 @@ struct ColourComparison {
   /// edges): 1 when the edge is as sharp as in the reference, less when fusion blurs it.
   double edgeContrast = 0;
   size_t edges = 0;  ///< mesh edges that cross a texture edge of the reference
+  /// The error split by distance from the reference's nearest texture edge: vertices within
+  /// the `nearEdge` distance, and the others. Where fusion blurs colour, the first shows it.
+  DistanceStats nearEdgeError, farEdgeError;
+  size_t nearEdgeVertices = 0, farEdgeVertices = 0;
 };
 
 /// The step between two vertices' reference colours (Euclidean, channels in [0, 1]) from which
@@ -27,9 +31,10 @@ constexpr double kTextureEdgeStep = 0.1;
 
 /// Compares the vertex colours of `mesh` with those of `reference` at the reference's closest
 /// point (its corner colours interpolated there). Vertices farther than `maxDistance` from the
-/// reference are not compared: their colour belongs to no reference surface. Both meshes must
-/// have colours.
+/// reference are not compared: their colour belongs to no reference surface. A texture edge
+/// runs through the middle of each reference edge whose ends differ by kTextureEdgeStep; a
+/// vertex within `nearEdge` of one counts as near an edge. Both meshes must have colours.
 ColourComparison compareColours(const TriangleMesh& mesh, const TriangleMesh& reference,
-                                double maxDistance);
+                                double maxDistance, double nearEdge);
 
 }  // namespace rangefuse

@@ -44,7 +44,10 @@ struct ScanSettings {
   double rotDeg = 0;    ///< perturbation: rotation about each axis uniform in [-A, A]
   double transVox = 0;  ///< perturbation: translation along each axis uniform in [-T, T]
   uint64_t seed = 1;
-  double texture = 0;       ///< checks of this side (world units) colour the surface; 0: no colour
+  double texture = 0;  ///< checks of this side (world units) colour the surface; 0: no colour
+  /// The colour image misregistered with the depth by this many pixels along its rows (a
+  /// colour camera beside the depth camera, calibrated to within about a pixel). Pinhole views.
+  double colourShift = 0;
   DepthSensorModel sensor;  ///< a depth camera's faults (pinhole views; inactive by default)
 };
 
@@ -77,7 +80,9 @@ struct SyntheticSet {
 SyntheticSet scanMesh(const TriangleMesh& mesh, const ScanSettings& settings);
 
 /// The synthetic scenes' analytic colour at world point p: cubes of side `size` alternating
-/// orange and blue, so that a surface shows checks whose edges are sharp at any scale.
+/// orange and blue, so that a surface shows checks whose edges are sharp at any scale. The
+/// cubes' edges lie 0.382 of a side off round coordinates, so that no plane at a round
+/// coordinate (a room's floor at 0) lies on one.
 Colour checkColour(const Eigen::Vector3d& p, double size);
 
 /// The colour of an extraneous patch (magenta: told apart from both checks).
