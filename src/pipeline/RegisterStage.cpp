@@ -110,6 +110,61 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
                  loose.size() - kNamed);
 }
 
+/// Collective: the kOthersChecked scans registration moved farthest from `given` (the scans
+/// that started farthest off, nearest the edge of its basin) fitted against the others' field
+/// (Registration.h, fitAgainstOthers); warns, on rank 0, for each that fit moves by more than
+/// kOthersMotion voxels and whose pose the data holds firmly (a loose scan's pose along its
+/// loose motion is not in the data). Returns false when a rank failed.
+bool checkAgainstOthers(const std::vector<RegistrationStep>& steps, const LoadedScans& scans,
+                        const std::vector<Pose>& given, const FitControl& r,
+                        RegistrationField& field, double voxel, MPI_Comm comm, Progress& progress) {
+  const std::vector<ScanStanding> standings = lastStandings(steps);
+  if (standings.size() < kFewestJudged) return true;
+  std::vector<OthersFit> fits;
+  try {
+    const std::vector<double> moved = scanMotions(*scans.held, given, scans.poses, comm);
+    std::vector<size_t> order;
+    for (size_t i = 0; i < moved.size(); ++i)
+      if (i != r.anchor) order.push_back(i);
+    // Farthest first; ties by index, so that every rank picks the same scans.
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return moved[a] > moved[b]; });
+    order.resize(std::min(order.size(), kOthersChecked));
+    fits = fitAgainstOthers(*scans.held, scans.poses, r, field, order, comm);
+  } catch (const mpi::Reported&) {
+    return false;
+  }
+  double largest = 0;
+  size_t at = 0;
+  for (const OthersFit& f : fits)
+    if (f.motion > largest) largest = f.motion, at = f.scan;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the %zu scans that moved most, each against the others' field: largest "
+                "motion %.3f voxel (%s)",
+                fits.size(), largest / voxel, scans.names[at].c_str());
+  progress.stage("register", text);
+  if (!progress.isRoot()) return true;
+  // Loose scans have their own warning, and so have scans already named out of line.
+  const std::vector<ScanStanding> loose = findLooseScans(standings),
+                                  named = findStragglers(standings);
+  auto among = [](const std::vector<ScanStanding>& list, size_t scan) {
+    return std::any_of(list.begin(), list.end(),
+                       [&](const ScanStanding& s) { return s.scan == scan; });
+  };
+  for (const OthersFit& f : fits) {
+    if (!(f.motion > kOthersMotion * voxel) || among(loose, f.scan) || among(named, f.scan))
+      continue;
+    std::fprintf(stderr,
+                 "rangefuse: warning: registration: %s is out of line: fitted against the other "
+                 "scans alone it moves %.3f voxel (residual %.3f voxel over %llu control "
+                 "points); check its pose, or give it a better start\n",
+                 scans.names[f.scan].c_str(), f.motion / voxel, f.rms / voxel,
+                 static_cast<unsigned long long>(f.correspondences));
+  }
+  return true;
+}
+
 /// The overlap the joint solve kept: pairs of scans sharing voxels at its first and last step.
 void reportOverlap(const std::vector<RegistrationStep>& steps, const Progress& progress) {
   const std::vector<PairOverlap> pairs = pairOverlaps(steps);
@@ -205,6 +260,7 @@ bool registerPoses(const RegistrationSettings& o, const FieldSettings& f,
   const std::unique_ptr<RegistrationField> grown =
       makeRegistrationField(f, o.field, resumed, scans, comm);
   TimedField field(*grown);
+  const std::vector<Pose> given = scans.poses;
   const double start = MPI_Wtime();
   RegistrationCheckpointer checkpointer(checkpoints, scans, comm);
   try {
@@ -235,6 +291,10 @@ bool registerPoses(const RegistrationSettings& o, const FieldSettings& f,
                                  " fits" + times);
   warnStragglers(steps, scans, f.voxel, progress);
   reportOverlap(steps, progress);
+  const bool simultaneous =
+      o.mode == RegistrationMode::Simultaneous || o.mode == RegistrationMode::Both;
+  if (simultaneous && !checkAgainstOthers(steps, scans, given, r, field, f.voxel, comm, progress))
+    return false;
   return checkpointer.ok();
 }
 

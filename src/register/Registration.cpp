@@ -134,27 +134,11 @@ void returnAnchor(std::vector<Pose>& poses, const std::vector<Pose>& roundPoses,
   poses[anchor] = given;
 }
 
-/// Collective: the largest mean displacement of a scan's vertices between two sets of poses
-/// (every 16th).
+/// Collective: the largest mean displacement of a scan's vertices between two sets of poses.
 double largestMotion(const ScanSource& scans, const std::vector<Pose>& from,
                      const std::vector<Pose>& to, MPI_Comm comm) {
-  double largest = 0;
-  // A scan read again may fail on one rank: every rank then throws here.
-  mpi::collectivelyOrThrow(comm, [&] {
-    for (size_t i = 0; i < scans.size(); ++i) {
-      if (!scans.holds(i)) continue;
-      const std::shared_ptr<const PrismScan> scan = scans.get(i);
-      const auto& points = scan->surface.points;
-      double sum = 0;
-      size_t n = 0;
-      for (size_t v = 0; v < points.size(); v += 16, ++n)
-        sum += (to[i].apply(points[v]) - from[i].apply(points[v])).norm();
-      if (n > 0) largest = std::max(largest, sum / n);
-    }
-  });
-  // A rank holds only the scans it read: the largest over ranks.
-  MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return largest;
+  const std::vector<double> motion = scanMotions(scans, from, to, comm);
+  return motion.empty() ? 0 : *std::max_element(motion.begin(), motion.end());
 }
 
 void startRound(RegistrationProgress& p, const std::vector<Pose>& poses) {
@@ -267,6 +251,56 @@ RegistrationPhase parseRegistrationPhase(const std::string& text) {
 
 double rotationDegrees(const Eigen::Matrix3d& R) {
   return std::abs(Eigen::AngleAxisd(R).angle()) * 180 / M_PI;
+}
+
+std::vector<double> scanMotions(const ScanSource& scans, const std::vector<Pose>& from,
+                                const std::vector<Pose>& to, MPI_Comm comm) {
+  std::vector<double> motion(scans.size(), 0);
+  // A scan read again may fail on one rank: every rank then throws here.
+  mpi::collectivelyOrThrow(comm, [&] {
+    for (size_t i = 0; i < scans.size(); ++i) {
+      if (!scans.holds(i)) continue;
+      const std::shared_ptr<const PrismScan> scan = scans.get(i);
+      const auto& points = scan->surface.points;
+      double sum = 0;
+      size_t n = 0;
+      for (size_t v = 0; v < points.size(); v += 16, ++n)
+        sum += (to[i].apply(points[v]) - from[i].apply(points[v])).norm();
+      if (n > 0) motion[i] = sum / n;
+    }
+  });
+  // A rank holds only the scans it read: the largest over ranks is the holder's.
+  MPI_Allreduce(MPI_IN_PLACE, motion.data(), static_cast<int>(motion.size()), MPI_DOUBLE, MPI_MAX,
+                comm);
+  return motion;
+}
+
+std::vector<OthersFit> fitAgainstOthers(const ScanSource& scans, const std::vector<Pose>& poses,
+                                        const FitControl& o, RegistrationField& field,
+                                        const std::vector<size_t>& which, MPI_Comm comm) {
+  ControlRouting control(scans, o.controlStride, comm);
+  std::vector<Pose> moved = poses;
+  std::vector<OthersFit> out;
+  for (size_t i : which) {
+    if (i == o.anchor) continue;
+    std::vector<size_t> others;
+    for (size_t j = 0; j < scans.size(); ++j)
+      if (j != i) others.push_back(j);
+    const BrickStore& store = field.build(others, poses);
+    control.route({i}, poses, store);
+    FitHistory history;
+    OthersFit fit{i, 0, 0, 0, false};
+    for (int it = 1; it <= o.maxIterations; ++it) {
+      const RegistrationStep step = fitOnce(i, moved[i], store, control, o, comm, history);
+      if (it == 1) fit.rms = step.rms, fit.correspondences = step.correspondences;
+      fit.fitted |= step.applied;
+      if (converged(step, o)) break;
+    }
+    out.push_back(fit);
+  }
+  const std::vector<double> motion = scanMotions(scans, poses, moved, comm);
+  for (OthersFit& f : out) f.motion = motion[f.scan];
+  return out;
 }
 
 void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const FitControl& o,

@@ -14,7 +14,6 @@ double median(std::vector<double> v) {
   return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + mid));
 }
 
-constexpr size_t kFewest = 4;              // scans for a median to mean anything
 constexpr double kScore = 5;               // robust deviations above the median residual
 constexpr double kAbove = 1.25;            // ... and this share of it
 constexpr double kOverlapShare = 1 / 3.0;  // correspondences against the median scan's
@@ -44,7 +43,7 @@ std::vector<ScanStanding> lastStandings(const std::vector<RegistrationStep>& ste
 
 std::vector<ScanStanding> findStragglers(const std::vector<ScanStanding>& standings) {
   std::vector<ScanStanding> out;
-  if (standings.size() < kFewest) return out;
+  if (standings.size() < kFewestJudged) return out;
   std::vector<double> rms;
   for (const ScanStanding& s : standings) rms.push_back(s.rms);
   const double m = median(rms);

@@ -10,6 +10,17 @@
 
 namespace rangefuse {
 
+/// Fewer scans than this are not judged: a median of their fits means nothing.
+constexpr size_t kFewestJudged = 4;
+
+/// Registration's scans checked against the other scans alone: those it moved farthest. Each
+/// costs a field of all the others.
+constexpr size_t kOthersChecked = 3;
+
+/// A scan that a fit against the other scans alone (Registration.h, fitAgainstOthers) moves
+/// farther than this, in voxels, was left out of line by registration.
+constexpr double kOthersMotion = 0.12;
+
 /// How a scan ended registration: its last fit, before that fit moved it.
 struct ScanStanding {
   size_t scan = 0;
