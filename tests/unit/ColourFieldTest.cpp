@@ -107,6 +107,83 @@ TEST(ColourField, TwoColourEdgeStaysWithinAVoxel) {
   EXPECT_GT(pure, 1000u);
 }
 
+TEST(ColourField, AnEdgeSeenByManyNoisyFramesStaysInPlaceAndSharp) {
+  // A plane painted red for x < 10.1 and blue beyond (off the lattice), seen by 24 frames with
+  // depth noise of half a voxel, each sampling it at its own offset (voxels 0.5, samples 0.5
+  // apart), each sample coloured by the true surface it saw. Along every row the fused colour
+  // at the surface (interpolated to the zero crossing) must step at the true edge to within
+  // half a voxel, and keep at least 0.6 of the step across the voxel pair that straddles it.
+  const Colour red(1, 0, 0), blue(0, 0, 1);
+  const double edgeAt = 10.1, voxel = 0.5;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 0.5 * voxel);
+  std::uniform_real_distribution<double> offset(0, 0.5);
+  std::vector<PrismScan> scans;
+  for (int frame = 0; frame < 24; ++frame) {
+    RangeGrid g;
+    g.cols = 40, g.rows = 30;
+    g.colourKind = ColourKind::rgb;
+    const double ox = offset(rng), oy = offset(rng);
+    for (int y = 0; y < g.rows; ++y)
+      for (int x = 0; x < g.cols; ++x) {
+        const double px = x * 0.5 + ox, py = y * 0.5 + oy;
+        g.cell.push_back(static_cast<int32_t>(g.points.size()));
+        g.points.emplace_back(px, py, 10 + noise(rng));
+        g.colours.push_back(px < edgeAt ? red : blue);
+      }
+    PrismScan s;
+    s.surface = buildScanSurface(g, Pose{}, SurfaceOptions{});
+    s.limits = computePrismLimits(s.surface, 1.5);
+    scans.push_back(std::move(s));
+  }
+  const BrickStore store = fused(scans, 1);
+  const VoxelGrid& grid = store.grid();
+  // The red channel at the surface of the voxel column (x, y): the zero crossing along z.
+  auto surfaceRed = [&](const VoxelIndex& column, double& red) {
+    for (VoxelIndex v = column; v.z() < column.z() + 8; ++v.z()) {
+      VoxelIndex above = v;
+      ++above.z();
+      const int64_t a = store.localBrick(mortonEncode(brickOf(v, grid.brick)));
+      const int64_t b = store.localBrick(mortonEncode(brickOf(above, grid.brick)));
+      if (a < 0 || b < 0) continue;
+      const size_t i = store.offset(size_t(a), v), j = store.offset(size_t(b), above);
+      const VoxelSums &lo = store.sums()[i], &hi = store.sums()[j];
+      if (!(lo.w > 0 && hi.w > 0)) continue;
+      const double dLo = lo.wd / lo.w, dHi = hi.wd / hi.w;
+      if ((dLo < 0) == (dHi < 0)) continue;
+      const double t = dLo / (dLo - dHi);
+      red = (1 - t) * store.colours()[i].value()[0] + t * store.colours()[j].value()[0];
+      return true;
+    }
+    return false;
+  };
+  const VoxelIndex first = grid.nearest(Eigen::Vector3d(edgeAt, 0, 10 - 2 * voxel));
+  double placeError = 0, contrast = 0;
+  int rows = 0;
+  for (double y = 4; y < 10; y += voxel) {
+    VoxelIndex left = grid.nearest(Eigen::Vector3d(edgeAt - 2 * voxel, y, 0));
+    left.z() = first.z();
+    // Columns from two voxels left of the edge to two right: where red falls through 0.5.
+    double previous = 0, previousX = 0;
+    bool found = false;
+    for (VoxelIndex c = left; c.x() <= left.x() + 4; ++c.x()) {
+      double r;
+      ASSERT_TRUE(surfaceRed(c, r)) << "no surface at column " << c.transpose();
+      const double x = grid.centre(c).x();
+      if (c.x() > left.x() && previous >= 0.5 && r < 0.5 && !found) {
+        placeError += std::abs(previousX + (previous - 0.5) / (previous - r) * voxel - edgeAt);
+        found = true;
+      }
+      if (x - voxel < edgeAt && x > edgeAt) contrast += previous - r;  // the straddling pair
+      previous = r, previousX = x;
+    }
+    ASSERT_TRUE(found) << "no step in the row at y = " << y;
+    ++rows;
+  }
+  EXPECT_LE(placeError / rows, 0.5 * voxel);
+  EXPECT_GE(contrast / rows, 0.6);
+}
+
 TEST(ColourField, ThreadsGiveTheSameColourBits) {
   auto stripes = [](double x) {
     return Colour(0.5f + 0.5f * static_cast<float>(std::sin(x)), 0.3f, 0.1f);
