@@ -19,12 +19,16 @@ seeds=("$@")
 # poses_row CONF TRUTH: median | worst | common motion | median | worst, voxels (1 mm)
 poses_row() {
   "$bin" eval --poses "$1" --reference-poses "$2" --voxel 0.001 | awk '
-    $1 ~ /ply$/ { if ($4 > w) w = $4 }
+    /^median/ { poses = 1 }
+    $1 ~ /ply$/ && !poses { if ($4 > w) w = $4 }
     /^median/ { m = $9 }
     /^common motion/ { c = $3; cm = $12; cw = $14 }
     END { printf "%.3f | %.3f | %.3f | %.3f | %.3f", m, w, c, cm, cw }'
 }
-register_seconds() { grep "] register " "$1" | sed 's/.*(\([0-9.]*\)s)$/\1/'; }
+# The registration stage's lines (the fits, then the check against the other scans), summed.
+register_seconds() {
+  grep "] register " "$1" | sed 's/.*(\([0-9.]*\)s)$/\1/' | awk '{ s += $1 } END { printf "%.2f", s }'
+}
 
 echo "## Synthetic bunny, perturbed by up to 5 deg and 5 voxels per axis (1 mm voxels)"
 echo

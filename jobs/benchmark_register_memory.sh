@@ -27,8 +27,9 @@ for n in "${ranks[@]}"; do
   wall=$(echo "$(date +%s.%N) - $start" | bc)
   peaks=$(grep -o 'peak memory per rank (MiB) [0-9 /]*' "$tmp/log$n" | sed 's/.*(MiB) //')
   total=$(echo "$peaks" | tr '/' '\n' | awk '{ s += $1 } END { print s }')
-  reg=$(grep '] register ' "$tmp/log$n" | sed 's/.*(\([0-9.]*\)s)$/\1/')
-  fit=$(grep '] register ' "$tmp/log$n" | sed 's/.*(\([0-9.]*\) ms a fit).*/\1/')
+  reg=$(grep '] register ' "$tmp/log$n" | sed 's/.*(\([0-9.]*\)s)$/\1/' |
+    awk '{ s += $1 } END { printf "%.2f", s }')
+  fit=$(grep '] register .* fits;' "$tmp/log$n" | sed 's/.*(\([0-9.]*\) ms a fit).*/\1/')
   printf "| %s | %s | %s | %.1f | %s | %s |\n" "$n" "$peaks" "$total" "$wall" "$reg" "$fit"
   [[ $n == "${ranks[0]}" ]] || cmp -s "$tmp/poses${ranks[0]}.conf" "$tmp/poses$n.conf" ||
     echo "poses on $n ranks differ from ${ranks[0]} rank(s)" >&2

@@ -21,9 +21,12 @@ register() {
   mpirun -np 2 "$bin" fuse --scans "$conf" --voxel 0.001 --poses-out "$tmp/$tag.conf" \
     --out "$tmp/$tag.ply" "$@" >"$tmp/$tag.log"
 }
-stage_seconds() { grep "] register " "$tmp/$1.log" | sed 's/.*(\([0-9.]*\)s)$/\1/'; }
-field_seconds() { grep "] register " "$tmp/$1.log" | sed 's/.*fields \([0-9.]*\) s.*/\1/'; }
-fit_ms() { grep "] register " "$tmp/$1.log" | sed 's/.*(\([0-9.]*\) ms a fit).*/\1/'; }
+# The stage's lines (the fits, then the check against the other scans) summed; the fits' line.
+stage_seconds() {
+  grep "] register " "$tmp/$1.log" | sed 's/.*(\([0-9.]*\)s)$/\1/' | awk '{ s += $1 } END { printf "%.2f", s }'
+}
+field_seconds() { grep "] register .* fits;" "$tmp/$1.log" | sed 's/.*fields \([0-9.]*\) s.*/\1/'; }
+fit_ms() { grep "] register .* fits;" "$tmp/$1.log" | sed 's/.*(\([0-9.]*\) ms a fit).*/\1/'; }
 fits() { grep -c ' corr ' "$tmp/$1.log"; }
 
 echo "## Accuracy (--register both, 2 ranks)"
