@@ -86,7 +86,7 @@ for solve in joint per-scan; do
     >"$tmp/real/$solve.log"
   wall=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
   vs=$("$bin" eval --poses "$tmp/real/$solve.conf" --reference-poses "$bunny/bun.conf" --voxel 0.001 |
-    awk '$1 ~ /ply$/ { if ($4 > w) w = $4 } /^median/ { m = $9 } END { printf "%.3f / %.3f", m, w }')
+    awk '/^median/ { m = $9; p = 1 } $1 ~ /ply$/ && !p { if ($4 > w) w = $4 } END { printf "%.3f / %.3f", m, w }')
   echo "| --register-solve $solve | $wall | $(register_seconds "$tmp/real/$solve.log") |" \
     "$(chamfer "$tmp/real/$solve.ply") | $vs | $(consistency "$tmp/real/$solve.conf") |"
 done
@@ -97,4 +97,4 @@ mpirun -np 2 "$bin" fuse --scans "$tmp/real/start.conf" --voxel 0.001 --register
 echo
 echo "Joint solve started at bun.conf against started at the perturbed poses (median / worst displacement, mm):" \
   "$("$bin" eval --poses "$tmp/real/fromconf.conf" --reference-poses "$tmp/real/joint.conf" --voxel 0.001 |
-    awk '$1 ~ /ply$/ { if ($4 > w) w = $4 } /^median/ { m = $9 } END { printf "%.4f / %.4f", m, w }')"
+    awk '/^median/ { m = $9; p = 1 } $1 ~ /ply$/ && !p { if ($4 > w) w = $4 } END { printf "%.4f / %.4f", m, w }')"

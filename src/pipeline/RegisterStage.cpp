@@ -112,14 +112,12 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
 
 /// Collective: the kOthersChecked scans registration moved farthest from `given` (the scans
 /// that started farthest off, nearest the edge of its basin) fitted against the others' field
-/// (Registration.h, fitAgainstOthers); warns, on rank 0, for each that fit moves by more than
-/// kOthersMotion voxels and whose pose the data holds firmly (a loose scan's pose along its
-/// loose motion is not in the data). Returns false when a rank failed.
-bool checkAgainstOthers(const std::vector<RegistrationStep>& steps, const LoadedScans& scans,
+/// (Registration.h, fitAgainstOthers), each fit added to `steps` as an Others step; rank 0
+/// warns for each findOthersStragglers names. Returns false when a rank failed.
+bool checkAgainstOthers(std::vector<RegistrationStep>& steps, const LoadedScans& scans,
                         const std::vector<Pose>& given, const FitControl& r,
                         RegistrationField& field, double voxel, MPI_Comm comm, Progress& progress) {
-  const std::vector<ScanStanding> standings = lastStandings(steps);
-  if (standings.size() < kFewestJudged) return true;
+  if (lastStandings(steps).size() < kFewestJudged) return true;
   std::vector<OthersFit> fits;
   try {
     const std::vector<double> moved = scanMotions(*scans.held, given, scans.poses, comm);
@@ -136,8 +134,16 @@ bool checkAgainstOthers(const std::vector<RegistrationStep>& steps, const Loaded
   }
   double largest = 0;
   size_t at = 0;
-  for (const OthersFit& f : fits)
+  for (const OthersFit& f : fits) {
+    RegistrationStep step;
+    step.algorithm = FitAlgorithm::Others;
+    step.scan = f.scan;
+    step.correspondences = f.correspondences;
+    step.rms = f.rms;
+    step.othersMotion = f.motion;
+    steps.push_back(step);
     if (f.motion > largest) largest = f.motion, at = f.scan;
+  }
   char text[400];
   std::snprintf(text, sizeof text,
                 "the %zu scans that moved most, each against the others' field: largest "
@@ -145,23 +151,13 @@ bool checkAgainstOthers(const std::vector<RegistrationStep>& steps, const Loaded
                 fits.size(), largest / voxel, scans.names[at].c_str());
   progress.stage("register", text);
   if (!progress.isRoot()) return true;
-  // Loose scans have their own warning, and so have scans already named out of line.
-  const std::vector<ScanStanding> loose = findLooseScans(standings),
-                                  named = findStragglers(standings);
-  auto among = [](const std::vector<ScanStanding>& list, size_t scan) {
-    return std::any_of(list.begin(), list.end(),
-                       [&](const ScanStanding& s) { return s.scan == scan; });
-  };
-  for (const OthersFit& f : fits) {
-    if (!(f.motion > kOthersMotion * voxel) || among(loose, f.scan) || among(named, f.scan))
-      continue;
+  for (const RegistrationStep& s : findOthersStragglers(steps, voxel))
     std::fprintf(stderr,
                  "rangefuse: warning: registration: %s is out of line: fitted against the other "
                  "scans alone it moves %.3f voxel (residual %.3f voxel over %llu control "
                  "points); check its pose, or give it a better start\n",
-                 scans.names[f.scan].c_str(), f.motion / voxel, f.rms / voxel,
-                 static_cast<unsigned long long>(f.correspondences));
-  }
+                 scans.names[s.scan].c_str(), s.othersMotion / voxel, s.rms / voxel,
+                 static_cast<unsigned long long>(s.correspondences));
   return true;
 }
 

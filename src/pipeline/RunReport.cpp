@@ -69,7 +69,8 @@ json looseJson(const LooseMotion& m) {
   return j;
 }
 
-json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>& steps) {
+json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>& steps,
+                      double voxel) {
   json fits = json::array();
   for (const auto& s : steps)
     fits.push_back({{"algorithm", toString(s.algorithm)},
@@ -81,21 +82,30 @@ json registrationJson(RegistrationMode mode, const std::vector<RegistrationStep>
                     {"rotation_deg", s.rotationDeg},
                     {"translation", s.translation},
                     {"applied", s.applied}});
+  for (size_t k = 0; k < steps.size(); ++k)
+    if (steps[k].algorithm == FitAlgorithm::Others)
+      fits[k]["others_motion"] = steps[k].othersMotion;
   // Each scan's last fit, and whether it is out of line with the others (Stragglers.h).
   const std::vector<ScanStanding> standings = lastStandings(steps), out = findStragglers(standings);
+  const std::vector<RegistrationStep> others = findOthersStragglers(steps, voxel);
   json scans = json::array();
   for (const ScanStanding& s : standings) {
-    scans.push_back(
-        {{"scan", s.scan},
-         {"rms", s.rms},
-         {"correspondences", s.correspondences},
-         {"rms_score", std::isfinite(s.rmsScore) ? json(s.rmsScore) : json(nullptr)},
-         {"overlap_share", s.overlapShare},
-         {"straggler", std::any_of(out.begin(), out.end(),
-                                   [&](const ScanStanding& o) { return o.scan == s.scan; })},
-         {"hold", s.loose.hold},
-         {"loose", s.loose.hold < kLooseHold}});
+    scans.push_back({{"scan", s.scan},
+                     {"rms", s.rms},
+                     {"correspondences", s.correspondences},
+                     {"rms_score", std::isfinite(s.rmsScore) ? json(s.rmsScore) : json(nullptr)},
+                     {"overlap_share", s.overlapShare},
+                     {"straggler",
+                      std::any_of(out.begin(), out.end(),
+                                  [&](const ScanStanding& o) { return o.scan == s.scan; }) ||
+                          std::any_of(others.begin(), others.end(),
+                                      [&](const RegistrationStep& o) { return o.scan == s.scan; })},
+                     {"hold", s.loose.hold},
+                     {"loose", s.loose.hold < kLooseHold}});
     if (s.loose.hold < kLooseHold) scans.back()["loose_motion"] = looseJson(s.loose);
+    for (const RegistrationStep& o : steps)  // the check against the other scans alone
+      if (o.algorithm == FitAlgorithm::Others && o.scan == s.scan)
+        scans.back()["others_motion"] = o.othersMotion;
   }
   json pairs = json::array();
   for (const PairOverlap& p : pairOverlaps(steps))
@@ -144,7 +154,7 @@ void writeRunReport(const RunSettings& s, MPI_Comm comm, const Progress& progres
                  {"wall_seconds", progress.elapsed()},
                  {"per_rank", ranks},
                  {"mesh", meshJson(s.outputs.out, mesh)},
-                 {"registration", registrationJson(s.registration.mode, steps)}};
+                 {"registration", registrationJson(s.registration.mode, steps, s.field.voxel)}};
   if (field.tracking) report["tracking"] = field.tracking->toJson();
   io::writeJson(s.outputs.report, report);
 }

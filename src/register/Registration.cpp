@@ -224,6 +224,8 @@ const char* toString(FitAlgorithm algorithm) {
       return "joint";
     case FitAlgorithm::Simultaneous:
       return "simultaneous";
+    case FitAlgorithm::Others:
+      return "others";
   }
   return "?";
 }

@@ -23,7 +23,8 @@ constexpr double kOverlapShare = 1 / 3.0;  // correspondences against the median
 std::vector<ScanStanding> lastStandings(const std::vector<RegistrationStep>& steps) {
   std::map<size_t, ScanStanding> last;
   for (const RegistrationStep& s : steps)
-    last[s.scan] = ScanStanding{s.scan, s.rms, s.correspondences, 0, 1, s.loose};
+    if (s.algorithm != FitAlgorithm::Others)
+      last[s.scan] = ScanStanding{s.scan, s.rms, s.correspondences, 0, 1, s.loose};
   std::vector<ScanStanding> out;
   for (const auto& [scan, standing] : last) out.push_back(standing);
   if (out.empty()) return out;
@@ -51,6 +52,25 @@ std::vector<ScanStanding> findStragglers(const std::vector<ScanStanding>& standi
     if ((s.rmsScore > kScore && s.rms > kAbove * m) || s.overlapShare < kOverlapShare)
       out.push_back(s);
   return out;
+}
+
+std::vector<RegistrationStep> findOthersStragglers(const std::vector<RegistrationStep>& steps,
+                                                   double voxel) {
+  const std::vector<ScanStanding> standings = lastStandings(steps);
+  const std::vector<ScanStanding> loose = findLooseScans(standings),
+                                  named = findStragglers(standings);
+  auto among = [](const std::vector<ScanStanding>& list, size_t scan) {
+    return std::any_of(list.begin(), list.end(),
+                       [&](const ScanStanding& s) { return s.scan == scan; });
+  };
+  std::map<size_t, RegistrationStep> out;
+  for (const RegistrationStep& s : steps)
+    if (s.algorithm == FitAlgorithm::Others && s.othersMotion > kOthersMotion * voxel &&
+        !among(loose, s.scan) && !among(named, s.scan))
+      out[s.scan] = s;
+  std::vector<RegistrationStep> list;
+  for (const auto& [scan, step] : out) list.push_back(step);
+  return list;
 }
 
 std::vector<ScanStanding> findLooseScans(const std::vector<ScanStanding>& standings) {

@@ -61,4 +61,26 @@ TEST(Stragglers, TooFewScansFlagNoneAndAFitTooSmallToApplyCounts) {
 }
 
 }  // namespace
+TEST(Stragglers, AScanTheOthersAloneWouldMoveIsNamedUnlessLooseOrNamedAlready) {
+  // Voxel 0.5: the others' fit names a scan it moves more than 0.12 voxel (0.06).
+  auto others = [](size_t scan, double motion) {
+    RegistrationStep s;
+    s.algorithm = FitAlgorithm::Others, s.scan = scan, s.othersMotion = motion;
+    s.rms = 0.1, s.correspondences = 1000;
+    return s;
+  };
+  std::vector<RegistrationStep> steps = alike();
+  steps[15].loose.hold = 0.5 * kLooseHold;  // scan 7's last joint fit left it loose
+  steps.push_back(fit(2, 0.4, 1020));       // scan 2 is named by its residual already
+  for (const auto& [scan, motion] : std::vector<std::pair<size_t, double>>{
+           {1, 0.07}, {2, 0.2}, {4, 0.05}, {6, 0.0601}, {7, 0.3}})
+    steps.push_back(others(scan, motion));
+  std::vector<size_t> named;
+  for (const RegistrationStep& s : findOthersStragglers(steps, 0.5)) named.push_back(s.scan);
+  EXPECT_EQ(named, (std::vector<size_t>{1, 6}));
+  // The check's steps are not registration fits: the standings do not see them.
+  EXPECT_EQ(lastStandings(steps).size(), 8u);
+  EXPECT_DOUBLE_EQ(lastStandings(steps)[1].rms, 0.101);
+}
+
 }  // namespace rangefuse

@@ -39,9 +39,10 @@ struct FitControl {
   CorrespondenceSettings correspondences;
 };
 
-/// Which fit made a step: Algorithm 1's, Algorithm 2's joint solve, or Algorithm 2's per-scan
-/// fits.
-enum class FitAlgorithm { Incremental, Joint, Simultaneous };
+/// Which fit made a step: Algorithm 1's, Algorithm 2's joint solve, Algorithm 2's per-scan
+/// fits, or the check of a scan against the other scans alone (fitAgainstOthers: it does not
+/// move the scan).
+enum class FitAlgorithm { Incremental, Joint, Simultaneous, Others };
 
 /// Where a registration stands: not begun, in Algorithm 1, in Algorithm 2, or finished.
 enum class RegistrationPhase { Start, Incremental, Simultaneous, Done };
@@ -59,11 +60,12 @@ struct RegistrationStep {
   int round = 0, iteration = 0;
   size_t scan = 0;
   uint64_t correspondences = 0;
-  double rms = 0;          ///< weighted RMS distance to the correspondences, before the fit
-  double rotationDeg = 0;  ///< the fit's rotation
-  double translation = 0;  ///< the fit's translation, world units
-  bool applied = false;    ///< false when too few correspondences
-  LooseMotion loose;       ///< the joint solve's loosest motion of the scan (other fits: none)
+  double rms = 0;           ///< weighted RMS distance to the correspondences, before the fit
+  double rotationDeg = 0;   ///< the fit's rotation
+  double translation = 0;   ///< the fit's translation, world units
+  bool applied = false;     ///< false when too few correspondences (and for Others)
+  double othersMotion = 0;  ///< Others: the mean vertex motion the fit makes, world units
+  LooseMotion loose;        ///< the joint solve's loosest motion of the scan (other fits: none)
   /// The joint solve's overlap of this scan with each later scan t it shares voxels with: the
   /// control points of both there (other fits: none).
   std::vector<std::pair<uint32_t, uint64_t>> overlap;

@@ -31,14 +31,21 @@ struct ScanStanding {
   LooseMotion loose;             ///< its last joint fit's loosest motion
 };
 
-/// Each scan's last fit among `steps`, applied or not (too few correspondences to move it:
-/// its overlap is what is out of line), in scan order; scans never fitted are left out.
+/// Each scan's last registration fit among `steps` (not the Others checks), applied or not (too
+/// few correspondences to move it: its overlap is what is out of line), in scan order; scans
+/// never fitted are left out.
 std::vector<ScanStanding> lastStandings(const std::vector<RegistrationStep>& steps);
 
 /// The standings out of line: a residual more than 5 robust deviations above the median and
 /// 25 % above it (so that a set whose scans all fit alike flags none), or correspondences under
 /// a third of the median scan's. Needs four scans or more (fewer: none).
 std::vector<ScanStanding> findStragglers(const std::vector<ScanStanding>& standings);
+
+/// The scans whose fit against the other scans alone (the Others steps) moves them more than
+/// kOthersMotion voxels of `voxel`, and that are neither loose nor among findStragglers: named
+/// out of line by that fit. In scan order.
+std::vector<RegistrationStep> findOthersStragglers(const std::vector<RegistrationStep>& steps,
+                                                   double voxel);
 
 /// The standings whose last joint fit held some motion less than kLooseHold: their pose along
 /// it rests on where they started (LooseMotion.h). Any number of scans.
