@@ -112,13 +112,13 @@ void warnStragglers(const std::vector<RegistrationStep>& steps, const LoadedScan
 
 /// Collective: the kOthersChecked scans registration moved farthest from `given` (the scans
 /// that started farthest off, nearest the edge of its basin) fitted against the others' field
-/// (Registration.h, fitAgainstOthers), each fit added to `steps` as an Others step; rank 0
+/// (Registration.h, fitAgainstOthers), each fit added to `steps`; rank 0
 /// warns for each findOthersStragglers names. Returns false when a rank failed.
 bool checkAgainstOthers(std::vector<RegistrationStep>& steps, const LoadedScans& scans,
                         const std::vector<Pose>& given, const FitControl& r,
                         RegistrationField& field, double voxel, MPI_Comm comm, Progress& progress) {
   if (lastStandings(steps).size() < kFewestJudged) return true;
-  std::vector<OthersFit> fits;
+  std::vector<RegistrationStep> fits;
   try {
     const std::vector<double> moved = scanMotions(*scans.held, given, scans.poses, comm);
     std::vector<size_t> order;
@@ -134,15 +134,9 @@ bool checkAgainstOthers(std::vector<RegistrationStep>& steps, const LoadedScans&
   }
   double largest = 0;
   size_t at = 0;
-  for (const OthersFit& f : fits) {
-    RegistrationStep step;
-    step.algorithm = FitAlgorithm::Others;
-    step.scan = f.scan;
-    step.correspondences = f.correspondences;
-    step.rms = f.rms;
-    step.othersMotion = f.motion;
-    steps.push_back(step);
-    if (f.motion > largest) largest = f.motion, at = f.scan;
+  for (const RegistrationStep& f : fits) {
+    steps.push_back(f);
+    if (f.othersMotion > largest) largest = f.othersMotion, at = f.scan;
   }
   char text[400];
   std::snprintf(text, sizeof text,

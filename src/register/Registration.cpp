@@ -277,12 +277,13 @@ std::vector<double> scanMotions(const ScanSource& scans, const std::vector<Pose>
   return motion;
 }
 
-std::vector<OthersFit> fitAgainstOthers(const ScanSource& scans, const std::vector<Pose>& poses,
-                                        const FitControl& o, RegistrationField& field,
-                                        const std::vector<size_t>& which, MPI_Comm comm) {
+std::vector<RegistrationStep> fitAgainstOthers(const ScanSource& scans,
+                                               const std::vector<Pose>& poses, const FitControl& o,
+                                               RegistrationField& field,
+                                               const std::vector<size_t>& which, MPI_Comm comm) {
   ControlRouting control(scans, o.controlStride, comm);
   std::vector<Pose> moved = poses;
-  std::vector<OthersFit> out;
+  std::vector<RegistrationStep> out;
   for (size_t i : which) {
     if (i == o.anchor) continue;
     std::vector<size_t> others;
@@ -291,17 +292,18 @@ std::vector<OthersFit> fitAgainstOthers(const ScanSource& scans, const std::vect
     const BrickStore& store = field.build(others, poses);
     control.route({i}, poses, store);
     FitHistory history;
-    OthersFit fit{i, 0, 0, 0, false};
+    RegistrationStep check;
+    check.algorithm = FitAlgorithm::Others;
+    check.scan = i;
     for (int it = 1; it <= o.maxIterations; ++it) {
       const RegistrationStep step = fitOnce(i, moved[i], store, control, o, comm, history);
-      if (it == 1) fit.rms = step.rms, fit.correspondences = step.correspondences;
-      fit.fitted |= step.applied;
+      if (it == 1) check.rms = step.rms, check.correspondences = step.correspondences;
       if (converged(step, o)) break;
     }
-    out.push_back(fit);
+    out.push_back(check);
   }
   const std::vector<double> motion = scanMotions(scans, poses, moved, comm);
-  for (OthersFit& f : out) f.motion = motion[f.scan];
+  for (RegistrationStep& s : out) s.othersMotion = motion[s.scan];
   return out;
 }
 

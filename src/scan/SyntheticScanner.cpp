@@ -167,15 +167,12 @@ double quantisedRange(double t, const Eigen::Vector3d& ray, const Pinhole& lens,
   return fb / disparity / -ray.z();
 }
 
-/// The colour image's pixel at a depth pixel whose ray hit at range `t` (`onPatch`): the
-/// colour there, or with the colour image shifted (`shift` pixels) what its own ray `colourRay`
-/// (scan frame) hits.
-Colour pixelColour(const Bvh& bvh, const TriangleMesh& patches, const Pose& cam, double t,
-                   bool onPatch, double shift, const Eigen::Vector3d& colourRay,
-                   const ScanSettings& set) {
-  if (shift != 0) t = castPixel(bvh, patches, cam.t, cam.R * colourRay, onPatch);
-  if (std::isnan(t)) return Colour(0, 0, 0);  // the colour camera sees past the scene
-  return onPatch ? patchColour() : checkColour(cam.apply(t * colourRay), set.texture);
+/// The colour a camera at `eye` sees along the unit world direction `dir` that meets the
+/// scene at range `t` (NaN: nothing, black), on a patch or not.
+Colour colourAlong(const Eigen::Vector3d& eye, const Eigen::Vector3d& dir, double t, bool onPatch,
+                   double texture) {
+  if (std::isnan(t)) return Colour(0, 0, 0);
+  return onPatch ? patchColour() : checkColour(eye + t * dir, texture);
 }
 
 void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, double depthLo,
@@ -197,10 +194,15 @@ void render(SyntheticScan& s, const Bvh& bvh, const TriangleMesh& patches, doubl
       double t = castPixel(bvh, patches, s.truth.t, s.truth.R * ray, onPatch);
       if (std::isnan(t)) continue;
       // The colour of what the ray truly hits: a colour camera is not fooled by a depth outlier.
-      if (set.texture > 0)
-        g.colours.push_back(
-            pixelColour(bvh, patches, s.truth, t, onPatch, g.spherical ? 0 : set.colourShift,
-                        g.spherical ? ray : pinholeRay(g, r, c + set.colourShift), set));
+      // A colour image shifted against the depth sees along its own ray.
+      if (set.texture > 0 && (g.spherical || set.colourShift == 0)) {
+        g.colours.push_back(colourAlong(s.truth.t, s.truth.R * ray, t, onPatch, set.texture));
+      } else if (set.texture > 0) {
+        const Eigen::Vector3d dir = s.truth.R * pinholeRay(g, r, c + set.colourShift);
+        bool seenOnPatch;
+        const double seen = castPixel(bvh, patches, s.truth.t, dir, seenOnPatch);
+        g.colours.push_back(colourAlong(s.truth.t, dir, seen, seenOnPatch, set.texture));
+      }
       if (set.outliers > 0 && unit(rng) < set.outliers)
         t = depth(rng);
       else if (set.noise > 0)
@@ -253,16 +255,16 @@ struct Scene {
   }
 };
 
-/// The colour image's pixel at depth pixel (r, c), whose ray hit `hit` (`onPatch`): shifted by
-/// set.colourShift pixels along the row, the colour camera's own ray may meet something else.
-Colour sensorColour(const Scene& scene, const Pose& cam, const Eigen::Vector3d& hit, bool onPatch,
-                    const RangeGrid& g, int r, int c, const ScanSettings& set) {
-  if (set.colourShift == 0) return onPatch ? patchColour() : checkColour(hit, set.texture);
-  const Eigen::Vector3d dir = cam.R * pinholeRay(g, r, c + set.colourShift);
+/// The colour image's pixel at depth pixel (r, c), whose ray `dir` hit at range `t`
+/// (`onPatch`): shifted by set.colourShift pixels along the row, the colour camera's own ray
+/// may meet something else.
+Colour sensorColour(const Scene& scene, const Pose& cam, const Eigen::Vector3d& dir, double t,
+                    bool onPatch, const RangeGrid& g, int r, int c, const ScanSettings& set) {
+  if (set.colourShift == 0) return colourAlong(cam.t, dir, t, onPatch, set.texture);
+  const Eigen::Vector3d shifted = cam.R * pinholeRay(g, r, c + set.colourShift);
   Eigen::Vector3d normal;
-  const double t = scene.cast(cam.t, dir, normal, onPatch);
-  if (std::isnan(t)) return Colour(0, 0, 0);  // the colour camera sees past the scene
-  return onPatch ? patchColour() : checkColour(cam.t + t * dir, set.texture);
+  const double seen = scene.cast(cam.t, shifted, normal, onPatch);
+  return colourAlong(cam.t, shifted, seen, onPatch, set.texture);
 }
 
 /// Frame i of a depth camera under set.sensor: each row seen from where the camera was when
@@ -297,7 +299,7 @@ void renderSensor(SyntheticScan& s, const Scene& scene, const std::function<Pose
       if (m.shadows && scene.blocked(hit, projector)) continue;
       const size_t k = static_cast<size_t>(r) * g.cols + c;
       depth[k] = z;
-      if (set.texture > 0) colour[k] = sensorColour(scene, cam, hit, onPatch, g, r, c, set);
+      if (set.texture > 0) colour[k] = sensorColour(scene, cam, dir, t, onPatch, g, r, c, set);
     }
   }
   applyImageFaults(depth, g.cols, g.rows, g.pinhole->fx, m, rng);

@@ -138,25 +138,17 @@ void registerScans(const ScanSource& scans, std::vector<Pose>& poses, const FitC
                    const std::function<void(const RegistrationStep&)>& onStep,
                    RegistrationProgress& progress, const BoundaryCallback& onBoundary);
 
-/// Where the other scans put one scan: its fit against the field of all scans but itself,
-/// from its registered pose. A scan in the field it fits against pulls that field toward
-/// itself, so Algorithm 2 can leave a scan that started far off short of where its overlaps
-/// put it, with a residual like everyone's; this fit cannot.
-struct OthersFit {
-  size_t scan = 0;
-  double motion = 0;             ///< mean displacement of the scan's vertices, world units
-  double rms = 0;                ///< the first fit's RMS distance to its correspondences
-  uint64_t correspondences = 0;  ///< the first fit's
-  bool fitted = false;           ///< false: too few correspondences to move it
-};
-
-/// Collective: fits each of the scans `which` (not the anchor) against the field of all the
-/// others at `poses` (Algorithm 1's fits and settings), and measures how far that moves it;
-/// `poses` do not change. A field is built for each scan. Every rank returns the same, in the
-/// order of `which`.
-std::vector<OthersFit> fitAgainstOthers(const ScanSource& scans, const std::vector<Pose>& poses,
-                                        const FitControl& options, RegistrationField& field,
-                                        const std::vector<size_t>& which, MPI_Comm comm);
+/// Collective: where the other scans put each of the scans `which` (not the anchor): its fit
+/// against the field of all the others at `poses` (Algorithm 1's fits and settings), from its
+/// registered pose. A scan in the field it fits against pulls that field toward itself, so
+/// Algorithm 2 can leave a scan that started far off short of where its overlaps put it, with
+/// a residual like everyone's; this fit cannot. Returns an Others step per scan (its first
+/// fit's residual and correspondences, and othersMotion); `poses` do not change. A field is
+/// built for each scan. Every rank returns the same, in the order of `which`.
+std::vector<RegistrationStep> fitAgainstOthers(const ScanSource& scans,
+                                               const std::vector<Pose>& poses,
+                                               const FitControl& options, RegistrationField& field,
+                                               const std::vector<size_t>& which, MPI_Comm comm);
 
 /// Collective: each scan's mean vertex displacement between two sets of poses (every 16th
 /// vertex). Every rank returns the same.
