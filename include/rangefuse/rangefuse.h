@@ -26,8 +26,9 @@ namespace rangefuse {
 const char* libraryVersion();
 
 /// How frames are prepared before they reach the field, as the command prepares its scans by
-/// default (--merge-cells 1, --smooth-noise 1): grid cells merged up to a voxel, depths noisier
-/// than a voxel smoothed, sight maps kept when the method or hole filling needs them.
+/// default (--merge-cells 1, --smooth-noise 1): grid cells merged up to a voxel, depth images'
+/// depths noisier than a voxel smoothed, sight maps kept when the method or hole filling needs
+/// them.
 SurfaceOptions defaultSurface(const FieldSettings& field);
 
 /// What became of a tracked frame.
@@ -57,7 +58,8 @@ class Fusion {
 
   /// Adds a range grid in its sensor's frame (a pinhole camera or a station at the origin,
   /// else a sensor looking along -z) placed by `pose` (scan to world). `name` heads the
-  /// messages about it (default "frame_N").
+  /// messages about it (default "frame_N"). A grid is never smoothed; add a depth camera's
+  /// frames with addDepth.
   void addGrid(RangeGrid grid, const Pose& pose, const std::string& name = "");
 
   /// Adds a depth image (counts of camera.unit, 0 where nothing was measured) taken by

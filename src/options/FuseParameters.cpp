@@ -48,8 +48,8 @@ std::vector<FuseParameter> commandOptions() {
            &O::mergeCells, [](double v) { return v >= 0 && finite(v); },
            "must be a number of voxels >= 0 (0: never merge)")},
       {"smooth-noise", "smooth_noise_voxels", R::Result, false, G::Field,
-       "where a scan's measured depth noise exceeds this many voxels (a depth camera's far "
-       "walls), average its depths along rows and columns until it is about this (0: never)",
+       "where a depth camera frame's measured noise exceeds this many voxels (its far walls), "
+       "average its depths along rows and columns until it is about this (0: never)",
        at(&O::smoothNoise),
        must<O, double>(
            &O::smoothNoise, [](double v) { return v >= 0 && finite(v); },

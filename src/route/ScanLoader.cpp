@@ -50,9 +50,18 @@ PrismScan prepareBand(const io::ConfScan& c, const SurfaceOptions& options, doub
   return s;
 }
 
-PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& options,
-                      const InputLimits& limits, double eps) {
-  if (c.bands > 1) return prepareBand(c, options, eps);
+/// Only a depth camera's frames are smoothed. Its noise grows with depth² to several voxels on far
+/// walls, where smoothing is what keeps them; a scanner's noise of about a voxel is averaged
+/// better by the field and registration than by smoothing, which rounds its edges (decision 41).
+SurfaceOptions optionsFor(const io::ConfScan& c, SurfaceOptions options) {
+  if (!c.depth) options.smoothTarget = 0;
+  return options;
+}
+
+PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& given, const InputLimits& limits,
+                      double eps) {
+  if (c.bands > 1) return prepareBand(c, given, eps);
+  const SurfaceOptions options = optionsFor(c, given);
   PrismScan s;
   const RangeGrid grid = io::readScanGrid(c, limits);
   // Measured once: smoothing, the sight map's tests and tracking's weights read the same curve.
