@@ -188,15 +188,23 @@ TEST(RobustField, StaysOnTheFarWallsOfARoomOnceNoisyDepthsAreSmoothed) {
   // 20 frames of 320 x 240 carried through the room at 2 cm: noise 1.4 voxels at 2.6 m growing
   // with the square of the depth, 3-7 voxels a pixel at 4-6 m, where pixels are under a voxel
   // apart. Unsmoothed (--smooth-noise 0), one frame's triangles there point anywhere and the
-  // fused walls wander voxels off; smoothed to a voxel's noise (the default), they stay.
+  // fused walls wander voxels off; smoothed to a voxel's noise (the default), they stay. The
+  // frames are depth images: only a depth camera's are smoothed.
   ScanSettings s = settings(20);
   s.width = 320, s.height = 240, s.voxel = 0.02, s.noise = 1.4, s.depthNoise = true;
   s.outliers = 0.005, s.path = ViewPath::Walk;
-  const std::string dir = scanInto("smoothed-room", makeRoom(), s, [](auto&, auto&) {});
+  const std::string dir =
+      scanInto("smoothed-room", makeRoom(), s, [](SyntheticSet& set, auto& dir) {
+        const double unit = 1.0 / 5000;  // TUM's depth counts
+        std::vector<io::DepthFrame> frames;
+        for (const SyntheticScan& sc : set.scans)
+          frames.push_back({io::depthImage(sc.grid, unit), io::cameraPose(sc.truth)});
+        io::writeTumSequence(dir + "/tum", frames, io::depthCamera(set.scans[0].grid, unit));
+      });
   MeshComparison c[2];
   for (int k = 0; k < 2; ++k) {
     FuseOptions o;
-    o.scans = dir + "/truth.conf";
+    o.scans = dir + "/tum";
     o.field.voxel = s.voxel;
     o.field.method = FieldMethod::Robust;
     o.smoothNoise = k;
