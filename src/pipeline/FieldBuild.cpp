@@ -69,8 +69,13 @@ std::string fieldLine(FieldMethod method, MPI_Comm comm, const FusedField& field
                      std::to_string(field.layout.totalBricks()) + " bricks, per rank " +
                      perRank(comm, counters.bricks) + "; voxels updated per rank " +
                      perRank(comm, counters.voxelUpdates) + balance(comm, counters.voxelUpdates);
-  if (!methodInfo(method).closestSurface && mpi::size(comm) > 1)
+  if (!methodInfo(method).closestSurface && mpi::size(comm) > 1) {
     line += "; adding images per rank " + secondsPerRank(comm, counters.addSeconds);
+    // routedCopies is a sum over the ranks: every rank takes this branch or none does.
+    if (field.routedCopies > 0)
+      line += "; planning per rank " + secondsPerRank(comm, counters.planSeconds) +
+              "; routing per rank " + secondsPerRank(comm, counters.routeSeconds);
+  }
   if (methodInfo(method).hypotheses) {
     uint64_t r[3] = {counters.robust.agreed, counters.robust.unopposed, counters.robust.removed};
     MPI_Allreduce(MPI_IN_PLACE, r, 3, MPI_UINT64_T, MPI_SUM, comm);

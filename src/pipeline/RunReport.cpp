@@ -46,6 +46,8 @@ std::string rankEntry(MPI_Comm comm, const Progress& progress, const RankCounter
               {"voxels_updated", c.voxelUpdates},
               {"voxel_updates_predicted", c.predictedUpdates},
               {"adding_seconds", c.addSeconds},
+              {"planning_seconds", c.planSeconds},
+              {"routing_seconds", c.routeSeconds},
               {"evaluated_points", c.evaluatedPoints},
               {"halo_bricks_received", c.haloBricks},
               {"triangles", c.triangles},

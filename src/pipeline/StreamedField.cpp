@@ -27,6 +27,10 @@ namespace {
 
 using mpi::collectively;
 
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 /// The bytes each scan reads: its file's, or its share of a PTX or E57 file's scan.
 std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
   std::vector<uint64_t> bytes;
@@ -177,8 +181,9 @@ bool readShare(const io::ConfFile& conf, HeldScans& share, int threads, MPI_Comm
 
 /// Pass 2: the bricks every prism touches, planned from this rank's scans and reduced.
 bool planShare(const StreamOptions& o, const io::ConfFile& conf, const HeldScans& share,
-               const VoxelGrid& grid, MPI_Comm comm, BrickLayout& layout) {
+               const VoxelGrid& grid, MPI_Comm comm, BrickLayout& layout, double& seconds) {
   BrickWork work;
+  const auto start = std::chrono::steady_clock::now();
   if (!collectively(comm, [&] {
         // Kept scans whole, a share on each thread (one parallel section, not one a scan);
         // the others are read again one at a time, each on all threads.
@@ -200,6 +205,7 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, const HeldScans
         for (const BrickWork& p : part) addWork(p, grid, o.limits.maxVoxels, work);
         for (size_t i : unkept)
           addPrismWork(*share.get(i), grid, o.limits.maxVoxels, work, o.threads);
+        seconds = secondsSince(start);
       }))
     return false;
   return collectively(comm,
@@ -286,9 +292,12 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
             memoryLedger().set(Held::routedScans, partsBytes(parts));
           }))
         return false;
-    } else if (!routeEntries(first, end, share, preparedBytes, store.hasColour(), reach,
-                             store.layout(), comm, parts, routing)) {
-      return false;
+    } else {
+      const auto start = std::chrono::steady_clock::now();
+      if (!routeEntries(first, end, share, preparedBytes, store.hasColour(), reach, store.layout(),
+                        comm, parts, routing))
+        return false;
+      counters.routeSeconds += secondsSince(start);
     }
     sortByEntry(parts);
     // The window's images go to the integrator together: its threads need not wait for each
@@ -312,8 +321,7 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
     if (integrator) {
       const auto start = std::chrono::steady_clock::now();
       const IntegrationStats st = integrator->addImages(images);
-      counters.addSeconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      counters.addSeconds += secondsSince(start);
       counters.prisms += st.prisms;
       if (alone) routing.copies += st.prisms;
       counters.voxelUpdates += st.voxelUpdates;
@@ -371,8 +379,9 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   field.scanCount = scans.scans.size();
   field.scanTriangles = triangles;
   VoxelGrid grid;
+  double planSeconds = 0;
   if (!collectively(comm, [&] { grid = gridAround(box, o.voxel, o.brick, o.eps); }) ||
-      !planShare(o, conf, share, grid, comm, field.layout))
+      !planShare(o, conf, share, grid, comm, field.layout, planSeconds))
     return false;
   if (o.planned) o.planned(field.layout);
   // A hypothesis's surface lies within the envelope of its voxel: a voxel more for rounding.
@@ -384,6 +393,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   // The field's layout and the store's copy.
   memoryLedger().set(Held::brickList, 2 * field.layout.bytes());
   counters = RankCounters{};
+  counters.planSeconds = planSeconds;
   counters.bricks = field.store->brickCount();
   counters.predictedUpdates = predictedUpdates(field.layout, me);
   RoutingStats routing;

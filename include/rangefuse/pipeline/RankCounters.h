@@ -17,6 +17,9 @@ struct RankCounters {
   /// images to them (its own work, not waiting for other ranks).
   uint64_t predictedUpdates = 0;
   double addSeconds = 0;
+  /// Streamed prism fields: seconds the rank spent predicting its prisms' cost for the brick
+  /// plan (its own work), and routing its scans to the brick owners (waits for them included).
+  double planSeconds = 0, routeSeconds = 0;
   HypothesisStats robust;  ///< robust: how this rank's voxels were decided
 };
 
