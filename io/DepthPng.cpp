@@ -124,6 +124,22 @@ DepthImage readDepthPng(const std::string& path, uint64_t maxPixels) {
   return image;
 }
 
+uint64_t pngPixels(const std::string& path) {
+  // The signature (8 bytes), then the IHDR chunk: length, type, width and height, big-endian.
+  unsigned char head[24];
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return 0;
+  const size_t got = std::fread(head, 1, sizeof head, f);
+  std::fclose(f);
+  if (got != sizeof head || png_sig_cmp(head, 0, 8) != 0 || std::memcmp(head + 12, "IHDR", 4) != 0)
+    return 0;
+  const auto word = [&](int at) {
+    return uint64_t(head[at]) << 24 | uint64_t(head[at + 1]) << 16 | uint64_t(head[at + 2]) << 8 |
+           uint64_t(head[at + 3]);
+  };
+  return word(16) * word(20);
+}
+
 void writeDepthPng(const std::string& path, const DepthImage& image) {
   const std::string tmp = temporaryPath(path);
   faultPoint("write", path);

@@ -13,6 +13,7 @@
 #include "ColourChoice.h"
 #include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/core/MemoryLedger.h"
+#include "rangefuse/io/DepthPng.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/parallel/Threads.h"
@@ -31,7 +32,10 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// The bytes each scan reads: its file's, or its share of a PTX or E57 file's scan.
+/// The bytes each scan reads: its file's, its share of a PTX or E57 file's scan, or for a depth
+/// image its decoded pixels'. A PNG's size says how well it compressed, not what preparing it
+/// costs: a room walk's PNG files range from 3 to 45 KB, and readers given equal PNG bytes got
+/// 181 and 119 of its 300 frames (and planning took 1.4 s against 0.7).
 std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
   std::vector<uint64_t> bytes;
   for (const auto& c : conf.scans) {
@@ -48,6 +52,10 @@ std::vector<uint64_t> fileSizes(const io::ConfFile& conf) {
     if (c.memory) {
       bytes.push_back(c.memory->grid.points.size() * sizeof(Eigen::Vector3d) +
                       c.memory->depth.counts.size() * sizeof(uint16_t));
+      continue;
+    }
+    if (c.depth) {
+      bytes.push_back(io::pngPixels(c.path) * sizeof(uint16_t));
       continue;
     }
     std::error_code ec;

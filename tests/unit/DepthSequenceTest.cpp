@@ -77,6 +77,17 @@ TEST(DepthPng, SixteenBitCountsRoundTripExactly) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("d.png.tmp")));
 }
 
+TEST(DepthPng, PixelsComeFromTheHeaderAloneAndZeroForWhatIsNoPng) {
+  TempDir dir;
+  io::writeDepthPng(dir.file("d.png"), randomImage(37, 23, 4));
+  EXPECT_EQ(io::pngPixels(dir.file("d.png")), 37u * 23u);
+  io::writePng(dir.file("rgb.png"), Image(4, 3, 0));
+  EXPECT_EQ(io::pngPixels(dir.file("rgb.png")), 12u);  // any PNG: its reader judges the format
+  EXPECT_EQ(io::pngPixels(dir.write("text.png", "not an image at all, but long enough")), 0u);
+  EXPECT_EQ(io::pngPixels(dir.write("short.png", "\x89PNG")), 0u);
+  EXPECT_EQ(io::pngPixels(dir.file("none.png")), 0u);
+}
+
 TEST(DepthPng, RefusesColourTruncatedMissingAndOversizedFiles) {
   TempDir dir;
   io::writePng(dir.file("rgb.png"), Image(4, 3, 0));

@@ -20,6 +20,10 @@ struct DepthImage {
 /// file for a missing or corrupt file, another pixel format, or more than `maxPixels` pixels.
 DepthImage readDepthPng(const std::string& path, uint64_t maxPixels);
 
+/// The pixels of a PNG as its header gives them (width x height), without decoding it; 0 for a
+/// file that cannot be read or is not a PNG (reading it says why).
+uint64_t pngPixels(const std::string& path);
+
 /// Writes a 16-bit greyscale PNG atomically (temporary name, then rename).
 void writeDepthPng(const std::string& path, const DepthImage& image);
 
