@@ -358,8 +358,11 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
     scanOf.push_back(scanOf.empty() ? 0 : scanOf.back() + (c.band == 0));
   std::vector<Eigen::Vector3d> sensors;
   for (const io::ConfScan& c : conf.scans) sensors.push_back(c.pose.apply(Eigen::Vector3d::Zero()));
+  // A field's scans are not registered: only depth images and sight maps need their noise.
+  SurfaceOptions surface = o.surface;
+  surface.measureNoise = false;
   HeldScans share(conf.scans, assignReadersNearby(sensors, fileSizes(conf), ranks), me,
-                  ScanPreparation{o.surface, o.limits, o.eps}, o.keepBytes, true);
+                  ScanPreparation{surface, o.limits, o.eps}, o.keepBytes, true);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   std::vector<uint64_t> bytes;

@@ -65,7 +65,7 @@ PrismScan prepareScan(const io::ConfScan& c, const SurfaceOptions& given, const 
   PrismScan s;
   const RangeGrid grid = io::readScanGrid(c, limits);
   // Measured once: smoothing, the sight map's tests and tracking's weights read the same curve.
-  s.noise = RangeNoise::measure(grid);
+  if (given.measureNoise || c.depth || given.sightMap) s.noise = RangeNoise::measure(grid);
   const RangeNoise& noise = s.noise;
   s.surface = buildScanSurface(grid, Pose{}, options, &noise);
   s.limits = computePrismLimits(s.surface, eps);

@@ -28,27 +28,46 @@ double planeRms(const std::vector<Eigen::Vector3d>& points) {
   return std::sqrt(sum / static_cast<double>(points.size()));
 }
 
-TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
-  // A tilted wall 3 m away with 30 mm of depth noise, 3 voxels of 1 cm: the same samples as
-  // a depth image and as a range grid.
+/// A 160 x 120 depth camera of focal length `f` pixels.
+io::DepthCamera wallCamera(double f) {
   io::DepthCamera camera;
-  camera.fx = camera.fy = 200, camera.cx = 79.5, camera.cy = 59.5;
+  camera.fx = camera.fy = f, camera.cx = 79.5, camera.cy = 59.5;
+  return camera;
+}
+
+/// Its image (millimetre counts) of a wall 3 m away, tilted along the rows, with depth noise of
+/// `noiseMm`.
+io::DepthImage wallImage(double noiseMm) {
   io::DepthImage image;
   image.width = 160, image.height = 120;
   std::mt19937 random(7);
-  std::normal_distribution<double> noise(0, 30);
+  std::normal_distribution<double> noise(0, noiseMm);
   for (int v = 0; v < image.height; ++v)
     for (int u = 0; u < image.width; ++u)
       image.counts.push_back(static_cast<uint16_t>(std::lround(3000 + 4 * u + noise(random))));
+  return image;
+}
+
+io::ConfScan depthScan(const io::DepthImage& image, const io::DepthCamera& camera) {
+  io::ConfScan scan;
+  scan.name = scan.path = "depth";
+  scan.memory = std::make_shared<io::MemoryScan>(io::MemoryScan{{}, image, {}});
+  scan.depth = camera;
+  return scan;
+}
+
+TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
+  // 30 mm of depth noise, 3 voxels of 1 cm: the same samples as a depth image and as a grid.
+  const io::DepthCamera camera = wallCamera(200);
+  const io::DepthImage image = wallImage(30);
   const RangeGrid grid = io::depthGrid(image, camera, "wall");
 
   SurfaceOptions options;
   options.smoothTarget = 0.01;
-  io::ConfScan asGrid, asDepth;
-  asGrid.name = asGrid.path = "grid", asDepth.name = asDepth.path = "depth";
+  io::ConfScan asGrid;
+  asGrid.name = asGrid.path = "grid";
   asGrid.memory = std::make_shared<io::MemoryScan>(io::MemoryScan{grid, {}, {}});
-  asDepth.memory = std::make_shared<io::MemoryScan>(io::MemoryScan{{}, image, {}});
-  asDepth.depth = camera;
+  const io::ConfScan asDepth = depthScan(image, camera);
 
   // The surface keeps the points its triangles use, each exactly as the grid has it.
   std::set<std::array<double, 3>> read;
@@ -63,6 +82,28 @@ TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
                smooth = planeRms(fromDepth.surface.points);
   EXPECT_GT(rough, 0.025);
   EXPECT_LT(smooth, 0.5 * rough) << "the depth frame was not smoothed";
+}
+
+TEST(ScanLoader, NoiseIsMeasuredWhereSomethingReadsIt) {
+  // A field's scanner grids skip the measurement; registration's scans, depth images and sight
+  // maps measure it.
+  const io::DepthCamera camera = wallCamera(200);
+  const io::DepthImage image = wallImage(30);
+  io::ConfScan asGrid;
+  asGrid.name = asGrid.path = "grid";
+  asGrid.memory = std::make_shared<io::MemoryScan>(
+      io::MemoryScan{io::depthGrid(image, camera, "wall"), {}, {}});
+  SurfaceOptions options;
+  options.measureNoise = false;
+  EXPECT_TRUE(loadScan(asGrid, options, InputLimits{}, 0.04).noise.empty());
+  const RangeNoise measured =
+      loadScan(depthScan(image, camera), options, InputLimits{}, 0.04).noise;
+  ASSERT_FALSE(measured.empty());
+  EXPECT_NEAR(measured.at(3.3), 0.030, 0.006);
+  options.sightMap = true;
+  EXPECT_FALSE(loadScan(asGrid, options, InputLimits{}, 0.04).noise.empty());
+  options.sightMap = false, options.measureNoise = true;
+  EXPECT_FALSE(loadScan(asGrid, options, InputLimits{}, 0.04).noise.empty());
 }
 
 }  // namespace

@@ -23,6 +23,9 @@ struct SurfaceOptions {
   /// Smooth depths whose measured noise exceeds this (world units; 0: never): DepthSmoothing.h.
   double smoothTarget = 0;
   bool sightMap = false;  ///< also map what the scan saw along its lines of sight (robust)
+  /// Measure each scan's depth noise (PrismScan::noise), which registration weighs control
+  /// points by; depth images and sight maps measure it whatever this says.
+  bool measureNoise = true;
 };
 
 /// One scan as a triangle surface in world coordinates. Normals are unit, point toward
