@@ -13,8 +13,10 @@
 #   benchmark_tracking.sh     depth streams without poses beside Open3D's frame-to-frame ICP
 #   benchmark_kitchen.sh      real Kinect frames (7-Scenes, read in place), poses hidden,
 #                             beside Open3D's frame-to-frame ICP: the dev and held-out sets
+#   benchmark_stream_speed.sh room walks and the real kitchen read to mesh beside
+#                             ScalableTSDFVolume: seconds, ns an update, balance, memory
 # Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md, the
-# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about an hour on two cores;
+# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about 75 minutes on two cores;
 # SEQ_ROOT and SEQUENCES pass to benchmark_tracking.sh (SEQUENCES="orbit handheld desk" leaves
 # out the walk through the room, 40 of those minutes).
 set -euo pipefail
@@ -35,5 +37,6 @@ run benchmark_sequence
 run benchmark_robust_depth
 run benchmark_tracking
 run benchmark_kitchen
+run benchmark_stream_speed
 echo "== summary ($(date +%H:%M:%S)); tables in $out/"
 python3 jobs/summarize_benchmarks.py "$out" | tee "$out/summary.md"
