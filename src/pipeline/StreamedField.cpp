@@ -240,6 +240,15 @@ uint64_t predictedUpdates(const BrickLayout& layout, int me) {
   return static_cast<uint64_t>(static_cast<double>(work) / kWorkPerUpdate);
 }
 
+/// Collective: whether each scan's reader kept it.
+std::vector<uint8_t> keptByReader(const HeldScans& share, MPI_Comm comm) {
+  std::vector<uint8_t> kept(share.size(), 0);
+  for (size_t i = 0; i < kept.size(); ++i) kept[i] = share.holds(i) && share.kept(i);
+  MPI_Allreduce(MPI_IN_PLACE, kept.data(), static_cast<int>(kept.size()), MPI_UINT8_T, MPI_MAX,
+                comm);
+  return kept;
+}
+
 uint64_t partsBytes(const IndexedScans& parts) {
   uint64_t bytes = 0;
   for (const auto& [i, s] : parts) bytes += scanBytes(s);
@@ -410,10 +419,10 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   RoutingStats routing;
   std::optional<SurfaceHypotheses> hypotheses;
   if (o.robust) hypotheses.emplace(*field.store, *o.robust);
-  // A quarter of --scan-memory a rank: the parts routed to a rank take the place of the kept
-  // scans they came from, so a window adds to its memory only the scans read again.
-  const std::vector<size_t> windows =
-      wholeScanWindows(routingWindows(bytes, ranks, o.keepBytes / 4 * ranks), scanOf);
+  // A quarter of --scan-memory a rank for the scans read again (the parts of a kept scan take
+  // its place).
+  const std::vector<size_t> windows = wholeScanWindows(
+      routingWindows(bytes, keptByReader(share, comm), ranks, o.keepBytes / 4 * ranks), scanOf);
   if (!integrateShare(conf, scanOf, share, windows, bytes, o.routeReach, o.threads,
                       hypotheses ? &*hypotheses : nullptr, hypotheses ? &sights->all : nullptr,
                       comm, progress, field, counters, routing))

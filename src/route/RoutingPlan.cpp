@@ -6,14 +6,15 @@
 
 namespace rangefuse {
 
-std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
-                                   uint64_t budget) {
+std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes,
+                                   const std::vector<uint8_t>& kept, int ranks, uint64_t budget) {
   std::vector<size_t> ends;
   const size_t n = scanBytes.size(), step = static_cast<size_t>(std::max(1, ranks));
   uint64_t held = 0;  // bytes of the window open so far (none at the start)
   for (size_t first = 0; first < n; first += step) {
     uint64_t round = 0;
-    for (size_t i = first; i < std::min(n, first + step); ++i) round += scanBytes[i];
+    for (size_t i = first; i < std::min(n, first + step); ++i)
+      if (!kept[i]) round += scanBytes[i];
     if (first > 0 && held + round > budget) ends.push_back(first), held = 0;
     held += round;
   }

@@ -287,17 +287,29 @@ TEST(RoutingRounds, SortByEntryKeepsTheOrderOfEqualEntries) {
 
 TEST(RoutingWindows, GrowByWholeRoundsOfScansWithinTheBudget) {
   const std::vector<uint64_t> bytes(7, 10);
+  const std::vector<uint8_t> none(7, 0);
   // Budget 30 in all: one round (2 scans, 20 bytes) fits, two rounds (40) do not; the short
   // last round (10) joins the one before.
-  EXPECT_EQ(routingWindows(bytes, 2, 30), (std::vector<size_t>{2, 4, 7}));
-  EXPECT_EQ(routingWindows(bytes, 2, 40), (std::vector<size_t>{4, 7}));
-  EXPECT_EQ(routingWindows(bytes, 2, 1000), (std::vector<size_t>{7}));
+  EXPECT_EQ(routingWindows(bytes, none, 2, 30), (std::vector<size_t>{2, 4, 7}));
+  EXPECT_EQ(routingWindows(bytes, none, 2, 40), (std::vector<size_t>{4, 7}));
+  EXPECT_EQ(routingWindows(bytes, none, 2, 1000), (std::vector<size_t>{7}));
   // No budget: a round of one scan per rank at a time, as --scan-memory 0 reads them.
-  EXPECT_EQ(routingWindows(bytes, 2, 0), (std::vector<size_t>{2, 4, 6, 7}));
-  EXPECT_EQ(routingWindows(bytes, 1, 0), (std::vector<size_t>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(routingWindows(bytes, none, 2, 0), (std::vector<size_t>{2, 4, 6, 7}));
+  EXPECT_EQ(routingWindows(bytes, none, 1, 0), (std::vector<size_t>{1, 2, 3, 4, 5, 6, 7}));
   // A large scan closes its window early; the last round may be short.
-  EXPECT_EQ(routingWindows({10, 10, 100, 10, 10}, 2, 40), (std::vector<size_t>{2, 4, 5}));
-  EXPECT_TRUE(routingWindows({}, 3, 100).empty());
+  EXPECT_EQ(routingWindows({10, 10, 100, 10, 10}, {0, 0, 0, 0, 0}, 2, 40),
+            (std::vector<size_t>{2, 4, 5}));
+  EXPECT_TRUE(routingWindows({}, {}, 3, 100).empty());
+}
+
+TEST(RoutingWindows, ScansKeptByTheirReaderNeverCloseAWindow) {
+  const std::vector<uint64_t> bytes(7, 10);
+  // All kept: one window, whatever the budget.
+  EXPECT_EQ(routingWindows(bytes, std::vector<uint8_t>(7, 1), 2, 0), (std::vector<size_t>{7}));
+  // Scans 2 and 3 read again (20 bytes) fill a budget of 20; scans 4 and 5 close it.
+  EXPECT_EQ(routingWindows(bytes, {1, 1, 0, 0, 0, 1, 1}, 2, 20), (std::vector<size_t>{4, 7}));
+  EXPECT_EQ(routingWindows(bytes, {1, 1, 0, 0, 0, 0, 1}, 2, 20), (std::vector<size_t>{4, 7}));
+  EXPECT_EQ(routingWindows(bytes, {1, 1, 0, 0, 0, 0, 0}, 2, 20), (std::vector<size_t>{4, 6, 7}));
 }
 
 TEST(ScanRouting, AWindowNeverEndsBetweenTwoBandsOfAScan) {

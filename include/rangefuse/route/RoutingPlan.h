@@ -11,11 +11,13 @@ namespace rangefuse {
 
 /// Where the field pass's windows end: each window is routed round by round (one scan a rank)
 /// and added before the next. A window takes `ranks` consecutive scans, and `ranks` more while
-/// its prepared scans stay within `budget` bytes in all (each rank holds about its share):
-/// ranks wait for one another once a window, and a view that falls mostly on one rank's bricks
-/// is evened out by the other views of its window.
-std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes, int ranks,
-                                   uint64_t budget);
+/// the scans it reads again stay within `budget` bytes in all (each rank holds about its
+/// share). Scans their reader `kept` count nothing: the parts routed from them take their
+/// place. Ranks wait for one another once a window, and consecutive views fall mostly on one
+/// rank's bricks: the fewer the windows, the more of that is evened out (a room walk on 2
+/// ranks: 12.2 s read to mesh in one window, 15.6 s in windows of 256 MiB a rank).
+std::vector<size_t> routingWindows(const std::vector<uint64_t>& scanBytes,
+                                   const std::vector<uint8_t>& kept, int ranks, uint64_t budget);
 
 /// The windows moved on so that none ends between two bands of one scan (`scanOf`: the scan of
 /// each entry), whose parts a brick owner joins into one image before adding it.
