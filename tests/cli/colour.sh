@@ -3,9 +3,9 @@
 # 1, 2 and 3 ranks to the same bytes; the mesh's colours against the checks' colour at each
 # vertex (exact away from the check edges), by prism and robust fusion; sequences with PNG and
 # JPEG colour images; PTX r g b and intensity; a checkpoint resumed to the same coloured mesh;
-# --colour none gives the bytes of the same scans without colour; colour asked of scans that
-# have none, or of a method that cannot fuse it, refused by name. Tracked streams:
-# colour_tracked.sh.
+# --colour none gives the bytes of the same scans without colour, and reads no colour image;
+# colour asked of scans that have none, or of a method that cannot fuse it, refused by name.
+# Tracked streams: colour_tracked.sh.
 set -euo pipefail
 bin=$1
 tmp=$(mktemp -d)
@@ -91,6 +91,19 @@ for format in tum redwood; do
   check_colours "$tmp/${format}2.ply" 0.2 0.01
 done
 echo "TUM and Redwood colour images: on the mesh, 2 and 3 ranks identical"
+# --colour none does not decode colour images: a broken one is refused only when colour is
+# fused, and the mesh without colour is the intact folder's.
+mpirun -np 2 "$bin" fuse --scans "$tmp/tum" --voxel 0.01 --track off --colour none \
+  --out "$tmp/tum-none.ply" >/dev/null
+broken=$(ls "$tmp"/tum/rgb/*.png | head -n 1)
+head -c 100 "$broken" >"$tmp/part.png" && mv "$tmp/part.png" "$broken"
+mpirun -np 2 "$bin" fuse --scans "$tmp/tum" --voxel 0.01 --track off --colour none \
+  --out "$tmp/tum-broken.ply" >/dev/null
+cmp "$tmp/tum-none.ply" "$tmp/tum-broken.ply"
+if mpirun -np 2 "$bin" fuse --scans "$tmp/tum" --voxel 0.01 --track off \
+  --out "$tmp/tum-x.ply" >"$tmp/err.log" 2>&1; then fail "a broken colour image was read"; fi
+grep -q "$(basename "$broken")" "$tmp/err.log" || fail "no file named: $(cat "$tmp/err.log")"
+echo "--colour none: colour images left unread"
 # The recorder's color/*.jpg: JPEG at quality 95 stays within the same limits.
 "$bin" scan --shape sphere --views 12 --voxel 0.01 --noise 0.3 --texture 0.2 --scale 0.01 \
   --format redwood --jpeg --out "$tmp/jpeg" >/dev/null
