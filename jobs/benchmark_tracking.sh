@@ -76,12 +76,17 @@ for name in ${SEQUENCES:-orbit handheld desk walk}; do
   mkdir -p "$stream"
   cp -r "$seq/depth" "$seq/depth.txt" "$seq/camera_intrinsic.json" "$stream/"
   first=$(awk '!/^#/ { print $2 "," $3 "," $4 "," $5 "," $6 "," $7 "," $8; exit }' "$seq/groundtruth.txt")
+  rm -f "$tmp/track.ply" "$tmp/track.txt"
   seconds=$($timed mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
     --first-pose "$first" "${skip[@]}" --out "$tmp/track.ply" --trajectory-out "$tmp/track.txt")
-  memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
+  memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/' || true)
   mv "$tmp/log" "$tmp/track.log"
   fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
-  echo "| $name | rangefuse, 2 ranks | $(ate "$tmp/track.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/track.ply" "$seq/truth.ply") |"
+  if [[ -s $tmp/track.txt ]]; then
+    echo "| $name | rangefuse, 2 ranks | $(ate "$tmp/track.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/track.ply" "$seq/truth.ply") |"
+  else  # the run stopped (30 frames lost in a row): its own message says where
+    echo "| $name | rangefuse, 2 ranks | failed after $seconds s: $(grep -o 'frame [0-9]*: tracking lost[^:]*' "$tmp/track.log" | head -n 1) | | | | | |"
+  fi
   seconds=$($timed mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" \
     --out "$tmp/true.ply")
   echo "| $name | rangefuse at the true poses | | | $seconds | | | $(chamfer "$tmp/true.ply" "$seq/truth.ply") |"
