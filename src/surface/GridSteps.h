@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "OrderStatistics.h"
 #include "rangefuse/core/RangeGrid.h"
 
 namespace rangefuse::internal {
@@ -31,10 +32,7 @@ double medianNeighbourStep(const RangeGrid& g, Step&& step, int downEvery = 1) {
         const int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
         if (a >= 0 && b >= 0) steps.push_back(step(g.points[a], g.points[b]));
       }
-  if (steps.empty()) return 0;
-  auto mid = steps.begin() + steps.size() / 2;
-  std::nth_element(steps.begin(), mid, steps.end());
-  return *mid;
+  return steps.empty() ? 0 : nthSmallest(steps, steps.size() / 2);
 }
 
 }  // namespace rangefuse::internal

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "OrderStatistics.h"
+
 namespace rangefuse {
 namespace {
 
@@ -10,15 +12,12 @@ constexpr int kBins = 16;
 constexpr size_t kMinSamples = 64;  // a bin's figure needs this many second differences
 constexpr double kStep = 0.05;      // neighbours this far apart (share of depth) are an edge
 
-/// One bin's deviation from the absolute second differences `a` (reordered).
-double binSigma(std::vector<double>& a) {
-  const size_t mid = a.size() / 2, keep = a.size() * 9 / 10;
-  std::nth_element(a.begin(), a.begin() + mid, a.end());
-  const double median = a[mid] / 0.6745;
-  std::nth_element(a.begin(), a.begin() + keep, a.end());
-  double sum = 0;
-  for (size_t i = 0; i < keep; ++i) sum += a[i] * a[i];
+/// One bin's deviation from the absolute second differences `a`.
+double binSigma(const std::vector<double>& a) {
+  const size_t keep = a.size() * 9 / 10;
+  const double median = internal::nthSmallest(a, a.size() / 2) / 0.6745;
   // A normal variable's RMS below its 90th percentile of |x| is 0.789 of its deviation.
+  const double sum = internal::sumOfSmallestSquares(a, keep);
   const double trimmed = std::sqrt(sum / std::max<size_t>(1, keep)) / 0.789;
   return std::max(median, trimmed) / std::sqrt(6.0);
 }
@@ -39,18 +38,23 @@ RangeNoise RangeNoise::measure(const RangeGrid& grid) {
   if (!(hi > lo)) return out;
   const double ratio = std::log(hi / lo) / kBins;
   std::vector<std::vector<double>> bins(kBins);
-  auto take = [&](double a, double b, double c) {
-    if (!(std::abs(a - c) <= kStep * b) || !(std::abs(a - b) <= kStep * b)) return;
-    const int k = std::min(kBins - 1, static_cast<int>(std::log(b / lo) / ratio));
-    bins[k].push_back(std::abs(a - 2 * b + c));
+  auto smooth = [](double a, double b, double c) {
+    return std::abs(a - c) <= kStep * b && std::abs(a - b) <= kStep * b;
   };
   const size_t cols = grid.cols;
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c) {
       const size_t i = r * cols + c;
-      if (std::isnan(depth[i])) continue;
-      if (c > 0 && c + 1 < grid.cols) take(depth[i - 1], depth[i], depth[i + 1]);
-      if (r > 0 && r + 1 < grid.rows) take(depth[i - cols], depth[i], depth[i + cols]);
+      const double b = depth[i];
+      if (std::isnan(b)) continue;
+      const bool across = c > 0 && c + 1 < grid.cols && smooth(depth[i - 1], b, depth[i + 1]);
+      const bool down = r > 0 && r + 1 < grid.rows && smooth(depth[i - cols], b, depth[i + cols]);
+      if (!across && !down) continue;
+      // One logarithm a cell: both of its second differences fall in its depth's bin.
+      std::vector<double>& bin =
+          bins[std::min(kBins - 1, static_cast<int>(std::log(b / lo) / ratio))];
+      if (across) bin.push_back(std::abs(depth[i - 1] - 2 * b + depth[i + 1]));
+      if (down) bin.push_back(std::abs(depth[i - cols] - 2 * b + depth[i + cols]));
     }
   for (int k = 0; k < kBins; ++k) {
     if (bins[k].size() < kMinSamples) continue;
