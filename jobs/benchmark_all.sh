@@ -15,6 +15,7 @@
 #                             beside Open3D's frame-to-frame ICP: the dev and held-out sets
 #   benchmark_stream_speed.sh room walks and the real kitchen read to mesh beside
 #                             ScalableTSDFVolume: seconds, ns an update, balance, memory
+#   benchmark_heldout.sh      the real kitchen's fused surfaces judged by frames left out
 # Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md, the
 # summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about 75 minutes on two cores;
 # SEQ_ROOT and SEQUENCES pass to benchmark_tracking.sh (SEQUENCES="orbit handheld desk" leaves
@@ -38,5 +39,6 @@ run benchmark_robust_depth
 run benchmark_tracking
 run benchmark_kitchen
 run benchmark_stream_speed
+run benchmark_heldout
 echo "== summary ($(date +%H:%M:%S)); tables in $out/"
 python3 jobs/summarize_benchmarks.py "$out" | tee "$out/summary.md"

@@ -9,6 +9,8 @@
 # - kitchen: real Kinect v1 frames (../shared/data/7scenes-kitchen, read in place through links
 #   laid out as a Redwood folder by jobs/kitchen_as_redwood.sh, never copied), frames 0-399, at
 #   their reference poses.
+# Each set is also fused with --merge-cells 1.5 (larger triangles: faster, and what it costs
+# is in docs/benchmarks.md, "Held-out frames of a real stream"), beside the same Open3D run.
 # Per run: seconds read to mesh (the mpirun job, best of two), the field line's voxel updates
 # summed over the ranks and their max/mean (balance), ns per voxel update per core (wall x 2
 # cores over updates), the adding, planning and routing seconds per rank, peak memory summed
@@ -80,25 +82,33 @@ for set in ${1:-room-dev room-judge kitchen}; do
       "$bin" scan --shape room --path walk --views 300 --width 640 --height 480 --voxel $voxel \
         --sensor kinect --sensor-without shutter,offset --seed $seed --texture 0.237 \
         --format tum --out "$dir" >/dev/null
-      colours="none rgb" ;;
+      colours="none rgb merge-1.5" ;;
     kitchen)
       bash jobs/kitchen_as_redwood.sh "$dir" 400 >/dev/null
-      colours="none" ;;
+      colours="none merge-1.5" ;;
   esac
   for colour in $colours; do
-    flag=(--colour none) peer="Open3D ScalableTSDFVolume" o3dflag=
+    flag=(--colour none) peer="Open3D ScalableTSDFVolume" o3dflag= name="colour $colour"
     [[ $colour == rgb ]] && flag=() peer="Open3D RGB8" o3dflag=rgb
+    # Larger triangles (docs/benchmarks.md, "Held-out frames"), beside the same Open3D run.
+    [[ $colour == merge-1.5 ]] && flag=(--colour none --merge-cells 1.5) name="colour none, --merge-cells 1.5"
     seconds=$(best "$tmp/log" mpirun -np 2 --bind-to none "$bin" fuse --scans "$dir" \
       --voxel $voxel "${flag[@]}" --out "$tmp/rf.ply")
-    o3d=$(open3d "$dir" "$tmp/o3d.ply" $o3dflag)
+    if [[ $colour == merge-1.5 ]]; then
+      o3d=$o3d_depth
+    else
+      o3d=$(open3d "$dir" "$tmp/o3d.ply" $o3dflag)
+    fi
+    [[ $colour == none ]] && o3d_depth=$o3d
     o3ds=${o3d%% |*}
     ratio=$(awk -v a="$seconds" -v b="$o3ds" 'BEGIN { printf "%.2f", a / b }')
     acc="- | -" o3dacc="- | -"
     if [[ $set == room-* ]]; then
-      acc=$(accuracy "$tmp/rf.ply" "$dir/truth.ply") o3dacc=$(accuracy "$tmp/o3d.ply" "$dir/truth.ply")
+      acc=$(accuracy "$tmp/rf.ply" "$dir/truth.ply")
+      [[ $colour == merge-1.5 ]] || o3dacc=$(accuracy "$tmp/o3d.ply" "$dir/truth.ply")
     fi
-    echo "| $set | rangefuse prism, 2 ranks, colour $colour | $seconds | $ratio | $(field_figures "$tmp/log" "$seconds") | $acc |"
-    echo "| $set | $peer | $o3ds | 1 | | | | | | | ${o3d##*| } | $o3dacc |"
+    echo "| $set | rangefuse prism, 2 ranks, $name | $seconds | $ratio | $(field_figures "$tmp/log" "$seconds") | $acc |"
+    [[ $colour == merge-1.5 ]] || echo "| $set | $peer | $o3ds | 1 | | | | | | | ${o3d##*| } | $o3dacc |"
   done
   if [[ $set == room-* ]]; then
     stream=$tmp/$set-stream

@@ -86,6 +86,25 @@ def summary(out):
             a, b = number(r.get("frames/s")), number(r.get("Open3D frames/s"))
             rows.append(("frames/s, real Kinect, Open3D ICP beside",
                          "7-Scenes kitchen, %s" % r["set"], show(a, 1), show(b, 1), ratio(a, b)))
+    for table in tables(os.path.join(out, "benchmark_stream_speed.md"))[:1]:
+        for r in table:
+            if not r["tool"].startswith("rangefuse prism"):
+                continue
+            ours, times = number(r.get("seconds read to mesh")), number(r.get("/ Open3D"))
+            rows.append(("seconds read to mesh, ScalableTSDFVolume beside",
+                         "%s, %s" % (r["set"], r["tool"][len("rangefuse prism, "):]),
+                         show(ours), show(ours / times if ours and times else None),
+                         show(times)))
+    for table in tables(os.path.join(out, "benchmark_heldout.md"))[:1]:
+        for name in dict.fromkeys(r["set"] for r in table):
+            mine = [r for r in table if r["set"] == name]
+            peer = next((r for r in mine if r["tool"].startswith("Open3D")), None)
+            for r in mine:
+                if peer and r["tool"].startswith("rangefuse"):
+                    a, b = number(r["median distance (mm)"]), number(peer["median distance (mm)"])
+                    rows.append(("median distance (mm) to frames left out, Open3D beside",
+                                 "7-Scenes kitchen, %s, %s" % (name, r["tool"]), show(a),
+                                 show(b), ratio(a, b)))
     memory = tables(os.path.join(out, "benchmark_memory.md"))
     if memory:
         peaks = {r["ranks"]: max(number(x) for x in r["peak memory per rank (MiB)"].split("/"))
