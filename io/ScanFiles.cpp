@@ -223,6 +223,10 @@ void preferIntensity(ConfFile& conf) {
   }
 }
 
+void dropColourImages(ConfFile& conf) {
+  for (ConfScan& s : conf.scans) s.colour.clear();
+}
+
 ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells) {
   ConfFile out;
   out.warnings = conf.warnings;

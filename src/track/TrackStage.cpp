@@ -309,8 +309,7 @@ bool openStream(const RunSettings& s, MPI_Comm comm, Progress& progress, LoadedS
         conf = s.track.follow ? internal::FollowedFolder(o, s.track.followTimeout, comm).first()
                               : io::readScanList(o.scans, o.limits, o.source);
         scans.colour = trackedColour(s, conf);
-        if (scans.colour == ColourKind::none)
-          for (io::ConfScan& s : conf.scans) s.colour.clear();  // not read for nothing
+        if (scans.colour == ColourKind::none) io::dropColourImages(conf);
       }))
     return false;
   if (progress.isRoot())

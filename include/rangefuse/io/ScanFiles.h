@@ -30,6 +30,9 @@ std::vector<std::string> scanListFiles(const std::string& path);
 /// colour (--colour intensity on a station that recorded both).
 void preferIntensity(ConfFile& conf);
 
+/// Forgets every depth frame's colour image, so that a job fusing no colour decodes none.
+void dropColourImages(ConfFile& conf);
+
 /// The list with each PTX scan of more than maxCells cells (0: none) made several entries, one
 /// per band of columns (ColumnBands.h), in order, sharing the scan's name, file and pose.
 ConfFile splitIntoBands(const ConfFile& conf, uint64_t maxCells);
