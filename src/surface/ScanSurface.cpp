@@ -60,8 +60,8 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const Surf
     const double fineStep = gridSpacing(grid);
     std::vector<Texel> texels;
     const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor, &texels);
-    GridTriangulation rules = gridTriangulation(coarse, options);
-    rules.maxEdge = mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor);
+    const GridTriangulation rules = gridTriangulation(
+        coarse, options, mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor));
     smoothing.edge = rules.maxEdge;
     return surfaceOf(smoothDepths(coarse, noise, smoothing), rules, pose, options.normalPasses, k,
                      &texels);

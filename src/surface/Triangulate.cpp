@@ -83,10 +83,14 @@ double gridSpacing(const RangeGrid& grid, int downEvery) {
 }
 
 GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options) {
+  return gridTriangulation(grid, options, options.maxEdgeFactor * gridSpacing(grid));
+}
+
+GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options,
+                                    double maxEdge) {
   // (r,c),(r,c+1),(r+1,c) has its normal toward +z, the sensor side (NOTES.md), in Stanford
   // and pinhole grids; a station's columns may turn either way, so the cells vote.
-  return {options.maxEdgeFactor * gridSpacing(grid), options.minCosine, internal::facesSensor(grid),
-          internal::wrapsAround(grid)};
+  return {maxEdge, options.minCosine, internal::facesSensor(grid), internal::wrapsAround(grid)};
 }
 
 TriangleMesh triangulateGrid(const RangeGrid& grid, const SurfaceOptions& options) {

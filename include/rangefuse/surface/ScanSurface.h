@@ -84,6 +84,10 @@ struct GridTriangulation {
 /// The grid's own triangulation rules: its spacing, winding and seam.
 GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options);
 
+/// The same with the longest edge kept given (a merged grid's, mergedEdgeLimit).
+GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options,
+                                    double maxEdge);
+
 /// Two triangles per full grid cell, filtered by edge length and obliqueness; only the
 /// vertices some triangle uses are kept. Coordinates stay in the scan frame. Triangles are wound
 /// to face the sensor whichever way the grid's columns run, and a station's full turn is
