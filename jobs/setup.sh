@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev
           libeigen3-dev libnanoflann-dev libboost-program-options-dev libgtest-dev
-          libpng-dev libjpeg-dev nlohmann-json3-dev
+          libpng-dev libjpeg-dev nlohmann-json3-dev procps
           pybind11-dev python3-dev python3-numpy python3-pytest python3-mpi4py
           ${RANGEFUSE_EXTRA_PACKAGES:-})
 missing=()
