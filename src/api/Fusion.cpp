@@ -78,6 +78,7 @@ nlohmann::json recordedSettings(const FieldSettings& f, const SurfaceOptions& su
   FuseOptions o;
   o.field = f;
   o.mergeCells = surface.mergeTarget / f.voxel, o.smoothNoise = surface.smoothTarget / f.voxel;
+  o.joinFlat = surface.flatTolerance / f.voxel;
   return resultParameters(o);
 }
 
@@ -176,9 +177,9 @@ const char* libraryVersion() {
 }
 
 SurfaceOptions defaultSurface(const FieldSettings& field) {
-  const FuseOptions command;  // the command's defaults
-  return surfaceOptions(command.surface, command.mergeCells, command.smoothNoise, field.voxel,
-                        field.method, field.fillHoles);
+  FuseOptions command;  // the command's defaults
+  command.field = field;
+  return surfaceOptions(command);
 }
 
 Fusion::Fusion(const FieldSettings& field, MPI_Comm comm)

@@ -54,6 +54,13 @@ std::vector<FuseParameter> commandOptions() {
        must<O, double>(
            &O::smoothNoise, [](double v) { return v >= 0 && finite(v); },
            "must be a number of voxels >= 0 (0: never smooth)")},
+      {"join-flat", "join_flat_voxels", R::Result, false, G::Field,
+       "describe a block of 2 x 2 range-grid cells by two triangles where the surface is flat: "
+       "where the chord departs from it by at most this many voxels (0: never join)",
+       at(&O::joinFlat),
+       must<O, double>(
+           &O::joinFlat, [](double v) { return v >= 0 && finite(v); },
+           "must be a number of voxels >= 0 (0: never join)")},
       {"band-cells", "band_cells", R::Result, false, G::Field,
        "PTX scans of more cells than this are read and prepared in bands of columns, each by "
        "any rank, so no rank holds a whole station (0: never split)",

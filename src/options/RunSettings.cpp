@@ -11,8 +11,7 @@ ReadSettings readSettings(const FuseOptions& o) {
   r.scans = o.scans;
   r.source = o.source;
   r.limits = o.limits;
-  r.surface =
-      surfaceOptions(o.surface, o.mergeCells, o.smoothNoise, f.voxel, f.method, f.fillHoles);
+  r.surface = surfaceOptions(o);
   r.eps = f.eps();
   r.voxel = f.voxel;
   r.bandCells = static_cast<uint64_t>(o.bandCells);
@@ -23,12 +22,13 @@ ReadSettings readSettings(const FuseOptions& o) {
 
 }  // namespace
 
-SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double smoothNoise,
-                              double voxel, FieldMethod method, bool fillHoles) {
-  SurfaceOptions s = base;
-  s.mergeTarget = mergeCells * voxel;
-  s.smoothTarget = smoothNoise * voxel;
-  s.sightMap = methodInfo(method).hypotheses || fillHoles;
+SurfaceOptions surfaceOptions(const FuseOptions& o) {
+  const FieldSettings& f = o.field;
+  SurfaceOptions s = o.surface;
+  s.mergeTarget = o.mergeCells * f.voxel;
+  s.smoothTarget = o.smoothNoise * f.voxel;
+  s.flatTolerance = o.joinFlat * f.voxel;
+  s.sightMap = methodInfo(f.method).hypotheses || f.fillHoles;
   return s;
 }
 

@@ -19,6 +19,7 @@ bool given(const FuseOptions& o, const std::string& option) {
 const std::pair<const char*, const char*> kBeforeTheOption[] = {
     {"merge-cells", "0"},             // unmerged grids
     {"smooth-noise", "0"},            // depths as read
+    {"join-flat", "0"},               // every cell's own triangles
     {"min-views", "1"},               // the quorum alone
     {"register-solve", "per-scan"}};  // per-scan fits
 

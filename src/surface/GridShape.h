@@ -1,5 +1,6 @@
 // What a grid's shape says about its triangles (private to the surface stage): whether a
-// station's columns close a full turn, and which way its cells face the sensor.
+// station's columns close a full turn, which way its cells face the sensor, which triangles
+// stay.
 #pragma once
 
 #include "rangefuse/core/RangeGrid.h"
@@ -13,5 +14,10 @@ bool wrapsAround(const RangeGrid& grid, int turnColumns = -1);
 
 /// True when most cells' triangles (r,c),(r,c+1),(r+1,c) face the sensor as wound.
 bool facesSensor(const RangeGrid& grid);
+
+/// True when triangle a, b, c has no edge longer than `maxEdge` and its normal makes a cosine
+/// of at least `minCos` with the line of sight at its centroid.
+bool keepsTriangle(const RangeGrid& grid, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& c, double maxEdge, double minCos);
 
 }  // namespace rangefuse::internal

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "rangefuse/surface/DepthSmoothing.h"
+#include "rangefuse/surface/FlatBlocks.h"
 #include "rangefuse/surface/GridMerging.h"
 
 namespace rangefuse {
@@ -30,18 +31,21 @@ void attachTexels(ScanSurface& s, const RangeGrid& merged, int k, const std::vec
   }
 }
 
-/// The grid triangulated by `rules`, with filtered normals, placed by `pose`; with `texels`
-/// (grid merged from k x k cells), the points keep their blocks' original colours.
+/// The grid triangulated by `rules`, with filtered normals and, on a grid without colour, flat
+/// blocks joined within `flatTolerance`, placed by `pose`; with `texels` (grid merged from k x k
+/// cells), the points keep their blocks' original colours. A joined triangle's corners hold
+/// only their own blocks' colours, so a coloured grid stays fine: its texture would blur.
 ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, const Pose& pose,
-                      int normalPasses, int k = 1, const std::vector<Texel>* texels = nullptr) {
-  std::vector<int32_t> sources;
-  const bool fine = texels && !texels->empty();
-  TriangleMesh mesh = triangulateGrid(grid, rules, nullptr, fine ? &sources : nullptr);
-  const std::vector<Eigen::Vector3d> normals = filteredVertexNormals(mesh, normalPasses);
-  ScanSurface s = orientedSurface(std::move(mesh), normals, grid.sensor(), pose);
-  s.colourKind = grid.colourKind;
-  if (fine) attachTexels(s, grid, k, *texels, sources);
-  return s;
+                      const SurfaceOptions& options, int k = 1,
+                      const std::vector<Texel>* texels = nullptr) {
+  GridSurface s;
+  s.mesh = triangulateGrid(grid, rules, nullptr, &s.sources);
+  s.normals = filteredVertexNormals(s.mesh, options.normalPasses);
+  if (grid.colours.empty()) joinFlatBlocks(grid, rules, options.flatTolerance, s);
+  ScanSurface out = orientedSurface(std::move(s.mesh), s.normals, grid.sensor(), pose);
+  out.colourKind = grid.colourKind;
+  if (texels && !texels->empty()) attachTexels(out, grid, k, *texels, s.sources);
+  return out;
 }
 
 }  // namespace
@@ -63,13 +67,12 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const Surf
     const GridTriangulation rules = gridTriangulation(
         coarse, options, mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor));
     smoothing.edge = rules.maxEdge;
-    return surfaceOf(smoothDepths(coarse, noise, smoothing), rules, pose, options.normalPasses, k,
-                     &texels);
+    return surfaceOf(smoothDepths(coarse, noise, smoothing), rules, pose, options, k, &texels);
   }
   // The rules come from the grid as read: smoothing shortens its median step.
   const GridTriangulation rules = gridTriangulation(grid, options);
   smoothing.edge = rules.maxEdge;
-  return surfaceOf(smoothDepths(grid, noise, smoothing), rules, pose, options.normalPasses);
+  return surfaceOf(smoothDepths(grid, noise, smoothing), rules, pose, options);
 }
 
 ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,

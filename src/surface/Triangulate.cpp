@@ -8,17 +8,6 @@
 namespace rangefuse {
 namespace {
 
-bool keepTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                  const Eigen::Vector3d& c, double maxEdge, double minCos) {
-  if ((a - b).norm() > maxEdge || (b - c).norm() > maxEdge || (c - a).norm() > maxEdge)
-    return false;
-  Eigen::Vector3d n = (b - a).cross(c - a);
-  double len = n.norm();
-  if (len == 0) return false;
-  Eigen::Vector3d centre = (a + b + c) / 3.0;
-  return n.dot(g.towardSensor(centre)) / len >= minCos;
-}
-
 /// Azimuth of a column about the station's z axis (circular mean of its points), or NaN when
 /// the column holds no point off the axis.
 double columnAzimuth(const RangeGrid& g, int c) {
@@ -39,6 +28,17 @@ double angleBetween(double a, double b) {
 }  // namespace
 
 namespace internal {
+
+bool keepsTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& c, double maxEdge, double minCos) {
+  if ((a - b).norm() > maxEdge || (b - c).norm() > maxEdge || (c - a).norm() > maxEdge)
+    return false;
+  Eigen::Vector3d n = (b - a).cross(c - a);
+  double len = n.norm();
+  if (len == 0) return false;
+  Eigen::Vector3d centre = (a + b + c) / 3.0;
+  return n.dot(g.towardSensor(centre)) / len >= minCos;
+}
 
 bool wrapsAround(const RangeGrid& g, int turnColumns) {
   const int cols = turnColumns < 0 ? g.cols : turnColumns;
@@ -113,8 +113,8 @@ TriangleMesh triangulateGrid(const RangeGrid& grid, const GridTriangulation& rul
   int column = 0;
   auto emit = [&](int32_t a, int32_t b, int32_t c) {
     if (a < 0 || b < 0 || c < 0) return;
-    if (!keepTriangle(grid, grid.points[a], grid.points[b], grid.points[c], rules.maxEdge,
-                      rules.minCosine))
+    if (!internal::keepsTriangle(grid, grid.points[a], grid.points[b], grid.points[c],
+                                 rules.maxEdge, rules.minCosine))
       return;
     mesh.faces.push_back({use(a), use(b), use(c)});
     if (cellColumns) cellColumns->push_back(column);

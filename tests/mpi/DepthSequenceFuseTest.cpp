@@ -1,6 +1,7 @@
 // A depth camera's sequence (16-bit PNG frames along one orbit, noise growing with the square of
 // the range) fuses from its TUM, Redwood and 7-Scenes folders and a .conf naming its images:
-// close to the truth, and to the same mesh whichever list names the same images and poses.
+// close to the truth, and to the same mesh whichever list names the same images and poses;
+// joining its flat blocks of cells changes the mesh by no more than their tolerance.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -95,6 +96,35 @@ TEST(DepthSequenceFuse, TumRedwoodSevenScenesAndNamedImagesFuseCloseToTheTruth) 
       EXPECT_GT(c.precision, 0.99) << name;
       EXPECT_GT(c.recall, 0.7) << name;
     }
+    std::filesystem::remove_all(dir);
+  }
+}
+
+TEST(DepthSequenceFuse, JoinedFlatBlocksMoveTheMeshByLessThanTheirTolerance) {
+  const std::string dir = test::sharedTempPath("depth-join");
+  writeSequences(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  FuseOptions joined = fuseOptions(dir + "/tum", dir + "/joined.ply");
+  FuseOptions fine = fuseOptions(dir + "/tum", dir + "/fine.ply");
+  ASSERT_GT(joined.joinFlat, 0);  // the default joins
+  fine.joinFlat = 0;
+  ASSERT_EQ(runFuse(joined, MPI_COMM_WORLD), 0);
+  ASSERT_EQ(runFuse(fine, MPI_COMM_WORLD), 0);
+  if (mpi::rank() == 0) {
+    const TriangleMesh a = io::readMeshPly(dir + "/joined.ply");
+    const TriangleMesh b = io::readMeshPly(dir + "/fine.ply");
+    EXPECT_NE(a.vertices, b.vertices);  // the scene's flat faces were joined
+    const CompareSettings settings{kVoxel, 3 * kVoxel, 50000, 1};
+    const MeshComparison apart = compareMeshes(a, b, settings);
+    const MeshComparison toTruth = compareMeshes(a, scene(), settings);
+    const MeshComparison fineToTruth = compareMeshes(b, scene(), settings);
+    std::printf("joined to fine: mean %.4f voxel; to the truth %.4f against %.4f voxel\n",
+                apart.accuracy.mean / kVoxel, toTruth.accuracy.mean / kVoxel,
+                fineToTruth.accuracy.mean / kVoxel);
+    // The chords stand at most the tolerance off the fine triangles, and the field averages
+    // them with the frames that kept the block fine.
+    EXPECT_LT(apart.accuracy.mean, joined.joinFlat * kVoxel);
+    EXPECT_LT(toTruth.accuracy.mean, fineToTruth.accuracy.mean + 0.01 * kVoxel);
     std::filesystem::remove_all(dir);
   }
 }

@@ -25,9 +25,10 @@ struct FuseOptions {
   std::string scans;             ///< .conf, .ptx or depth-sequence folder
   io::ScanSourceOptions source;  ///< how to read it (format, depth cameras)
   FieldSettings field;           ///< the field (maxVoxels comes from limits)
-  SurfaceOptions surface;        ///< mergeTarget and smoothTarget come from the two below
+  SurfaceOptions surface;        ///< the targets and tolerance come from the three below
   double mergeCells = 1;         ///< merge grid cells up to this many voxels (0: never)
   double smoothNoise = 1;        ///< smooth depths noisier than this many voxels (0: never)
+  double joinFlat = 0.05;        ///< join flat 2 x 2 blocks within this many voxels (0: never)
   double bandCells = 4e6;        ///< PTX scans of more cells are read in bands by several ranks
   float minWeight = 0.0f;        ///< voxels with summed weight not above this are unobserved
   bool normals = true;           ///< write vertex normals

@@ -82,9 +82,8 @@ struct RunSettings {
 RunSettings runSettings(const FuseOptions& options);
 
 /// The surface options scans are prepared with: merging cells up to `mergeCells` voxels,
-/// depths smoothed until their noise is about `smoothNoise` voxels, sight maps when the method
-/// judges by free space or holes are closed.
-SurfaceOptions surfaceOptions(const SurfaceOptions& base, double mergeCells, double smoothNoise,
-                              double voxel, FieldMethod method, bool fillHoles);
+/// depths smoothed until their noise is about `smoothNoise` voxels, flat blocks joined within
+/// `joinFlat` voxels, sight maps when the method judges by free space or holes are closed.
+SurfaceOptions surfaceOptions(const FuseOptions& options);
 
 }  // namespace rangefuse

@@ -20,6 +20,9 @@ struct SurfaceOptions {
   /// Merge blocks of k x k grid cells while k cells span no more than this (world units; 0:
   /// never), so that dense grids reach the field at about the voxel's scale.
   double mergeTarget = 0;
+  /// Join flat blocks of 2 x 2 cells into two triangles where their chord stays within this
+  /// of the surface (world units; 0: never): FlatBlocks.h.
+  double flatTolerance = 0;
   /// Smooth depths whose measured noise exceeds this (world units; 0: never): DepthSmoothing.h.
   double smoothTarget = 0;
   bool sightMap = false;  ///< also map what the scan saw along its lines of sight (robust)
