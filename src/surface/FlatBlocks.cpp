@@ -45,7 +45,7 @@ std::vector<std::array<int32_t, 2>> triangleCells(const RangeGrid& g, const Grid
 /// Joins blocks of 2 x 2 cells: the state shared by the flatness test and the new triangles.
 class Joiner {
  public:
-  Joiner(const RangeGrid& g, const GridTriangulation& rules, double tolerance, GridSurface& s)
+  Joiner(const RangeGrid& g, const GridTriangulation& rules, double tolerance, const GridSurface& s)
       : g_(g), rules_(rules), tolerance_(tolerance), s_(s), vertexOf_(g.points.size(), -1) {
     for (size_t v = 0; v < s.sources.size(); ++v) vertexOf_[s.sources[v]] = int32_t(v);
   }
@@ -76,17 +76,18 @@ class Joiner {
       return;
     }
     // A fan about the centre over the block's outline, wound as the cells' triangles are.
-    std::vector<int32_t> loop{a};
-    if (top) loop.push_back(at(r0, c0 + 1));
-    loop.push_back(bb);
-    if (right) loop.push_back(at(r0 + 1, c0 + 2));
-    loop.push_back(d);
-    if (bottom) loop.push_back(at(r0 + 2, c0 + 1));
-    loop.push_back(c);
-    if (left) loop.push_back(at(r0 + 1, c0));
+    std::array<int32_t, 8> loop;
+    int n = 0;
+    loop[n++] = a;
+    if (top) loop[n++] = at(r0, c0 + 1);
+    loop[n++] = bb;
+    if (right) loop[n++] = at(r0 + 1, c0 + 2);
+    loop[n++] = d;
+    if (bottom) loop[n++] = at(r0 + 2, c0 + 1);
+    loop[n++] = c;
+    if (left) loop[n++] = at(r0 + 1, c0);
     const int32_t centre = at(r0 + 1, c0 + 1);
-    for (size_t k = 0; k < loop.size(); ++k)
-      emit(loop[k], loop[(k + 1) % loop.size()], centre, out);
+    for (int k = 0; k < n; ++k) emit(loop[k], loop[(k + 1) % n], centre, out);
   }
 
  private:
