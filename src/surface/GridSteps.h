@@ -10,14 +10,15 @@
 
 namespace rangefuse::internal {
 
-/// Grids with more neighbour pairs than this are sampled a row in every few.
-constexpr size_t kMedianSample = size_t(1) << 18;
+/// Grids with more neighbour pairs than this are sampled on diagonals a few cells apart.
+constexpr size_t kMedianSample = size_t(1) << 16;
 
 /// The median of step(point a, point b) over pairs of valid cells next to each other along a
 /// row or a column, or 0 if there is none. Large grids (a depth frame, a scanner station) are
-/// sampled on every few rows, about kMedianSample pairs in all: the median of so many steps
-/// moves far less than the decisions it feeds (a merge factor, an edge limit four times as
-/// long), and it was the largest cost of reading a frame. Grids up to that size use every pair.
+/// sampled from the cells on diagonals a few cells apart, about kMedianSample pairs in all: the
+/// median of so many steps moves far less than the decisions it feeds (a merge factor, an edge
+/// limit four times as long). Diagonals give every row its share: a floor's depth, and so its
+/// step, changes with the row. Grids up to that size use every pair.
 /// Pairs down a column are taken in every `downEvery`-th column only: a sample of column pairs
 /// side by side (ColumnBands) counts its first columns, so both directions weigh as in the grid.
 template <class Step>
@@ -27,8 +28,9 @@ double medianNeighbourStep(const RangeGrid& g, Step&& step, int downEvery = 1) {
   std::vector<double> steps;
   steps.reserve(pairs / stride + 2 * static_cast<size_t>(g.cols));
   for (const auto& [dr, dc] : {std::pair{0, 1}, std::pair{1, 0}})
-    for (int r = 0; r + dr < g.rows; r += stride)
-      for (int c = 0; c + dc < g.cols; c += dr == 1 ? downEvery : 1) {
+    for (int r = 0; r + dr < g.rows; ++r)
+      for (int c = (stride - r % stride) % stride; c + dc < g.cols; c += stride) {
+        if (dr == 1 && c % downEvery != 0) continue;
         const int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
         if (a >= 0 && b >= 0) steps.push_back(step(g.points[a], g.points[b]));
       }
