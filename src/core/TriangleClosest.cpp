@@ -1,5 +1,6 @@
 #include "rangefuse/core/TriangleClosest.h"
 
+#include <Eigen/Geometry>  // cross() is defined here, not in Eigen/Core
 #include <algorithm>
 #include <cmath>
 
