@@ -47,6 +47,9 @@ RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const st
   g.rows = image.height;
   g.cell.assign(static_cast<size_t>(g.cols) * g.rows, -1);
   g.pinhole = Pinhole{camera.fx, camera.fy, camera.cx, image.height - 1 - camera.cy};
+  // Sized once: grown by doubling, a frame's points were copied about twice over.
+  g.points.reserve(image.counts.size() -
+                   std::count(image.counts.begin(), image.counts.end(), uint16_t{0}));
   size_t measured = 0, tooFar = 0;
   for (int r = 0; r < g.rows; ++r) {
     const int v = g.rows - 1 - r;

@@ -112,6 +112,9 @@ RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFa
   Colour colour;
   if (g.colours.empty()) texels = nullptr;
   std::vector<Texel> block(texels ? size_t(k) * k : 0);
+  // A merged grid lives while its frame is read: room for every block, not growth by doubling.
+  out.points.reserve(out.cell.size());
+  if (!g.colours.empty()) out.colours.reserve(out.cell.size());
   for (int R = 0; R < out.rows; ++R)
     for (int C = 0; C < out.cols; ++C) {
       if (!blockMean(g, R * k, C * k, k, step, mean, colour, texels ? block.data() : nullptr))

@@ -39,12 +39,15 @@ ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, con
                       const SurfaceOptions& options, int k = 1,
                       const std::vector<Texel>* texels = nullptr) {
   GridSurface s;
-  s.mesh = triangulateGrid(grid, rules, nullptr, &s.sources);
+  const bool joins = grid.colours.empty() && options.flatTolerance > 0;
+  const bool textured = texels && !texels->empty();
+  // Both read which grid point each vertex came from; nothing else does.
+  s.mesh = triangulateGrid(grid, rules, nullptr, joins || textured ? &s.sources : nullptr);
   s.normals = filteredVertexNormals(s.mesh, options.normalPasses);
-  if (grid.colours.empty()) joinFlatBlocks(grid, rules, options.flatTolerance, s);
+  if (joins) joinFlatBlocks(grid, rules, options.flatTolerance, s);
   ScanSurface out = orientedSurface(std::move(s.mesh), s.normals, grid.sensor(), pose);
   out.colourKind = grid.colourKind;
-  if (texels && !texels->empty()) attachTexels(out, grid, k, *texels, s.sources);
+  if (textured) attachTexels(out, grid, k, *texels, s.sources);
   return out;
 }
 
