@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <random>
 
 #include "rangefuse/core/RangeGrid.h"
 
@@ -28,6 +29,21 @@ RangeGrid floorGrid(int cols, int rows, double f, Height&& heightAt, Depth&& dep
       g.points.push_back(depthOf(-heightAt(c) / up) * ray);
     }
   return g;
+}
+
+/// floorGrid's floor 1.5 below the camera, each range moved along its ray by `noise(depth)`
+/// deviations of a normal variable (drawn with `seed`) and, when `step` > 0, rounded to a
+/// multiple of step * depth^2 (a structured-light camera's steps).
+inline RangeGrid noisyFloor(int cols, int rows, double f, double (*noise)(double), double step,
+                            int seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0, 1);
+  return floorGrid(
+      cols, rows, f, [](int) { return 1.5; },
+      [&](double t) {
+        t += noise(t) * normal(rng);
+        return step > 0 ? std::round(t / (step * t * t)) * step * t * t : t;
+      });
 }
 
 /// Height above the plane floorGrid's camera saw of a point in the camera frame, less `height`.

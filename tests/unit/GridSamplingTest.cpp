@@ -5,11 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include "FloorGrid.h"
-#include "rangefuse/surface/GridMerging.h"
 #include "rangefuse/surface/RangeNoise.h"
 #include "rangefuse/surface/ScanSurface.h"
 
@@ -23,14 +21,7 @@ double depthSquared(double z) {
 /// A 640 x 480 floor (a depth camera's frame: more cells than either measure takes), each range
 /// moved along its ray by depthSquared deviations and rounded to steps of `step` z^2.
 RangeGrid largeFloor(double step) {
-  std::mt19937_64 rng(5);
-  std::normal_distribution<double> normal(0, 1);
-  return test::floorGrid(
-      640, 480, 800, [](int) { return 1.5; },
-      [&](double t) {
-        t += depthSquared(t) * normal(rng);
-        return step > 0 ? std::round(t / (step * t * t)) * step * t * t : t;
-      });
+  return test::noisyFloor(640, 480, 800, depthSquared, step, 5);
 }
 
 /// The median of |a - b| over every pair of valid neighbours along rows and columns.

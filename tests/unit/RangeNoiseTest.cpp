@@ -10,18 +10,9 @@
 namespace rangefuse {
 namespace {
 
-/// floorGrid's floor 1.5 below the camera (320 x 240, f = 400). Each range is moved along its
-/// ray by `noise(depth)` deviations of a normal variable and, when `step` > 0, rounded to a
-/// multiple of step * depth^2 (a structured-light camera's steps).
+/// test::noisyFloor at 320 x 240, f = 400.
 RangeGrid floorGrid(double (*noise)(double), double step, int seed = 3) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0, 1);
-  return test::floorGrid(
-      320, 240, 400, [](int) { return 1.5; },
-      [&](double t) {
-        t += noise(t) * normal(rng);
-        return step > 0 ? std::round(t / (step * t * t)) * step * t * t : t;
-      });
+  return test::noisyFloor(320, 240, 400, noise, step, seed);
 }
 
 double depthSquared(double z) {
