@@ -21,6 +21,12 @@ constexpr size_t kMedianSample = size_t(1) << 16;
 /// step, changes with the row. Grids up to that size use every pair.
 /// Pairs down a column are taken in every `downEvery`-th column only: a sample of column pairs
 /// side by side (ColumnBands) counts its first columns, so both directions weigh as in the grid.
+/// The first column of row r on the diagonals `every` cells apart that large grids are sampled
+/// on (also RangeNoise::measure): every row and every column keeps its share of the sample.
+inline int firstOnDiagonal(int r, int every) {
+  return (every - r % every) % every;
+}
+
 template <class Step>
 double medianNeighbourStep(const RangeGrid& g, Step&& step, int downEvery = 1) {
   const size_t pairs = 2 * g.cell.size();
@@ -29,7 +35,7 @@ double medianNeighbourStep(const RangeGrid& g, Step&& step, int downEvery = 1) {
   steps.reserve(pairs / stride + 2 * static_cast<size_t>(g.cols));
   for (const auto& [dr, dc] : {std::pair{0, 1}, std::pair{1, 0}})
     for (int r = 0; r + dr < g.rows; ++r)
-      for (int c = (stride - r % stride) % stride; c + dc < g.cols; c += stride) {
+      for (int c = firstOnDiagonal(r, stride); c + dc < g.cols; c += stride) {
         if (dr == 1 && c % downEvery != 0) continue;
         const int32_t a = g.at(r, c), b = g.at(r + dr, c + dc);
         if (a >= 0 && b >= 0) steps.push_back(step(g.points[a], g.points[b]));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "GridSteps.h"
 #include "OrderStatistics.h"
 
 namespace rangefuse {
@@ -38,8 +39,8 @@ RangeNoise RangeNoise::measure(const RangeGrid& grid) {
   auto smooth = [](double a, double b, double c) {
     return std::abs(a - c) <= kStep * b && std::abs(a - b) <= kStep * b;
   };
-  // Cells on diagonals `every` apart: every row and column keeps its share, where whole rows
-  // would leave a floor's narrow band of depths to one row and its quantisation.
+  // Cells on diagonals `every` apart: whole rows would leave a floor's narrow band of depths
+  // to one row and its quantisation.
   const int every = static_cast<int>(std::max<size_t>(1, 2 * grid.cell.size() / kSample));
   struct Cell {
     double depth, across, down;  // second differences, NaN where not taken
@@ -47,7 +48,7 @@ RangeNoise RangeNoise::measure(const RangeGrid& grid) {
   std::vector<Cell> taken;
   double lo = INFINITY, hi = 0;
   for (int r = 0; r < rows; ++r)
-    for (int c = (every - r % every) % every; c < cols; c += every) {
+    for (int c = internal::firstOnDiagonal(r, every); c < cols; c += every) {
       const double b = depthAt(r, c);
       if (std::isnan(b)) continue;
       lo = std::min(lo, b), hi = std::max(hi, b);

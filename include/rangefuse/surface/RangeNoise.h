@@ -21,7 +21,7 @@ class RangeNoise {
   /// bins of depth; steps between surfaces (neighbours' depths differing by more than 5 %)
   /// are left out, and each bin's figure is the larger of a median-based and a trimmed-RMS
   /// estimate, so that quantised depths, whose median step is zero, still count. A large grid
-  /// is measured on rows spread evenly over it, about 2^17 second differences in all.
+  /// is measured on cells of diagonals a few cells apart, about 2^17 second differences.
   static RangeNoise measure(const RangeGrid& grid);
 
   /// A point's depth as the curve counts it: the range for stations, -z for other grids.
