@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "FailedTemporary.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -89,7 +90,7 @@ std::string agreeOnWrite(const std::string& tmp, MPI_Comm comm,
   int from = error.empty() ? size : mpi::rank(comm);
   MPI_Allreduce(MPI_IN_PLACE, &from, 1, MPI_INT, MPI_MIN, comm);
   const std::string cause = from < size ? mpi::broadcastString(error, from, comm) : "";
-  if (mpi::rank(comm) == 0) std::remove(tmp.c_str());
+  if (mpi::rank(comm) == 0) removeFailedTemporary(tmp);
   return cause.empty() ? "failed on another rank" : cause;
 }
 

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 
+#include "FailedTemporary.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/AtomicFile.h"
@@ -139,7 +140,7 @@ bool writeMeshPartPly(const std::string& path, const MeshPart& part, MPI_Comm co
   });
   if (!ok) return false;
   if (!mpi::collectively(comm, [&] { writeBlocks(tmp, path, blocks); })) {
-    if (root) std::remove(tmp.c_str());
+    if (root) internal::removeFailedTemporary(tmp);
     return false;
   }
   return mpi::collectively(comm, [&] {
