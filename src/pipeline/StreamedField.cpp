@@ -161,10 +161,11 @@ bool readShare(const io::ConfFile& conf, HeldScans& share, int threads, MPI_Comm
               warnings[i] = conf.scans[i].path + ": no triangles survive the filters";
             box.extend(pointBounds(s));
             triangles += s.surface.triangles.size();
-            bytes[i] = scanBytes(s);
             if (!s.surface.points.empty())
               kindOf[i] = 1 + static_cast<uint8_t>(s.surface.colourKind);
             if (sights && s.sight) sights->mine.emplace(i, *s.sight);
+            s = usedPointsOnly(std::move(s));  // kept until routed: only what prisms use
+            bytes[i] = scanBytes(s);
             share.offer(i, std::move(s));
           }
           done += batch.size();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 
 #include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -215,6 +216,22 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
     mine.emplace_back(index, std::move(world));
   else
     mine.emplace_back(index, subScan(world, triangles[me], remap));
+}
+
+PrismScan usedPointsOnly(PrismScan scan) {
+  std::vector<uint8_t> used(scan.surface.points.size(), 0);
+  size_t count = 0;
+  for (const Triangle& t : scan.surface.triangles)
+    for (const int32_t v : t) count += !used[v], used[v] = 1;
+  if (count == used.size()) return scan;
+  std::vector<uint32_t> all(scan.surface.triangles.size());
+  std::iota(all.begin(), all.end(), 0u);
+  std::vector<int32_t> remap(used.size(), -1);
+  PrismScan kept = subScan(scan, all, remap);
+  kept.surface.colourKind = scan.surface.colourKind;
+  kept.sight = std::move(scan.sight);
+  kept.noise = std::move(scan.noise);
+  return kept;
 }
 
 void unpackRoutedInto(std::vector<char>&& bytes, IndexedScans& into) {

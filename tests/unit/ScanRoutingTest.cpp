@@ -388,3 +388,58 @@ TEST(ScanRouting, ASentPartIsThePartKeptUnserialised) {
     EXPECT_NE(same(sent), sent.end()) << "rank " << r;
   }
 }
+
+TEST(ScanRouting, AScanOfUsedPointsOnlyAddsTheSameSums) {
+  // Triangles of the last two thirds dropped and a point left alone: most points unused, as
+  // joined flat blocks leave some. The compact scan keeps each triangle's corners, their
+  // normals, confidences and colours, and its limits, and the field takes the same bits.
+  PrismScan scan = wavyScan();
+  auto& s = scan.surface;
+  for (size_t v = 0; v < s.points.size(); ++v)
+    s.colours.push_back(Colour(float(v % 251) / 251, float(v % 7) / 7, 0.5f));
+  s.colourKind = ColourKind::rgb;
+  std::vector<Triangle> kept;
+  PrismLimits limits;
+  for (size_t t = 0; t < s.triangles.size() / 3; ++t)
+    kept.push_back(s.triangles[t]), limits.push_back(scan.limits[t]);
+  s.triangles = kept;
+  scan.limits = limits;
+  s.points.push_back({1, 2, 3}), s.normals.push_back({0, 0, 1}), s.confidence.push_back(1);
+  s.colours.push_back(Colour(0.1f, 0.2f, 0.3f));
+
+  const PrismScan compact = usedPointsOnly(scan);
+  const ScanSurface& c = compact.surface;
+  std::vector<int> used(c.points.size(), 0);
+  for (const auto& t : c.triangles)
+    for (int k = 0; k < 3; ++k) used.at(t[k]) = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 1), static_cast<long>(c.points.size()));
+  EXPECT_LT(c.points.size(), s.points.size() / 2);
+  ASSERT_EQ(c.triangles.size(), s.triangles.size());
+  EXPECT_EQ(c.colourKind, ColourKind::rgb);
+  for (size_t t = 0; t < c.triangles.size(); ++t) {
+    EXPECT_EQ(compact.limits[t], scan.limits[t]);
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = c.triangles[t][k], b = s.triangles[t][k];
+      EXPECT_EQ(c.points[a], s.points[b]);
+      EXPECT_EQ(c.normals[a], s.normals[b]);
+      EXPECT_EQ(c.confidence[a], s.confidence[b]);
+      EXPECT_EQ(c.colours[a], s.colours[b]);
+    }
+  }
+  const std::vector<PrismScan> one{scan};
+  const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 1);
+  auto sums = [&](const PrismScan& added) {
+    BrickStore store(layout, 0);
+    PrismIntegrator(store, 2).addScan(added);
+    return std::vector<VoxelSums>(store.sums().begin(), store.sums().end());
+  };
+  const std::vector<VoxelSums> want = sums(scan), got = sums(compact);
+  ASSERT_EQ(got.size(), want.size());
+  EXPECT_EQ(std::memcmp(got.data(), want.data(), got.size() * sizeof(VoxelSums)), 0);
+
+  // A scan whose triangles use every point is handed back as it is.
+  const PrismScan whole = wavyScan();
+  const PrismScan same = usedPointsOnly(whole);
+  EXPECT_EQ(same.surface.points, whole.surface.points);
+  EXPECT_EQ(same.surface.triangles, whole.surface.triangles);
+}

@@ -33,6 +33,12 @@ struct RoutingStats {
 void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
                std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats);
 
+/// The scan with only the points its triangles use, in order of first use, as a routed part
+/// holds them; the scan itself when its triangles use every point. A field needs no others:
+/// a frame's joined flat blocks (FlatBlocks.h) leave up to three in four of their points
+/// unused, which a kept scan would otherwise hold until it is routed.
+PrismScan usedPointsOnly(PrismScan scan);
+
 /// The scan parts received from every rank, in entry order.
 IndexedScans unpackRouted(std::vector<std::vector<char>>&& in);
 
