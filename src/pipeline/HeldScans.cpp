@@ -3,7 +3,9 @@
 #include <algorithm>
 
 #include "rangefuse/core/MemoryLedger.h"
+#include "rangefuse/parallel/Threads.h"
 #include "rangefuse/route/ScanLoader.h"
+#include "rangefuse/route/ScanRouting.h"
 
 namespace rangefuse {
 
@@ -16,6 +18,7 @@ HeldScans::HeldScans(std::vector<io::ConfScan> scans, std::vector<int> readers, 
       placed_(placed),
       budgetLeft_(budgetBytes),
       kept_(scans_.size()),
+      packed_(scans_.size()),
       keptBytes_(scans_.size(), 0),
       movable_(scans_.size(), 0) {}
 
@@ -23,6 +26,7 @@ void HeldScans::append(const std::vector<io::ConfScan>& more, const std::vector<
   scans_.insert(scans_.end(), more.begin(), more.end());
   readers_.insert(readers_.end(), readers.begin(), readers.end());
   kept_.resize(scans_.size());
+  packed_.resize(scans_.size());
   keptBytes_.resize(scans_.size(), 0);
   movable_.resize(scans_.size(), 0);
 }
@@ -30,11 +34,13 @@ void HeldScans::append(const std::vector<io::ConfScan>& more, const std::vector<
 PrismScan HeldScans::load(size_t i) const {
   const ScanPreparation& p = preparation_;
   PrismScan s = loadScan(scans_[i], p.surface, p.limits, p.eps);
-  return placed_ ? placeScan(std::move(s), scans_[i].pose) : s;
+  if (placed_) s = placeScan(std::move(s), scans_[i].pose);
+  return p.compact ? compactScan(std::move(s)) : s;
 }
 
 std::shared_ptr<const PrismScan> HeldScans::get(size_t i) const {
   if (kept_[i]) return kept_[i];
+  if (!packed_[i].empty()) return std::make_shared<const PrismScan>(unpackedScan(packed_[i]));
   return std::make_shared<const PrismScan>(load(i));
 }
 
@@ -43,9 +49,11 @@ std::vector<PrismScan> HeldScans::read(const std::vector<size_t>& which, int thr
   for (size_t i : which) list.push_back(&scans_[i]);
   const ScanPreparation& p = preparation_;
   std::vector<PrismScan> out = loadScans(list, p.surface, p.limits, p.eps, threads);
-  if (placed_)
-    for (size_t k = 0; k < out.size(); ++k)
-      out[k] = placeScan(std::move(out[k]), scans_[which[k]].pose);
+  if (placed_ || p.compact)
+    parallelFor(out.size(), threads, [&](size_t k) {
+      if (placed_) out[k] = placeScan(std::move(out[k]), scans_[which[k]].pose);
+      if (p.compact) out[k] = compactScan(std::move(out[k]));
+    });
   return out;
 }
 
@@ -61,7 +69,7 @@ std::vector<std::shared_ptr<const PrismScan>> HeldScans::readAndOffer(
   std::vector<PrismScan> fresh = read(unread, threads);
   std::vector<std::shared_ptr<const PrismScan>> out;
   size_t next = 0;
-  for (size_t i : which) out.push_back(kept_[i] ? kept_[i] : offer(i, std::move(fresh[next++])));
+  for (size_t i : which) out.push_back(kept(i) ? get(i) : offer(i, std::move(fresh[next++])));
   return out;
 }
 
@@ -74,8 +82,13 @@ void HeldScans::keep(size_t i, std::shared_ptr<const PrismScan> scan, uint64_t b
 }
 
 std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, std::shared_ptr<const PrismScan> scan) {
+  if (kept(i)) return scan;
+  if (preparation_.compact) {
+    offerPacked(i, packedScan(*scan));
+    return scan;
+  }
   const uint64_t bytes = scanBytes(*scan);
-  if (!kept_[i] && bytes <= budgetLeft_) keep(i, scan, bytes);
+  if (bytes <= budgetLeft_) keep(i, scan, bytes);
   return scan;
 }
 
@@ -87,7 +100,21 @@ std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, PrismScan&& scan) {
   return made;
 }
 
+void HeldScans::offerPacked(size_t i, std::vector<char>&& bytes) {
+  if (kept(i) || bytes.size() > budgetLeft_) return;
+  budgetLeft_ -= bytes.size();
+  keptTotal_ += bytes.size();
+  keptBytes_[i] = bytes.size();
+  packed_[i] = std::move(bytes);
+  memoryLedger().set(Held::keptScans, keptTotal_);
+}
+
 PrismScan HeldScans::take(size_t i) {
+  if (!packed_[i].empty()) {
+    PrismScan scan = unpackedScan(packed_[i]);
+    release(i);
+    return scan;
+  }
   if (!kept_[i]) return load(i);
   std::shared_ptr<const PrismScan> scan = kept_[i];
   const bool movable = movable_[i];
@@ -104,12 +131,14 @@ void HeldScans::release(size_t i) {
   keptBytes_[i] = 0;
   movable_[i] = 0;
   kept_[i].reset();
+  std::vector<char>().swap(packed_[i]);
   memoryLedger().set(Held::keptScans, keptTotal_);
 }
 
 size_t HeldScans::keptCount() const {
   return static_cast<size_t>(
-      std::count_if(kept_.begin(), kept_.end(), [](const auto& s) { return s != nullptr; }));
+      std::count_if(kept_.begin(), kept_.end(), [](const auto& s) { return s != nullptr; }) +
+      std::count_if(packed_.begin(), packed_.end(), [](const auto& b) { return !b.empty(); }));
 }
 
 std::shared_ptr<HeldScans> heldScans(std::vector<io::ConfScan> scans, std::vector<int> readers,

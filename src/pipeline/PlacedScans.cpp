@@ -35,11 +35,11 @@ IndexedScans routeWindow(const LoadedScans& scans, const std::vector<size_t>& or
   const auto take = [&](size_t k) {
     return placeScan(*scans.held->get(order[k]), poses[order[k]]);
   };
-  IndexedScans parts;
+  RoutedParts parts;
   RoutingStats stats;
   if (!routeRounds({mine}, take, layout, reach, comm, parts, stats)) throw mpi::Reported();
-  sortByEntry(parts);
-  return parts;
+  parts.sortByEntry();
+  return parts.takeAll();
 }
 
 void addRouted(const LoadedScans& scans, const std::vector<size_t>& order,

@@ -154,6 +154,9 @@ bool readShare(const io::ConfFile& conf, HeldScans& share, int threads, MPI_Comm
         // As many scans at a time as the rank has threads: one each.
         forEachBatch(mine, threads, [&](const std::vector<size_t>& batch) {
           std::vector<PrismScan> scans = share.read(batch, threads);
+          // Kept until routed as routing packs them: compact, only the points prisms use.
+          std::vector<std::vector<char>> packed(batch.size());
+          parallelFor(batch.size(), threads, [&](size_t k) { packed[k] = packedScan(scans[k]); });
           for (size_t k = 0; k < batch.size(); ++k) {
             const size_t i = batch[k];
             PrismScan& s = scans[k];
@@ -164,9 +167,8 @@ bool readShare(const io::ConfFile& conf, HeldScans& share, int threads, MPI_Comm
             if (!s.surface.points.empty())
               kindOf[i] = 1 + static_cast<uint8_t>(s.surface.colourKind);
             if (sights && s.sight) sights->mine.emplace(i, *s.sight);
-            s = usedPointsOnly(std::move(s));  // kept until routed: only what prisms use
-            bytes[i] = scanBytes(s);
-            share.offer(i, std::move(s));
+            bytes[i] = packed[k].size();
+            share.offerPacked(i, std::move(packed[k]));
           }
           done += batch.size();
           if (done < mine.size())  // a large station's bands count as scans here
@@ -194,22 +196,19 @@ bool planShare(const StreamOptions& o, const io::ConfFile& conf, const HeldScans
   BrickWork work;
   const auto start = std::chrono::steady_clock::now();
   if (!collectively(comm, [&] {
-        // Kept scans whole, a share on each thread (one parallel section, not one a scan);
-        // the others are read again one at a time, each on all threads.
-        std::vector<std::shared_ptr<const PrismScan>> kept;
-        std::vector<size_t> unkept;
+        // Kept scans whole, a share on each thread (one parallel section, not one a scan),
+        // each unpacked by its thread as it comes; the others are read again one at a time,
+        // each on all threads.
+        std::vector<size_t> kept, unkept;
         for (size_t i = 0; i < conf.scans.size(); ++i) {
           if (!share.holds(i)) continue;
-          if (share.kept(i))
-            kept.push_back(share.get(i));
-          else
-            unkept.push_back(i);
+          (share.kept(i) ? kept : unkept).push_back(i);
         }
         const size_t parts = static_cast<size_t>(std::max(1, o.threads));
         std::vector<BrickWork> part(parts);
         parallelFor(parts, o.threads, [&](size_t k) {
           for (size_t j = k; j < kept.size(); j += parts)
-            addPrismWork(*kept[j], grid, o.limits.maxVoxels, part[k], 1);
+            addPrismWork(*share.get(kept[j]), grid, o.limits.maxVoxels, part[k], 1);
         });
         for (const BrickWork& p : part) addWork(p, grid, o.limits.maxVoxels, work);
         for (size_t i : unkept)
@@ -250,12 +249,6 @@ std::vector<uint8_t> keptByReader(const HeldScans& share, MPI_Comm comm) {
   return kept;
 }
 
-uint64_t partsBytes(const IndexedScans& parts) {
-  uint64_t bytes = 0;
-  for (const auto& [i, s] : parts) bytes += scanBytes(s);
-  return bytes;
-}
-
 /// Collective: routes this rank's scans of entries [first, end) to the brick owners and
 /// appends what this rank is sent, and its own part, to `parts`. There are as many rounds as
 /// the busiest reader has entries, and every reader sends its entries spread over them by
@@ -264,7 +257,7 @@ uint64_t partsBytes(const IndexedScans& parts) {
 /// arrived in).
 bool routeEntries(size_t first, size_t end, HeldScans& share,
                   const std::vector<uint64_t>& preparedBytes, bool colour, double reach,
-                  const BrickLayout& layout, MPI_Comm comm, IndexedScans& parts,
+                  const BrickLayout& layout, MPI_Comm comm, RoutedParts& parts,
                   RoutingStats& routing) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
   std::vector<std::vector<size_t>> byReader(ranks);
@@ -278,6 +271,61 @@ bool routeEntries(size_t first, size_t end, HeldScans& share,
   };
   return routeRounds(roundsOf(byReader[me], rounds, preparedBytes), take, layout, reach, comm,
                      parts, routing);
+}
+
+/// Unpacked parts a batch of images holds at most (and a whole image more): a window's parts
+/// are held packed, as floats, and only a batch's at a time as doubles.
+constexpr uint64_t kBatchBytes = 32 << 20;
+
+/// The next parts from `k` on (sorted by entry), whole images of about kBatchBytes.
+IndexedScans nextBatch(RoutedParts& parts, const std::vector<size_t>& scanOf, size_t& k) {
+  IndexedScans batch;
+  uint64_t bytes = 0;
+  while (k < parts.size() &&
+         (bytes < kBatchBytes || scanOf[parts.entry(k)] == scanOf[batch.back().first])) {
+    batch.emplace_back(parts.entry(k), parts.take(k));
+    bytes += scanBytes(batch.back().second);
+    ++k;
+  }
+  memoryLedger().set(Held::routedScans, parts.bytes() + bytes);
+  return batch;
+}
+
+/// Adds a window's parts (sorted by entry) to the integrator in scan order, a batch at a time.
+/// A part routed here carries no sight map: the rank's copy of its scan's map (`sights`, robust
+/// fusion) gives its samples' noise.
+void addParts(RoutedParts& parts, const std::vector<size_t>& scanOf, std::vector<SightMap>* sights,
+              PrismIntegrator& integrator, RankCounters& counters) {
+  for (size_t k = 0; k < parts.size();) {
+    IndexedScans batch = nextBatch(parts, scanOf, k);
+    // The batch's images go to the integrator together: its threads need not wait for each
+    // other between images.
+    std::vector<PrismIntegrator::Image> images;
+    for (const auto& [i, image] : partsByScan(batch, scanOf)) {
+      faultPoint("field");
+      if (sights)
+        for (PrismScan* part : image)
+          part->sight = std::shared_ptr<SightMap>(std::shared_ptr<SightMap>(), &(*sights)[i]);
+      images.emplace_back(image.begin(), image.end());
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const IntegrationStats st = integrator.addImages(images);
+    counters.addSeconds += secondsSince(start);
+    counters.prisms += st.prisms;
+    counters.voxelUpdates += st.voxelUpdates;
+    memoryLedger().set(Held::integrator, integrator.bytes());
+  }
+}
+
+/// The closest-surface methods keep each scan's parts, joined, as the field's scans.
+void keepParts(RoutedParts& parts, const std::vector<size_t>& scanOf, FusedField& field) {
+  IndexedScans all = parts.takeAll();
+  for (const auto& [i, image] : partsByScan(all, scanOf)) {
+    faultPoint("field");
+    std::vector<PrismScan> bands;
+    for (PrismScan* part : image) bands.push_back(std::move(*part));
+    field.scans[i] = joinScans(std::move(bands));
+  }
 }
 
 /// Pass 3: window by window, routes this rank's scans to the brick owners, which add what
@@ -299,15 +347,15 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
   const bool alone = ranks == 1 && reach == 0;
   for (size_t w = 0, first = 0; w < windows.size(); first = windows[w++]) {
     const size_t end = windows[w];
-    IndexedScans parts;
+    RoutedParts parts;
     if (alone) {
       if (!collectively(comm, [&] {
             for (size_t i = first; i < end; ++i) {
               PrismScan s = share.take(i);
               if (!store.hasColour()) dropColour(s.surface);
-              parts.emplace_back(i, std::move(s));
+              parts.keep(i, std::move(s));
             }
-            memoryLedger().set(Held::routedScans, partsBytes(parts));
+            memoryLedger().set(Held::routedScans, parts.bytes());
           }))
         return false;
     } else {
@@ -317,35 +365,14 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
         return false;
       counters.routeSeconds += secondsSince(start);
     }
-    sortByEntry(parts);
-    // The window's images go to the integrator together: its threads need not wait for each
-    // other between images.
-    std::vector<PrismIntegrator::Image> images;
-    for (const auto& [i, image] : partsByScan(parts, scanOf)) {
-      faultPoint("field");
-      if (reach > 0) {
-        std::vector<PrismScan> bands;
-        for (PrismScan* part : image) bands.push_back(std::move(*part));
-        field.scans[i] = joinScans(std::move(bands));
-        continue;
-      }
-      // A part routed here carries no sight map; the rank's copy of its scan's map gives
-      // its samples' noise (the parts live only as long as this window, the maps longer).
-      if (sights)
-        for (PrismScan* part : image)
-          part->sight = std::shared_ptr<SightMap>(std::shared_ptr<SightMap>(), &(*sights)[i]);
-      images.emplace_back(image.begin(), image.end());
-    }
+    parts.sortByEntry();
     if (integrator) {
-      const auto start = std::chrono::steady_clock::now();
-      const IntegrationStats st = integrator->addImages(images);
-      counters.addSeconds += secondsSince(start);
-      counters.prisms += st.prisms;
-      if (alone) routing.copies += st.prisms;
-      counters.voxelUpdates += st.voxelUpdates;
-      memoryLedger().set(Held::integrator, integrator->bytes());
+      const uint64_t prisms = counters.prisms;
+      addParts(parts, scanOf, sights, *integrator, counters);
+      if (alone) routing.copies += counters.prisms - prisms;
+    } else {
+      keepParts(parts, scanOf, field);
     }
-    parts.clear();
     memoryLedger().set(Held::routedScans, 0);
     if (end < conf.scans.size())
       progress.update("field", std::to_string(end) + " of " + std::to_string(conf.scans.size()) +
@@ -374,7 +401,7 @@ bool buildStreamedField(const StreamOptions& o, const io::ConfFile& scans, MPI_C
   SurfaceOptions surface = o.surface;
   surface.measureNoise = false;
   HeldScans share(conf.scans, assignReadersNearby(sensors, fileSizes(conf), ranks), me,
-                  ScanPreparation{surface, o.limits, o.eps}, o.keepBytes, true);
+                  ScanPreparation{surface, o.limits, o.eps, true}, o.keepBytes, true);
   Eigen::AlignedBox3d box;
   uint64_t triangles = 0;
   std::vector<uint64_t> bytes;

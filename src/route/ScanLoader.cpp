@@ -1,6 +1,7 @@
 #include "rangefuse/route/ScanLoader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "rangefuse/core/FaultInjection.h"
@@ -113,6 +114,42 @@ PrismScan placeScan(PrismScan s, const Pose& pose) {
     s.sight = std::make_shared<SightMap>(*s.sight);  // copies of the scan may sit elsewhere
     s.sight->place(pose);
   }
+  return s;
+}
+
+namespace {
+
+template <class T>
+void roundToFloats(std::vector<T>& v) {
+  double* x = reinterpret_cast<double*>(v.data());
+  for (size_t k = 0; k < v.size() * sizeof(T) / sizeof(double); ++k)
+    x[k] = static_cast<float>(x[k]);
+}
+
+}  // namespace
+
+PrismScan compactScan(PrismScan s) {
+  if (s.compact() || s.surface.points.empty()) return s;
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : s.surface.points) box.extend(p);
+  const Eigen::Vector3d centre = box.center();
+  const double half = std::max((box.max() - centre).maxCoeff(), (centre - box.min()).maxCoeff());
+  const double far = std::max(centre.cwiseAbs().maxCoeff(), half);
+  // Offsets within 2^30 quanta of the centre's lattice point, however far from the world's
+  // origin the scan lies (a float's step would grow with that distance); and no finer than the
+  // centre's own step, so that origin + n * quantum is exact.
+  const auto step = [](double x, int bits) {
+    return std::ldexp(1.0, std::ilogb(std::max(x, 1e-100)) + 1 - bits);  // 1/quantum finite
+  };
+  s.quantum = std::max(step(half, 30), step(far, 52));
+  s.origin = (centre / s.quantum).array().round().matrix() * s.quantum;
+  const double perQuantum = 1 / s.quantum;  // a power of two: exact
+  for (Eigen::Vector3d& p : s.surface.points)
+    for (int c = 0; c < 3; ++c)
+      p[c] = s.origin[c] + std::nearbyint((p[c] - s.origin[c]) * perQuantum) * s.quantum;
+  roundToFloats(s.surface.normals);
+  roundToFloats(s.surface.confidence);
+  roundToFloats(s.limits);
   return s;
 }
 

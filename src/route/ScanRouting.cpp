@@ -3,9 +3,8 @@
 #include <malloc.h>
 
 #include <algorithm>
-#include <cstring>
-#include <numeric>
 
+#include "PartPacking.h"
 #include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/route/ScanLoader.h"
@@ -14,97 +13,9 @@
 namespace rangefuse {
 namespace {
 
-template <class T>
-void unpackVector(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) {
-  uint64_t n;
-  mpi::unpack(buf, pos, &n, 1);
-  v.resize(n);
-  mpi::unpack(buf, pos, v.data(), n);
-}
-
-/// Reads one part as packSubScan wrote it; returns its scan index.
-uint64_t unpackScan(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
-  uint64_t index;
-  mpi::unpack(buf, pos, &index, 1);
-  unpackVector(buf, pos, s.surface.points);
-  unpackVector(buf, pos, s.surface.normals);
-  unpackVector(buf, pos, s.surface.confidence);
-  unpackVector(buf, pos, s.surface.triangles);
-  unpackVector(buf, pos, s.surface.colours);
-  mpi::unpack(buf, pos, &s.surface.texelSide, 1);
-  unpackVector(buf, pos, s.surface.texels);
-  unpackVector(buf, pos, s.surface.blocks);
-  unpackVector(buf, pos, s.limits);
-  mpi::unpack(buf, pos, &s.surface.sensor, 1);
-  return index;
-}
-
-/// The vertices the listed triangles use, in order of first use; remap[v] is set to v's place
-/// among them (the caller puts -1 back).
-std::vector<uint32_t> usedVertices(const ScanSurface& s, const std::vector<uint32_t>& triangles,
-                                   std::vector<int32_t>& remap) {
-  std::vector<uint32_t> used;
-  for (uint32_t t : triangles)
-    for (const int32_t v : s.triangles[t])
-      if (remap[v] < 0) {
-        remap[v] = static_cast<int32_t>(used.size());
-        used.push_back(v);
-      }
-  return used;
-}
-
-/// Appends the listed elements of v as packVector would append the vector made of them.
-template <class T>
-void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vector<uint32_t>& pick,
-                size_t per = 1) {
-  const uint64_t n = v.empty() ? 0 : pick.size() * per;
-  mpi::pack(buf, &n, 1);
-  if (n == 0) return;
-  // Grown once and written in place: an insert a value costs more than the copy.
-  const size_t at = buf.size(), bytes = per * sizeof(T);
-  buf.resize(at + n * sizeof(T));
-  char* out = buf.data() + at;
-  for (uint32_t i : pick) std::memcpy(out, v.data() + size_t(i) * per, bytes), out += bytes;
-}
-
-/// Appends the part of `scan` made of the listed triangles, as subScan would make it, to buf:
-/// its index, then each vector with its length. Written straight from the scan and sized once
-/// (no copy of the part in between, no doubling).
-void packSubScan(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
-                 const std::vector<uint32_t>& triangles, std::vector<int32_t>& remap) {
-  const ScanSurface& s = scan.surface;
-  const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
-  const size_t perPoint = size_t(s.texelSide) * s.texelSide;
-  const size_t v = used.size(), t = triangles.size();
-  const size_t bytes =
-      9 * sizeof(uint64_t) + sizeof(s.texelSide) + sizeof(s.sensor) +
-      v * (2 * sizeof(Eigen::Vector3d) + sizeof(double)) +
-      t * (sizeof(Triangle) + sizeof(scan.limits[0])) +
-      (s.colours.empty() ? 0 : v * sizeof(Colour)) +
-      (s.texels.empty() ? 0 : v * (perPoint * sizeof(Texel) + sizeof(s.blocks[0])));
-  buf.reserve(buf.size() + bytes);
-  mpi::pack(buf, &index, 1);
-  packPicked(buf, s.points, used);
-  packPicked(buf, s.normals, used);
-  packPicked(buf, s.confidence, used);
-  const uint64_t nt = t;
-  mpi::pack(buf, &nt, 1);
-  const size_t at = buf.size();
-  buf.resize(at + t * sizeof(Triangle));
-  char* out = buf.data() + at;
-  for (uint32_t k : triangles) {
-    const Triangle& tri = s.triangles[k];
-    const Triangle local{remap[tri[0]], remap[tri[1]], remap[tri[2]]};
-    std::memcpy(out, &local, sizeof(Triangle)), out += sizeof(Triangle);
-  }
-  packPicked(buf, s.colours, used);
-  mpi::pack(buf, &s.texelSide, 1);
-  packPicked(buf, s.texels, used, perPoint);
-  packPicked(buf, s.blocks, used);
-  packPicked(buf, scan.limits, triangles);
-  mpi::pack(buf, &s.sensor, 1);
-  for (uint32_t k : used) remap[k] = -1;
-}
+using internal::packPart;
+using internal::unpackPart;
+using internal::usedVertices;
 
 /// The part of `scan` made of the listed triangles (in order) and the vertices they use. Sized
 /// before it is filled: a routed part grows no vector by doubling (each step would leave pages
@@ -115,6 +26,8 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
   const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
   PrismScan part;
   ScanSurface& p = part.surface;
+  part.quantum = scan.quantum;
+  part.origin = scan.origin;
   p.sensor = s.sensor;
   p.texelSide = s.texelSide;
   const size_t perPoint = size_t(s.texelSide) * s.texelSide;
@@ -205,7 +118,7 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
   for (int r = 0; r < ranks; ++r) {
     if (triangles[r].empty() || r == me) continue;
     const size_t before = out[r].size();
-    packSubScan(out[r], index, world, triangles[r], remap);
+    packPart(out[r], index, world, triangles[r], remap);
     stats.copies += triangles[r].size();
     stats.bytes[r] += out[r].size() - before;
   }
@@ -218,26 +131,24 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
     mine.emplace_back(index, subScan(world, triangles[me], remap));
 }
 
-PrismScan usedPointsOnly(PrismScan scan) {
-  std::vector<uint8_t> used(scan.surface.points.size(), 0);
-  size_t count = 0;
-  for (const Triangle& t : scan.surface.triangles)
-    for (const int32_t v : t) count += !used[v], used[v] = 1;
-  if (count == used.size()) return scan;
-  std::vector<uint32_t> all(scan.surface.triangles.size());
-  std::iota(all.begin(), all.end(), 0u);
-  std::vector<int32_t> remap(used.size(), -1);
-  PrismScan kept = subScan(scan, all, remap);
-  kept.surface.colourKind = scan.surface.colourKind;
-  kept.sight = std::move(scan.sight);
-  kept.noise = std::move(scan.noise);
-  return kept;
+std::vector<char> packedScan(const PrismScan& scan) {
+  std::vector<char> bytes;
+  internal::packWhole(bytes, 0, scan);
+  bytes.shrink_to_fit();
+  return bytes;
+}
+
+PrismScan unpackedScan(const std::vector<char>& bytes) {
+  PrismScan scan;
+  size_t pos = 0;
+  unpackPart(bytes, pos, scan);
+  return scan;
 }
 
 void unpackRoutedInto(std::vector<char>&& bytes, IndexedScans& into) {
   for (size_t pos = 0; pos < bytes.size();) {
     PrismScan s;
-    const uint64_t i = unpackScan(bytes, pos, s);
+    const uint64_t i = unpackPart(bytes, pos, s);
     into.emplace_back(i, std::move(s));
   }
   std::vector<char>().swap(bytes);  // unpacked: the next rank's part may take its place
@@ -291,12 +202,6 @@ std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_
 
 namespace {
 
-uint64_t partsBytes(const IndexedScans& parts, size_t from) {
-  uint64_t bytes = 0;
-  for (size_t k = from; k < parts.size(); ++k) bytes += scanBytes(parts[k].second);
-  return bytes;
-}
-
 /// Gives the pages of freed scans back to the system once enough have been freed: the parts a
 /// rank receives are allocated apart from the scans it gave away, which would otherwise stay
 /// resident beside them (48-view set on 4 ranks: 189 -> 179 MiB; a trim costs a few ms).
@@ -318,28 +223,30 @@ class Trimmer {
 
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
                  const std::function<PrismScan(size_t)>& take, const BrickLayout& layout,
-                 double reach, MPI_Comm comm, IndexedScans& parts, RoutingStats& stats) {
+                 double reach, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
   if (stats.bytes.size() != static_cast<size_t>(ranks)) stats.bytes.assign(ranks, 0);
   Trimmer trim;
-  uint64_t held = partsBytes(parts, 0);
   for (const std::vector<size_t>& round : byRound) {
     std::vector<std::vector<char>> out(ranks);
     uint64_t given = 0;
-    const size_t counted = parts.size();  // parts whose bytes `held` has
     if (!mpi::collectively(comm, [&] {
           for (size_t i : round) {
             PrismScan s = take(i);
             given += scanBytes(s);
-            routeScan(i, std::move(s), layout, reach, me, out, parts, stats);
+            IndexedScans mine;
+            routeScan(i, std::move(s), layout, reach, me, out, mine, stats);
+            for (auto& [entry, part] : mine)
+              if (part.compact())
+                parts.keepPacked(entry, part);
+              else
+                parts.keep(entry, std::move(part));
           }
         }))
       return false;
-    mpi::exchangeBytes(std::move(out), comm, [&](int, std::vector<char>&& bytes) {
-      unpackRoutedInto(std::move(bytes), parts);
-    });
-    held += partsBytes(parts, counted);
-    memoryLedger().set(Held::routedScans, held);
+    mpi::exchangeBytes(std::move(out), comm,
+                       [&](int, std::vector<char>&& bytes) { parts.receive(std::move(bytes)); });
+    memoryLedger().set(Held::routedScans, parts.bytes());
     trim.freed(given);
   }
   return true;

@@ -1,5 +1,6 @@
 // Scans read from a Leica PTX file fuse to the same mesh as the same grids read from
-// range-grid PLY files and a .conf: the file format changes nothing downstream.
+// range-grid PLY files and a .conf: the file format changes nothing downstream (to the last
+// bit when the poses are the same to the last bit).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,6 +9,7 @@
 
 #include "SharedTemp.h"
 #include "rangefuse/eval/Comparison.h"
+#include "rangefuse/eval/MeshDistance.h"
 #include "rangefuse/io/Conf.h"
 #include "rangefuse/io/Json.h"
 #include "rangefuse/io/MeshPly.h"
@@ -108,8 +110,13 @@ TEST(PtxFuse, AStationFileFusesToTheSameMeshAsThePlyFilesOfItsScans) {
   if (mpi::rank() == 0) {
     const std::string ply = bytes(dir + "/ply.ply");
     EXPECT_GT(ply.size(), 10000u);
-    EXPECT_EQ(ply, bytes(dir + "/ptx.ply"));
     EXPECT_EQ(ply, bytes(dir + "/named.ply"));
+    // The PTX header gives each pose as a matrix, the .conf as a quaternion: the same pose to
+    // the last bit or two, so a placed point may round to the neighbouring point of its scan's
+    // lattice (decision 45). The same surface to a thousandth of a voxel, not the same bytes.
+    const TriangleMesh fromPly = io::readMeshPly(dir + "/ply.ply");
+    const TriangleMesh fromPtx = io::readMeshPly(dir + "/ptx.ply");
+    EXPECT_LE(summarize(sampledDistances(fromPtx, fromPly, 20000, 3)).max, 2e-3);  // voxel 2
     const io::ConfFile list = io::readScanList(dir + "/stations.ptx");
     ASSERT_EQ(list.scans.size(), 5u);
     EXPECT_EQ(list.scans[4].name, "stations.ptx#5");

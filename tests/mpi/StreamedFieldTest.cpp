@@ -26,12 +26,14 @@ FuseOptions bunnyOptions() {
   return o;
 }
 
-/// The simple method: every rank reads every scan and adds all of them.
+/// The simple method: every rank reads every scan, made compact once placed as a streamed
+/// field's are (decision 45), and adds all of them.
 void replicatedField(const FuseOptions& o, FusedField& field) {
   const RunSettings s = runSettings(o);
   std::vector<PrismScan> world;
   for (const auto& c : io::readConf(o.scans).scans)
-    world.push_back(placeScan(loadScan(c, s.read.surface, s.read.limits, s.read.eps), c.pose));
+    world.push_back(compactScan(
+        placeScan(loadScan(c, s.read.surface, s.read.limits, s.read.eps), c.pose)));
   test::replicatedFieldOf(s.field, std::move(world), MPI_COMM_WORLD, field);
 }
 

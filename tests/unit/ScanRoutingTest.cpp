@@ -389,10 +389,11 @@ TEST(ScanRouting, ASentPartIsThePartKeptUnserialised) {
   }
 }
 
-TEST(ScanRouting, AScanOfUsedPointsOnlyAddsTheSameSums) {
+TEST(ScanRouting, APackedScanHoldsItsUsedPointsOnlyAndAddsTheSameSums) {
   // Triangles of the last two thirds dropped and a point left alone: most points unused, as
-  // joined flat blocks leave some. The compact scan keeps each triangle's corners, their
-  // normals, confidences and colours, and its limits, and the field takes the same bits.
+  // joined flat blocks leave some. The packed scan keeps each triangle's corners, their
+  // normals, confidences and colours, and its limits, and the field takes the same bits; a
+  // compact scan's (compactScan) too.
   PrismScan scan = wavyScan();
   auto& s = scan.surface;
   for (size_t v = 0; v < s.points.size(); ++v)
@@ -407,7 +408,7 @@ TEST(ScanRouting, AScanOfUsedPointsOnlyAddsTheSameSums) {
   s.points.push_back({1, 2, 3}), s.normals.push_back({0, 0, 1}), s.confidence.push_back(1);
   s.colours.push_back(Colour(0.1f, 0.2f, 0.3f));
 
-  const PrismScan compact = usedPointsOnly(scan);
+  const PrismScan compact = unpackedScan(packedScan(scan));
   const ScanSurface& c = compact.surface;
   std::vector<int> used(c.points.size(), 0);
   for (const auto& t : c.triangles)
@@ -415,7 +416,6 @@ TEST(ScanRouting, AScanOfUsedPointsOnlyAddsTheSameSums) {
   EXPECT_EQ(std::count(used.begin(), used.end(), 1), static_cast<long>(c.points.size()));
   EXPECT_LT(c.points.size(), s.points.size() / 2);
   ASSERT_EQ(c.triangles.size(), s.triangles.size());
-  EXPECT_EQ(c.colourKind, ColourKind::rgb);
   for (size_t t = 0; t < c.triangles.size(); ++t) {
     EXPECT_EQ(compact.limits[t], scan.limits[t]);
     for (int k = 0; k < 3; ++k) {
@@ -436,10 +436,8 @@ TEST(ScanRouting, AScanOfUsedPointsOnlyAddsTheSameSums) {
   const std::vector<VoxelSums> want = sums(scan), got = sums(compact);
   ASSERT_EQ(got.size(), want.size());
   EXPECT_EQ(std::memcmp(got.data(), want.data(), got.size() * sizeof(VoxelSums)), 0);
-
-  // A scan whose triangles use every point is handed back as it is.
-  const PrismScan whole = wavyScan();
-  const PrismScan same = usedPointsOnly(whole);
-  EXPECT_EQ(same.surface.points, whole.surface.points);
-  EXPECT_EQ(same.surface.triangles, whole.surface.triangles);
+  const PrismScan lattice = compactScan(scan);
+  const std::vector<VoxelSums> wantCompact = sums(lattice),
+                               gotCompact = sums(unpackedScan(packedScan(lattice)));
+  EXPECT_EQ(std::memcmp(gotCompact.data(), wantCompact.data(), got.size() * sizeof(VoxelSums)), 0);
 }

@@ -18,6 +18,10 @@ struct ScanPreparation {
   SurfaceOptions surface;
   InputLimits limits;
   double eps = 0;  ///< prism envelope, in the scans' units
+  /// Made compact once placed (compactScan), and kept packed as routing sends them, half the
+  /// memory: a streamed field's scans. A kept scan then holds what a field needs only; its
+  /// reader takes the sight map, noise and colour kind before offering it.
+  bool compact = false;
 };
 
 /// A rank's share of a scan list, kept in memory within a budget: the scans it reads (its
@@ -33,8 +37,9 @@ class HeldScans : public ScanSource {
 
   size_t size() const override { return scans_.size(); }
   bool holds(size_t i) const override { return readers_[i] == rank_; }
-  bool kept(size_t i) const override { return kept_[i] != nullptr; }
-  /// Scan i: the kept one, or one read again (not kept).
+  bool kept(size_t i) const override { return kept_[i] != nullptr || !packed_[i].empty(); }
+  /// Scan i: the kept one (unpacked: a copy), or one read again (not kept). Safe on several
+  /// threads at once.
   std::shared_ptr<const PrismScan> get(size_t i) const override;
 
   /// The rank that reads scan i.
@@ -53,6 +58,8 @@ class HeldScans : public ScanSource {
   /// Keeps scan i, read elsewhere (another thread), if it fits what is left of the budget.
   std::shared_ptr<const PrismScan> offer(size_t i, std::shared_ptr<const PrismScan> scan);
   std::shared_ptr<const PrismScan> offer(size_t i, PrismScan&& scan);
+  /// Keeps scan i, compact and packed already (packedScan), if it fits what is left.
+  void offerPacked(size_t i, std::vector<char>&& bytes);
 
   /// Scan i for its last use: the kept one handed over (moved out when no one else holds it)
   /// and forgotten, or one read again.
@@ -83,6 +90,7 @@ class HeldScans : public ScanSource {
   uint64_t budgetLeft_;
   uint64_t keptTotal_ = 0;  ///< bytes kept now, for the memory ledger
   std::vector<std::shared_ptr<const PrismScan>> kept_;
+  std::vector<std::vector<char>> packed_;  ///< kept scans in single precision, packed
   std::vector<uint64_t> keptBytes_;
   std::vector<char> movable_;  ///< kept scans made here (offered by value), not const
 };

@@ -27,4 +27,11 @@ uint64_t scanBytes(const PrismScan& scan);
 /// A scan-frame scan moved to the world by pose (prism limits are rigid-invariant).
 PrismScan placeScan(PrismScan local, const Pose& pose);
 
+/// The scan with its points rounded to a lattice of its own (PrismScan::quantum, a power of two
+/// about 2^-30 of its extent, so 32-bit offsets from the lattice point nearest its centre) and
+/// its normals, confidences and prism limits to the nearest float: routed in those forms they
+/// lose nothing, so every rank count sees the same values (decision 45). A compact scan comes
+/// back as it is.
+PrismScan compactScan(PrismScan scan);
+
 }  // namespace rangefuse

@@ -11,12 +11,10 @@
 #include <vector>
 
 #include "rangefuse/prism/PrismField.h"
+#include "rangefuse/route/RoutedParts.h"
 #include "rangefuse/volume/BrickLayout.h"
 
 namespace rangefuse {
-
-/// Scans (or parts of them) with the position of their entry in the scan list.
-using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
 
 /// What routing sent: input triangles, triangle copies made, bytes per destination rank.
 struct RoutingStats {
@@ -33,11 +31,12 @@ struct RoutingStats {
 void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
                std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats);
 
-/// The scan with only the points its triangles use, in order of first use, as a routed part
-/// holds them; the scan itself when its triangles use every point. A field needs no others:
-/// a frame's joined flat blocks (FlatBlocks.h) leave up to three in four of their points
-/// unused, which a kept scan would otherwise hold until it is routed.
-PrismScan usedPointsOnly(PrismScan scan);
+/// A whole scan in the bytes routing sends, and the scan again from them: how a streamed field
+/// keeps a scan until it is routed. Only what a field needs goes: the points its triangles use
+/// (in order of first use; joined flat blocks leave up to three in four unused), not its sight
+/// map, noise or colour kind. A compact scan (compactScan) packs in about half the bytes.
+std::vector<char> packedScan(const PrismScan& scan);
+PrismScan unpackedScan(const std::vector<char>& bytes);
 
 /// The scan parts received from every rank, in entry order.
 IndexedScans unpackRouted(std::vector<std::vector<char>>&& in);
@@ -60,12 +59,12 @@ std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_
                                           const std::vector<uint64_t>& bytes);
 
 /// Collective: routes this rank's entries, round by round (`byRound`, the same number of
-/// rounds on every rank), each taken placed in the world by `take`, and appends what this rank
-/// is sent, and its own part, to `parts` (unsorted). Each rank's bytes are unpacked as they
-/// arrive, so one incoming part is in hand at a time, and freed scans' pages are given back to
-/// the system as they add up. False when `take` threw on some rank (printed once).
+/// rounds on every rank), each taken placed in the world by `take`, and adds what this rank is
+/// sent, and its own part, to `parts` (unsorted; a single-precision scan's own part packed as
+/// the others are). Freed scans' pages are given back to the system as they add up. False when
+/// `take` threw on some rank (printed once).
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
                  const std::function<PrismScan(size_t)>& take, const BrickLayout& layout,
-                 double reach, MPI_Comm comm, IndexedScans& parts, RoutingStats& stats);
+                 double reach, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats);
 
 }  // namespace rangefuse

@@ -1,0 +1,216 @@
+#include "PartPacking.h"
+
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include "rangefuse/parallel/Mpi.h"
+
+namespace rangefuse::internal {
+namespace {
+
+/// Doubles per element of a vector of reals (double, Vector3d, array<double, 2>).
+template <class T>
+constexpr size_t realsPer() {
+  static_assert(sizeof(T) % sizeof(double) == 0, "a vector of reals");
+  return sizeof(T) / sizeof(double);
+}
+
+/// Appends the listed elements of v as packVector would append the vector made of them.
+template <class T>
+void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vector<uint32_t>& pick,
+                size_t per = 1) {
+  const uint64_t n = v.empty() ? 0 : pick.size() * per;
+  mpi::pack(buf, &n, 1);
+  if (n == 0) return;
+  // Grown once and written in place: an insert a value costs more than the copy.
+  const size_t at = buf.size(), bytes = per * sizeof(T);
+  buf.resize(at + n * sizeof(T));
+  char* out = buf.data() + at;
+  for (uint32_t i : pick) std::memcpy(out, v.data() + size_t(i) * per, bytes), out += bytes;
+}
+
+/// packPicked for reals, as floats when `single` (the values are floats' already).
+template <class T>
+void packPickedReals(std::vector<char>& buf, const std::vector<T>& v,
+                     const std::vector<uint32_t>& pick, bool single) {
+  if (!single) return packPicked(buf, v, pick);
+  constexpr size_t per = realsPer<T>();
+  const uint64_t n = v.empty() ? 0 : pick.size();
+  mpi::pack(buf, &n, 1);
+  if (n == 0) return;
+  const size_t at = buf.size();
+  buf.resize(at + n * per * sizeof(float));
+  char* out = buf.data() + at;
+  const double* in = reinterpret_cast<const double*>(v.data());
+  for (uint32_t i : pick)
+    for (size_t c = 0; c < per; ++c) {
+      const float f = static_cast<float>(in[size_t(i) * per + c]);
+      std::memcpy(out, &f, sizeof f), out += sizeof f;
+    }
+}
+
+template <class T>
+void unpackVector(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) {
+  uint64_t n;
+  mpi::unpack(buf, pos, &n, 1);
+  v.resize(n);
+  mpi::unpack(buf, pos, v.data(), n);
+}
+
+template <class T>
+void unpackReals(const std::vector<char>& buf, size_t& pos, std::vector<T>& v, bool single) {
+  if (!single) return unpackVector(buf, pos, v);
+  constexpr size_t per = realsPer<T>();
+  uint64_t n;
+  mpi::unpack(buf, pos, &n, 1);
+  v.resize(n);
+  double* out = reinterpret_cast<double*>(v.data());
+  const char* in = buf.data() + pos;
+  for (size_t k = 0; k < n * per; ++k) {
+    float f;
+    std::memcpy(&f, in + k * sizeof f, sizeof f);
+    out[k] = f;
+  }
+  pos += n * per * sizeof(float);
+}
+
+/// Appends the listed points; a compact scan's as its lattice's origin and 32-bit offsets.
+void packPickedPoints(std::vector<char>& buf, const PrismScan& scan,
+                      const std::vector<uint32_t>& pick) {
+  if (!scan.compact()) return packPicked(buf, scan.surface.points, pick);
+  mpi::pack(buf, scan.origin.data(), 3);
+  const uint64_t n = pick.size();
+  mpi::pack(buf, &n, 1);
+  const size_t at = buf.size();
+  buf.resize(at + n * 3 * sizeof(int32_t));
+  char* out = buf.data() + at;
+  const double perQuantum = 1 / scan.quantum;  // a power of two: exact
+  for (uint32_t i : pick)
+    for (int c = 0; c < 3; ++c) {
+      // Exact, no rounding: a compact scan's points are whole quanta from its origin.
+      const auto k =
+          static_cast<int32_t>((scan.surface.points[i][c] - scan.origin[c]) * perQuantum);
+      std::memcpy(out, &k, sizeof k), out += sizeof k;
+    }
+}
+
+void unpackPoints(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
+  if (!s.compact()) return unpackVector(buf, pos, s.surface.points);
+  mpi::unpack(buf, pos, s.origin.data(), 3);
+  uint64_t n;
+  mpi::unpack(buf, pos, &n, 1);
+  s.surface.points.resize(n);
+  const char* in = buf.data() + pos;
+  for (Eigen::Vector3d& p : s.surface.points)
+    for (int c = 0; c < 3; ++c) {
+      int32_t k;
+      std::memcpy(&k, in, sizeof k), in += sizeof k;
+      p[c] = s.origin[c] + k * s.quantum;
+    }
+  pos += n * 3 * sizeof(int32_t);
+}
+
+/// Moves pos past a vector of elements of `bytes` each.
+void skipVector(const std::vector<char>& buf, size_t& pos, size_t bytes) {
+  uint64_t n;
+  mpi::unpack(buf, pos, &n, 1);
+  pos += n * bytes;
+}
+
+}  // namespace
+
+std::vector<uint32_t> usedVertices(const ScanSurface& s, const std::vector<uint32_t>& triangles,
+                                   std::vector<int32_t>& remap) {
+  std::vector<uint32_t> used;
+  for (uint32_t t : triangles)
+    for (const int32_t v : s.triangles[t])
+      if (remap[v] < 0) {
+        remap[v] = static_cast<int32_t>(used.size());
+        used.push_back(v);
+      }
+  return used;
+}
+
+void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
+              const std::vector<uint32_t>& triangles, std::vector<int32_t>& remap) {
+  const ScanSurface& s = scan.surface;
+  const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
+  const size_t perPoint = size_t(s.texelSide) * s.texelSide;
+  const size_t v = used.size(), t = triangles.size();
+  const size_t real = scan.compact() ? sizeof(float) : sizeof(double);
+  const size_t bytes =
+      13 * sizeof(uint64_t) + sizeof(s.texelSide) + sizeof(s.sensor) + v * 7 * real +
+      t * (sizeof(Triangle) + 2 * real) + (s.colours.empty() ? 0 : v * sizeof(Colour)) +
+      (s.texels.empty() ? 0 : v * (perPoint * sizeof(Texel) + sizeof(s.blocks[0])));
+  buf.reserve(buf.size() + bytes);
+  mpi::pack(buf, &index, 1);
+  mpi::pack(buf, &scan.quantum, 1);
+  packPickedPoints(buf, scan, used);
+  packPickedReals(buf, s.normals, used, scan.compact());
+  packPickedReals(buf, s.confidence, used, scan.compact());
+  const uint64_t nt = t;
+  mpi::pack(buf, &nt, 1);
+  const size_t at = buf.size();
+  buf.resize(at + t * sizeof(Triangle));
+  char* out = buf.data() + at;
+  for (uint32_t k : triangles) {
+    const Triangle& tri = s.triangles[k];
+    const Triangle local{remap[tri[0]], remap[tri[1]], remap[tri[2]]};
+    std::memcpy(out, &local, sizeof(Triangle)), out += sizeof(Triangle);
+  }
+  packPicked(buf, s.colours, used);
+  mpi::pack(buf, &s.texelSide, 1);
+  packPicked(buf, s.texels, used, perPoint);
+  packPicked(buf, s.blocks, used);
+  packPickedReals(buf, scan.limits, triangles, scan.compact());
+  mpi::pack(buf, &s.sensor, 1);
+  for (uint32_t k : used) remap[k] = -1;
+}
+
+void packWhole(std::vector<char>& buf, uint64_t index, const PrismScan& scan) {
+  std::vector<uint32_t> all(scan.surface.triangles.size());
+  std::iota(all.begin(), all.end(), 0u);
+  std::vector<int32_t> remap(scan.surface.points.size(), -1);
+  packPart(buf, index, scan, all, remap);
+}
+
+uint64_t unpackPart(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
+  uint64_t index;
+  mpi::unpack(buf, pos, &index, 1);
+  mpi::unpack(buf, pos, &s.quantum, 1);
+  unpackPoints(buf, pos, s);
+  unpackReals(buf, pos, s.surface.normals, s.compact());
+  unpackReals(buf, pos, s.surface.confidence, s.compact());
+  unpackVector(buf, pos, s.surface.triangles);
+  unpackVector(buf, pos, s.surface.colours);
+  mpi::unpack(buf, pos, &s.surface.texelSide, 1);
+  unpackVector(buf, pos, s.surface.texels);
+  unpackVector(buf, pos, s.surface.blocks);
+  unpackReals(buf, pos, s.limits, s.compact());
+  mpi::unpack(buf, pos, &s.surface.sensor, 1);
+  return index;
+}
+
+uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
+  const ScanSurface s;
+  uint64_t index;
+  mpi::unpack(buf, pos, &index, 1);
+  double quantum;
+  mpi::unpack(buf, pos, &quantum, 1);
+  const size_t real = quantum > 0 ? sizeof(float) : sizeof(double);
+  if (quantum > 0) pos += 3 * sizeof(double);  // the lattice's origin
+  skipVector(buf, pos, quantum > 0 ? 3 * sizeof(int32_t) : 3 * sizeof(double));  // points
+  skipVector(buf, pos, 3 * real);                                                // normals
+  skipVector(buf, pos, real);                                                    // confidences
+  skipVector(buf, pos, sizeof(Triangle));
+  skipVector(buf, pos, sizeof(Colour));
+  pos += sizeof(s.texelSide);
+  skipVector(buf, pos, sizeof(Texel));
+  skipVector(buf, pos, sizeof(s.blocks[0]));
+  skipVector(buf, pos, 2 * real);  // limits
+  pos += sizeof(s.sensor);
+  return index;
+}
+
+}  // namespace rangefuse::internal

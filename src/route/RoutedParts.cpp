@@ -1,0 +1,64 @@
+#include "rangefuse/route/RoutedParts.h"
+
+#include <algorithm>
+
+#include "PartPacking.h"
+#include "rangefuse/route/ScanLoader.h"
+
+namespace rangefuse {
+
+void RoutedParts::keep(uint64_t entry, PrismScan&& part) {
+  bytes_ += scanBytes(part);
+  parts_.push_back({entry, npos, loose_.size()});
+  loose_.push_back(std::move(part));
+}
+
+void RoutedParts::keepPacked(uint64_t entry, const PrismScan& part) {
+  std::vector<char> bytes;
+  internal::packWhole(bytes, entry, part);
+  receive(std::move(bytes));
+}
+
+void RoutedParts::receive(std::vector<char>&& bytes) {
+  if (bytes.empty()) return;
+  size_t count = 0;
+  for (size_t pos = 0; pos < bytes.size(); ++count) {
+    const size_t at = pos;
+    parts_.push_back({internal::skipPart(bytes, pos), buffers_.size(), at});
+  }
+  bytes.shrink_to_fit();  // a rank's buffer grew by doubling as it was packed
+  bytes_ += bytes.size();
+  untaken_.push_back(count);
+  buffers_.push_back(std::move(bytes));
+}
+
+void RoutedParts::sortByEntry() {
+  std::stable_sort(parts_.begin(), parts_.end(),
+                   [](const Part& a, const Part& b) { return a.entry < b.entry; });
+}
+
+PrismScan RoutedParts::take(size_t k) {
+  const Part& p = parts_[k];
+  if (p.buffer == npos) {
+    PrismScan part = std::move(loose_[p.offset]);
+    bytes_ -= scanBytes(part);
+    return part;
+  }
+  PrismScan part;
+  size_t pos = p.offset;
+  internal::unpackPart(buffers_[p.buffer], pos, part);
+  if (--untaken_[p.buffer] == 0) {
+    bytes_ -= buffers_[p.buffer].size();
+    std::vector<char>().swap(buffers_[p.buffer]);
+  }
+  return part;
+}
+
+IndexedScans RoutedParts::takeAll() {
+  IndexedScans all;
+  all.reserve(parts_.size());
+  for (size_t k = 0; k < parts_.size(); ++k) all.emplace_back(parts_[k].entry, take(k));
+  return all;
+}
+
+}  // namespace rangefuse
