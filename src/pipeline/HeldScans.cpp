@@ -125,6 +125,13 @@ PrismScan HeldScans::take(size_t i) {
   return *scan;
 }
 
+std::vector<char> HeldScans::takePacked(size_t i) {
+  std::vector<char> bytes = std::move(packed_[i]);
+  packed_[i].clear();
+  if (!bytes.empty()) release(i);
+  return bytes;
+}
+
 void HeldScans::release(size_t i) {
   budgetLeft_ += keptBytes_[i];
   keptTotal_ -= keptBytes_[i];

@@ -351,6 +351,13 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
     if (alone) {
       if (!collectively(comm, [&] {
             for (size_t i = first; i < end; ++i) {
+              // A kept scan stays packed until its batch is added (the integrator ignores
+              // colours the store does not take).
+              std::vector<char> packed = share.takePacked(i);
+              if (!packed.empty()) {
+                parts.keepBytes(i, std::move(packed));
+                continue;
+              }
               PrismScan s = share.take(i);
               if (!store.hasColour()) dropColour(s.surface);
               parts.keep(i, std::move(s));

@@ -19,6 +19,13 @@ void RoutedParts::keepPacked(uint64_t entry, const PrismScan& part) {
   receive(std::move(bytes));
 }
 
+void RoutedParts::keepBytes(uint64_t entry, std::vector<char>&& bytes) {
+  parts_.push_back({entry, buffers_.size(), 0});
+  bytes_ += bytes.size();
+  untaken_.push_back(1);
+  buffers_.push_back(std::move(bytes));
+}
+
 void RoutedParts::receive(std::vector<char>&& bytes) {
   if (bytes.empty()) return;
   size_t count = 0;

@@ -65,6 +65,10 @@ class HeldScans : public ScanSource {
   /// and forgotten, or one read again.
   PrismScan take(size_t i);
 
+  /// Scan i's packed bytes for its last use, forgotten here, when it is kept packed; else
+  /// nothing (take it).
+  std::vector<char> takePacked(size_t i);
+
   /// Forgets scan i (a tracked frame once fused), returning its bytes to the budget.
   void release(size_t i);
 

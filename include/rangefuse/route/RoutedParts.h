@@ -21,6 +21,8 @@ class RoutedParts {
   void keep(uint64_t entry, PrismScan&& part);
   /// Holds one of this rank's own parts packed (single precision: as floats).
   void keepPacked(uint64_t entry, const PrismScan& part);
+  /// Holds a whole scan of entry `entry` packed already (packedScan's bytes).
+  void keepBytes(uint64_t entry, std::vector<char>&& bytes);
   /// Holds the parts one rank sent (routeScan's bytes for this rank), packed.
   void receive(std::vector<char>&& bytes);
   /// Orders the parts by entry. Each entry has one reader, so it arrives once from each rank
