@@ -277,16 +277,18 @@ bool routeEntries(size_t first, size_t end, HeldScans& share,
 /// are held packed, as floats, and only a batch's at a time as doubles.
 constexpr uint64_t kBatchBytes = 32 << 20;
 
-/// The next parts from `k` on (sorted by entry), whole images of about kBatchBytes.
-IndexedScans nextBatch(RoutedParts& parts, const std::vector<size_t>& scanOf, size_t& k) {
-  IndexedScans batch;
-  uint64_t bytes = 0;
+/// The next parts from `k` on (sorted by entry), whole images of about kBatchBytes held (a
+/// packed part unpacks to about twice its bytes), unpacked on `threads` threads.
+IndexedScans nextBatch(RoutedParts& parts, const std::vector<size_t>& scanOf, int threads,
+                       size_t& k) {
+  const size_t first = k;
+  uint64_t held = 0;
   while (k < parts.size() &&
-         (bytes < kBatchBytes || scanOf[parts.entry(k)] == scanOf[batch.back().first])) {
-    batch.emplace_back(parts.entry(k), parts.take(k));
-    bytes += scanBytes(batch.back().second);
-    ++k;
-  }
+         (held < kBatchBytes / 2 || scanOf[parts.entry(k)] == scanOf[parts.entry(k - 1)]))
+    held += parts.bytesOf(k++);
+  IndexedScans batch = parts.take(first, k, threads);
+  uint64_t bytes = 0;
+  for (const auto& [i, part] : batch) bytes += scanBytes(part);
   memoryLedger().set(Held::routedScans, parts.bytes() + bytes);
   return batch;
 }
@@ -295,9 +297,9 @@ IndexedScans nextBatch(RoutedParts& parts, const std::vector<size_t>& scanOf, si
 /// A part routed here carries no sight map: the rank's copy of its scan's map (`sights`, robust
 /// fusion) gives its samples' noise.
 void addParts(RoutedParts& parts, const std::vector<size_t>& scanOf, std::vector<SightMap>* sights,
-              PrismIntegrator& integrator, RankCounters& counters) {
+              int threads, PrismIntegrator& integrator, RankCounters& counters) {
   for (size_t k = 0; k < parts.size();) {
-    IndexedScans batch = nextBatch(parts, scanOf, k);
+    IndexedScans batch = nextBatch(parts, scanOf, threads, k);
     // The batch's images go to the integrator together: its threads need not wait for each
     // other between images.
     std::vector<PrismIntegrator::Image> images;
@@ -375,7 +377,7 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
     parts.sortByEntry();
     if (integrator) {
       const uint64_t prisms = counters.prisms;
-      addParts(parts, scanOf, sights, *integrator, counters);
+      addParts(parts, scanOf, sights, threads, *integrator, counters);
       if (alone) routing.copies += counters.prisms - prisms;
     } else {
       keepParts(parts, scanOf, field);

@@ -3,13 +3,14 @@
 #include <algorithm>
 
 #include "PartPacking.h"
+#include "rangefuse/parallel/Threads.h"
 #include "rangefuse/route/ScanLoader.h"
 
 namespace rangefuse {
 
 void RoutedParts::keep(uint64_t entry, PrismScan&& part) {
   bytes_ += scanBytes(part);
-  parts_.push_back({entry, npos, loose_.size()});
+  parts_.push_back({entry, npos, loose_.size(), scanBytes(part)});
   loose_.push_back(std::move(part));
 }
 
@@ -20,7 +21,7 @@ void RoutedParts::keepPacked(uint64_t entry, const PrismScan& part) {
 }
 
 void RoutedParts::keepBytes(uint64_t entry, std::vector<char>&& bytes) {
-  parts_.push_back({entry, buffers_.size(), 0});
+  parts_.push_back({entry, buffers_.size(), 0, bytes.size()});
   bytes_ += bytes.size();
   untaken_.push_back(1);
   buffers_.push_back(std::move(bytes));
@@ -31,7 +32,8 @@ void RoutedParts::receive(std::vector<char>&& bytes) {
   size_t count = 0;
   for (size_t pos = 0; pos < bytes.size(); ++count) {
     const size_t at = pos;
-    parts_.push_back({internal::skipPart(bytes, pos), buffers_.size(), at});
+    const uint64_t entry = internal::skipPart(bytes, pos);
+    parts_.push_back({entry, buffers_.size(), at, pos - at});
   }
   bytes.shrink_to_fit();  // a rank's buffer grew by doubling as it was packed
   bytes_ += bytes.size();
@@ -44,21 +46,38 @@ void RoutedParts::sortByEntry() {
                    [](const Part& a, const Part& b) { return a.entry < b.entry; });
 }
 
-PrismScan RoutedParts::take(size_t k) {
+PrismScan RoutedParts::unpack(size_t k) {
   const Part& p = parts_[k];
-  if (p.buffer == npos) {
-    PrismScan part = std::move(loose_[p.offset]);
-    bytes_ -= scanBytes(part);
-    return part;
-  }
+  if (p.buffer == npos) return std::move(loose_[p.offset]);
   PrismScan part;
   size_t pos = p.offset;
   internal::unpackPart(buffers_[p.buffer], pos, part);
-  if (--untaken_[p.buffer] == 0) {
+  return part;
+}
+
+void RoutedParts::release(size_t k) {
+  const Part& p = parts_[k];
+  if (p.buffer == npos) {
+    bytes_ -= p.bytes;
+  } else if (--untaken_[p.buffer] == 0) {
     bytes_ -= buffers_[p.buffer].size();
     std::vector<char>().swap(buffers_[p.buffer]);
   }
+}
+
+PrismScan RoutedParts::take(size_t k) {
+  PrismScan part = unpack(k);
+  release(k);
   return part;
+}
+
+IndexedScans RoutedParts::take(size_t first, size_t end, int threads) {
+  IndexedScans out(end - first);
+  parallelFor(out.size(), threads, [&](size_t j) {
+    out[j] = {parts_[first + j].entry, unpack(first + j)};
+  });
+  for (size_t k = first; k < end; ++k) release(k);
+  return out;
 }
 
 IndexedScans RoutedParts::takeAll() {

@@ -12,14 +12,14 @@ namespace rangefuse {
 /// Scans (or parts of them) with the position of their entry in the scan list.
 using IndexedScans = std::vector<std::pair<size_t, PrismScan>>;
 
-/// Parts routed to this rank, in the bytes they arrived in: a single-precision scan's points,
-/// normals, confidences and limits as floats, half the memory of a scan's doubles (decision
-/// 45). Each part is unpacked when it is taken, and a buffer is freed once all its parts are.
+/// Parts routed to this rank, in the bytes they arrived in: a compact scan's in about half the
+/// memory of its doubles (decision 45). Each part is unpacked when it is taken, and a buffer
+/// is freed once all its parts are.
 class RoutedParts {
  public:
   /// Holds one of this rank's own parts as it is.
   void keep(uint64_t entry, PrismScan&& part);
-  /// Holds one of this rank's own parts packed (single precision: as floats).
+  /// Holds one of this rank's own parts packed.
   void keepPacked(uint64_t entry, const PrismScan& part);
   /// Holds a whole scan of entry `entry` packed already (packedScan's bytes).
   void keepBytes(uint64_t entry, std::vector<char>&& bytes);
@@ -31,8 +31,12 @@ class RoutedParts {
   void sortByEntry();
   size_t size() const { return parts_.size(); }
   uint64_t entry(size_t k) const { return parts_[k].entry; }
+  /// Bytes part k holds, packed or not.
+  uint64_t bytesOf(size_t k) const { return parts_[k].bytes; }
   /// Part k as a scan (each part is taken once).
   PrismScan take(size_t k);
+  /// Parts [first, end) as scans, unpacked on up to `threads` threads.
+  IndexedScans take(size_t first, size_t end, int threads);
   /// Every part, in order.
   IndexedScans takeAll();
   /// Bytes held: packed parts' buffers and the parts kept as they are.
@@ -42,7 +46,12 @@ class RoutedParts {
   struct Part {
     uint64_t entry;
     size_t buffer, offset;  ///< a packed part; buffer = npos for a part kept as it is
+    uint64_t bytes;
   };
+  /// Part k unpacked (or moved out), its buffer left as it is: safe on several threads.
+  PrismScan unpack(size_t k);
+  /// Lets go of part k's share of the bytes held.
+  void release(size_t k);
   static constexpr size_t npos = ~size_t(0);
   std::vector<Part> parts_;
   std::vector<std::vector<char>> buffers_;
