@@ -32,8 +32,8 @@ void replicatedField(const FuseOptions& o, FusedField& field) {
   const RunSettings s = runSettings(o);
   std::vector<PrismScan> world;
   for (const auto& c : io::readConf(o.scans).scans)
-    world.push_back(compactScan(
-        placeScan(loadScan(c, s.read.surface, s.read.limits, s.read.eps), c.pose)));
+    world.push_back(
+        compactScan(placeScan(loadScan(c, s.read.surface, s.read.limits, s.read.eps), c.pose)));
   test::replicatedFieldOf(s.field, std::move(world), MPI_COMM_WORLD, field);
 }
 
