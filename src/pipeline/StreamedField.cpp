@@ -274,7 +274,7 @@ bool routeEntries(size_t first, size_t end, HeldScans& share,
 }
 
 /// Unpacked parts a batch of images holds at most (and a whole image more): a window's parts
-/// are held packed, as floats, and only a batch's at a time as doubles.
+/// are held packed (decision 45), and only a batch's at a time as doubles.
 constexpr uint64_t kBatchBytes = 32 << 20;
 
 /// The next parts from `k` on (sorted by entry), whole images of about kBatchBytes held (a
