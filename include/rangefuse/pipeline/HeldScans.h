@@ -94,7 +94,7 @@ class HeldScans : public ScanSource {
   uint64_t budgetLeft_;
   uint64_t keptTotal_ = 0;  ///< bytes kept now, for the memory ledger
   std::vector<std::shared_ptr<const PrismScan>> kept_;
-  std::vector<std::vector<char>> packed_;  ///< kept scans in single precision, packed
+  std::vector<std::vector<char>> packed_;  ///< kept compact scans, packed
   std::vector<uint64_t> keptBytes_;
   std::vector<char> movable_;  ///< kept scans made here (offered by value), not const
 };

@@ -60,7 +60,7 @@ std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_
 
 /// Collective: routes this rank's entries, round by round (`byRound`, the same number of
 /// rounds on every rank), each taken placed in the world by `take`, and adds what this rank is
-/// sent, and its own part, to `parts` (unsorted; a single-precision scan's own part packed as
+/// sent, and its own part, to `parts` (unsorted; a compact scan's own part packed as
 /// the others are). Freed scans' pages are given back to the system as they add up. False when
 /// `take` threw on some rank (printed once).
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
