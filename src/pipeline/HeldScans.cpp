@@ -74,9 +74,13 @@ std::vector<std::shared_ptr<const PrismScan>> HeldScans::readAndOffer(
 }
 
 void HeldScans::keep(size_t i, std::shared_ptr<const PrismScan> scan, uint64_t bytes) {
+  kept_[i] = std::move(scan);
+  hold(i, bytes);
+}
+
+void HeldScans::hold(size_t i, uint64_t bytes) {
   budgetLeft_ -= bytes;
   keptTotal_ += bytes;
-  kept_[i] = std::move(scan);
   keptBytes_[i] = bytes;
   memoryLedger().set(Held::keptScans, keptTotal_);
 }
@@ -102,11 +106,9 @@ std::shared_ptr<const PrismScan> HeldScans::offer(size_t i, PrismScan&& scan) {
 
 void HeldScans::offerPacked(size_t i, std::vector<char>&& bytes) {
   if (kept(i) || bytes.size() > budgetLeft_) return;
-  budgetLeft_ -= bytes.size();
-  keptTotal_ += bytes.size();
-  keptBytes_[i] = bytes.size();
+  const uint64_t size = bytes.size();
   packed_[i] = std::move(bytes);
-  memoryLedger().set(Held::keptScans, keptTotal_);
+  hold(i, size);
 }
 
 PrismScan HeldScans::take(size_t i) {

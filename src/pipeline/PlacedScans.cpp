@@ -33,11 +33,11 @@ IndexedScans routeWindow(const LoadedScans& scans, const std::vector<size_t>& or
   for (size_t k = first; k < end; ++k)
     if (scans.holds(order[k])) mine.push_back(k);
   const auto take = [&](size_t k) {
-    return placeScan(*scans.held->get(order[k]), poses[order[k]]);
+    return TakenScan{{}, placeScan(*scans.held->get(order[k]), poses[order[k]])};
   };
   RoutedParts parts;
   RoutingStats stats;
-  if (!routeRounds({mine}, take, layout, reach, comm, parts, stats)) throw mpi::Reported();
+  if (!routeRounds({mine}, take, layout, reach, true, comm, parts, stats)) throw mpi::Reported();
   parts.sortByEntry();
   return parts.takeAll();
 }

@@ -264,13 +264,14 @@ bool routeEntries(size_t first, size_t end, HeldScans& share,
   for (size_t i = first; i < end; ++i) byReader[share.reader(i)].push_back(i);
   size_t rounds = 0;
   for (const auto& entries : byReader) rounds = std::max(rounds, entries.size());
+  // A kept scan is taken in its packed bytes, unpacked only if it has parts to send.
   const auto take = [&](size_t i) {
-    PrismScan s = share.take(i);
-    if (!colour) dropColour(s.surface);  // nothing to route or keep
+    TakenScan s{share.takePacked(i), {}};
+    if (s.packed.empty()) s.scan = share.take(i);
     return s;
   };
-  return routeRounds(roundsOf(byReader[me], rounds, preparedBytes), take, layout, reach, comm,
-                     parts, routing);
+  return routeRounds(roundsOf(byReader[me], rounds, preparedBytes), take, layout, reach, colour,
+                     comm, parts, routing);
 }
 
 /// Unpacked parts a batch of images holds at most (and a whole image more): a window's parts
@@ -344,36 +345,17 @@ bool integrateShare(const io::ConfFile& conf, const std::vector<size_t>& scanOf,
   std::optional<PrismIntegrator> integrator;
   if (reach == 0) integrator.emplace(store, threads, hypotheses);
   routing.bytes.assign(ranks, 0);
-  // One rank owns every brick: its scans go to the integrator whole, and the copies it would
-  // have routed are the prisms the integrator finds reaching a brick.
+  // A lone rank's scans are its parts whole, and the copies it would have routed are the
+  // prisms the integrator finds reaching a brick.
   const bool alone = ranks == 1 && reach == 0;
   for (size_t w = 0, first = 0; w < windows.size(); first = windows[w++]) {
     const size_t end = windows[w];
     RoutedParts parts;
-    if (alone) {
-      if (!collectively(comm, [&] {
-            for (size_t i = first; i < end; ++i) {
-              // A kept scan stays packed until its batch is added (the integrator ignores
-              // colours the store does not take).
-              std::vector<char> packed = share.takePacked(i);
-              if (!packed.empty()) {
-                parts.keepBytes(i, std::move(packed));
-                continue;
-              }
-              PrismScan s = share.take(i);
-              if (!store.hasColour()) dropColour(s.surface);
-              parts.keep(i, std::move(s));
-            }
-            memoryLedger().set(Held::routedScans, parts.bytes());
-          }))
-        return false;
-    } else {
-      const auto start = std::chrono::steady_clock::now();
-      if (!routeEntries(first, end, share, preparedBytes, store.hasColour(), reach, store.layout(),
-                        comm, parts, routing))
-        return false;
-      counters.routeSeconds += secondsSince(start);
-    }
+    const auto start = std::chrono::steady_clock::now();
+    if (!routeEntries(first, end, share, preparedBytes, store.hasColour(), reach, store.layout(),
+                      comm, parts, routing))
+      return false;
+    counters.routeSeconds += secondsSince(start);
     parts.sortByEntry();
     if (integrator) {
       const uint64_t prisms = counters.prisms;

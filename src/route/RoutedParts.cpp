@@ -22,9 +22,7 @@ void RoutedParts::keepPacked(uint64_t entry, const PrismScan& part) {
 
 void RoutedParts::keepBytes(uint64_t entry, std::vector<char>&& bytes) {
   parts_.push_back({entry, buffers_.size(), 0, bytes.size()});
-  bytes_ += bytes.size();
-  untaken_.push_back(1);
-  buffers_.push_back(std::move(bytes));
+  hold(std::move(bytes), 1);
 }
 
 void RoutedParts::receive(std::vector<char>&& bytes) {
@@ -36,8 +34,12 @@ void RoutedParts::receive(std::vector<char>&& bytes) {
     parts_.push_back({entry, buffers_.size(), at, pos - at});
   }
   bytes.shrink_to_fit();  // a rank's buffer grew by doubling as it was packed
+  hold(std::move(bytes), count);
+}
+
+void RoutedParts::hold(std::vector<char>&& bytes, size_t parts) {
   bytes_ += bytes.size();
-  untaken_.push_back(count);
+  untaken_.push_back(parts);
   buffers_.push_back(std::move(bytes));
 }
 

@@ -221,9 +221,44 @@ class Trimmer {
 
 }  // namespace
 
+namespace {
+
+/// Routes one taken scan (see routeRounds), its parts for others appended to `out`; returns
+/// the bytes it freed.
+uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double reach, bool colour,
+                    int me, std::vector<std::vector<char>>& out, RoutedParts& parts,
+                    RoutingStats& stats) {
+  const bool packed = !s.packed.empty();
+  if (layout.ranks() == 1 && reach == 0) {
+    if (!colour) dropColour(s.scan.surface);  // packed colours go unread: the store has none
+    if (packed)
+      parts.keepBytes(i, std::move(s.packed));
+    else
+      parts.keep(i, std::move(s.scan));
+    return 0;
+  }
+  if (packed) s.scan = unpackedScan(s.packed);
+  const uint64_t freed = s.packed.size() + scanBytes(s.scan);
+  if (!colour) dropColour(s.scan.surface);  // nothing to send or keep
+  const size_t triangles = s.scan.surface.triangles.size();
+  IndexedScans mine;
+  routeScan(i, std::move(s.scan), layout, reach, me, out, mine, stats);
+  for (auto& [entry, part] : mine)
+    if (packed && part.surface.triangles.size() == triangles)
+      parts.keepBytes(entry, std::move(s.packed));  // all of it stays: packed already
+    else if (part.compact())
+      parts.keepPacked(entry, part);
+    else
+      parts.keep(entry, std::move(part));
+  return freed;
+}
+
+}  // namespace
+
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
-                 const std::function<PrismScan(size_t)>& take, const BrickLayout& layout,
-                 double reach, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats) {
+                 const std::function<TakenScan(size_t)>& take, const BrickLayout& layout,
+                 double reach, bool colour, MPI_Comm comm, RoutedParts& parts,
+                 RoutingStats& stats) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
   if (stats.bytes.size() != static_cast<size_t>(ranks)) stats.bytes.assign(ranks, 0);
   Trimmer trim;
@@ -232,15 +267,7 @@ bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
     uint64_t given = 0;
     if (!mpi::collectively(comm, [&] {
           for (size_t i : round) {
-            PrismScan s = take(i);
-            given += scanBytes(s);
-            IndexedScans mine;
-            routeScan(i, std::move(s), layout, reach, me, out, mine, stats);
-            for (auto& [entry, part] : mine)
-              if (part.compact())
-                parts.keepPacked(entry, part);
-              else
-                parts.keep(entry, std::move(part));
+            given += routeTaken(i, take(i), layout, reach, colour, me, out, parts, stats);
           }
         }))
       return false;

@@ -85,6 +85,8 @@ class HeldScans : public ScanSource {
  private:
   PrismScan load(size_t i) const;
   void keep(size_t i, std::shared_ptr<const PrismScan> scan, uint64_t bytes);
+  /// Counts scan i's `bytes`, kept now, against the budget and in the memory ledger.
+  void hold(size_t i, uint64_t bytes);
 
   std::vector<io::ConfScan> scans_;
   std::vector<int> readers_;

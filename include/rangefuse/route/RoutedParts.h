@@ -50,6 +50,8 @@ class RoutedParts {
   };
   /// Part k unpacked (or moved out), its buffer left as it is: safe on several threads.
   PrismScan unpack(size_t k);
+  /// Holds the next buffer, whose `parts` parts are listed already.
+  void hold(std::vector<char>&& bytes, size_t parts);
   /// Lets go of part k's share of the bytes held.
   void release(size_t k);
   static constexpr size_t npos = ~size_t(0);

@@ -58,13 +58,23 @@ PrismScan joinScans(std::vector<PrismScan>&& parts);
 std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_t rounds,
                                           const std::vector<uint64_t>& bytes);
 
+/// A scan as routing takes it from its reader: its packed bytes (packedScan; a compact scan
+/// kept so) when there are any, else `scan`.
+struct TakenScan {
+  std::vector<char> packed;
+  PrismScan scan;
+};
+
 /// Collective: routes this rank's entries, round by round (`byRound`, the same number of
 /// rounds on every rank), each taken placed in the world by `take`, and adds what this rank is
-/// sent, and its own part, to `parts` (unsorted; a compact scan's own part packed as
-/// the others are). Freed scans' pages are given back to the system as they add up. False when
-/// `take` threw on some rank (printed once).
+/// sent, and its own part, to `parts` (unsorted; a compact scan's own part packed as the others
+/// are, and its bytes as they came when the whole scan stays). Without `colour`, no part
+/// carries colours. A lone rank owns every brick, so with reach 0 each scan is its own part, as
+/// it was taken, without finding the bricks of its triangles (one that reaches none adds
+/// nothing to a field); it then counts no copies. Freed scans' pages are given back to the
+/// system as they add up. False when `take` threw on some rank (printed once).
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
-                 const std::function<PrismScan(size_t)>& take, const BrickLayout& layout,
-                 double reach, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats);
+                 const std::function<TakenScan(size_t)>& take, const BrickLayout& layout,
+                 double reach, bool colour, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats);
 
 }  // namespace rangefuse
