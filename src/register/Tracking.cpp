@@ -287,7 +287,10 @@ bool FrameTracker::next() {
   const size_t i = state_.nextFrame;
   const size_t last = fused_.back();
   const long prev = fused_.size() > 1 ? static_cast<long>(fused_[fused_.size() - 2]) : -1;
+  double start = MPI_Wtime();
   calls_.frame(i, false);
+  const double read = MPI_Wtime() - start;
+  start += read;
   FrameReport report;
   report.frame = i;
   // The start: the motion so far continued. When that is a weak guess (no motion known yet),
@@ -320,6 +323,9 @@ bool FrameTracker::next() {
   }
   poses_[i] = chosen;
   control_->release(i);
+  report.readSeconds = read;
+  report.fitSeconds = MPI_Wtime() - start;
+  start += report.fitSeconds;
   report.fused = report.why.empty();
   state_.nextFrame = i + 1;
   if (report.fused) {
@@ -330,6 +336,7 @@ bool FrameTracker::next() {
       report.closedLoop = true;
     }
     state_.latticeOrigin = field_.latticeOrigin();
+    report.addSeconds = MPI_Wtime() - start;
     state_.lostInRow = 0;
     state_.recentInliers.push_back(report.inliers);
     if (state_.recentInliers.size() > kRecentFrames)

@@ -380,6 +380,9 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
     calls.onFrame = [&](const FrameReport& r) {
       const double now = MPI_Wtime();
       summary.add(r, scans.paths[r.frame], now - lastOutcome);
+      counters.trackReadSeconds += r.readSeconds;
+      counters.trackFitSeconds += r.fitSeconds;
+      counters.trackAddSeconds += r.addSeconds;
       lastOutcome = now;
       lostCount += !r.fused;
       if (progress.shows(Verbosity::normal)) lines(r);

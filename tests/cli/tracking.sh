@@ -21,9 +21,20 @@ mkdir "$tmp/stream"
 cp -r "$tmp/truth/depth" "$tmp/truth/depth.txt" "$tmp/truth/camera_intrinsic.json" "$tmp/stream/"
 for n in 1 2 3; do
   mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/stream" --voxel 0.01 \
-    --out "$tmp/mesh$n.ply" --trajectory-out "$tmp/traj$n.txt" >"$tmp/log$n"
+    --out "$tmp/mesh$n.ply" --trajectory-out "$tmp/traj$n.txt" --report "$tmp/report$n.json" \
+    >"$tmp/log$n"
 done
 cmp "$tmp/mesh1.ply" "$tmp/mesh2.ply" && cmp "$tmp/mesh1.ply" "$tmp/mesh3.ply"
+# Each rank's frame phases: all three taken, and within the stage they make up (the first
+# frame's field is built before them).
+python3 - "$tmp/report3.json" <<'PY' || fail "tracking_seconds do not make up the track stage"
+import json, sys
+for r in json.load(open(sys.argv[1]))["per_rank"]:
+    t, stage = r["tracking_seconds"], r["stage_seconds"]["track"]
+    parts = t["reading"] + t["fitting"] + t["adding"]
+    assert t["fitting"] > 0 and t["adding"] > 0 and t["reading"] >= 0, t
+    assert 0.5 * stage <= parts <= stage + 1e-3, (parts, stage)
+PY
 cmp "$tmp/traj1.txt" "$tmp/traj2.txt" && cmp "$tmp/traj1.txt" "$tmp/traj3.txt"
 echo "tracked path: 1, 2 and 3 ranks give identical trajectories and meshes"
 ate=$("$bin" eval --trajectory "$tmp/traj1.txt" --reference "$tmp/truth/groundtruth.txt" --json |

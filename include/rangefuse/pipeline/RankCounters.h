@@ -20,6 +20,9 @@ struct RankCounters {
   /// Streamed prism fields: seconds the rank spent predicting its prisms' cost for the brick
   /// plan (its own work), and routing its scans to the brick owners (waits for them included).
   double planSeconds = 0, routeSeconds = 0;
+  /// Tracked streams: seconds the rank spent waiting for frames to be read, fitting them and
+  /// adding them (FrameReport's, summed; waits for other ranks included).
+  double trackReadSeconds = 0, trackFitSeconds = 0, trackAddSeconds = 0;
   HypothesisStats robust;  ///< robust: how this rank's voxels were decided
 };
 

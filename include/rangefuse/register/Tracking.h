@@ -50,6 +50,9 @@ struct FrameReport {
   double surprise = 0;           ///< distance of the fitted camera from the predicted one
   bool closedLoop = false;       ///< it closed a loop: the frames before moved, the field rebuilt
   std::string why;               ///< why it was lost (empty when fused)
+  /// This rank's seconds on the frame: waiting for it to be read, fitting it, adding it to the
+  /// field (loop closing included); each with the waits for other ranks it holds.
+  double readSeconds = 0, fitSeconds = 0, addSeconds = 0;
 };
 
 /// How many fused frames' inlier shares the judge remembers.
