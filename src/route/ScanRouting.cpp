@@ -219,10 +219,6 @@ class Trimmer {
   uint64_t pending_ = 0;
 };
 
-}  // namespace
-
-namespace {
-
 /// Routes one taken scan (see routeRounds), its parts for others appended to `out`; returns
 /// the bytes it freed.
 uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double reach, bool colour,
