@@ -6,6 +6,8 @@
 #   benchmark_speed.sh        dense scans: seconds and accuracy beside Open3D TSDF
 #   benchmark_memory.sh       the 48-view set: peak memory per rank on 1 and 4 ranks, and
 #                             what each peak was made of
+#   benchmark_speedup.sh      2 ranks against 1 by rangefuse's clock, best of 3: the real
+#                             bunny and the 48-view set
 #   benchmark_weak_scaling.sh the same work on every rank, 1 to 8 ranks
 #   benchmark_sequence.sh     a depth-camera sequence at true poses beside ScalableTSDFVolume
 #   benchmark_robust_depth.sh robust fusion on depth-camera frames: the synthetic Kinect room
@@ -33,6 +35,7 @@ run() {  # NAME [ARGS...]
 run benchmark
 run benchmark_speed
 run benchmark_memory 48 1024 1 4
+run benchmark_speedup
 run benchmark_weak_scaling 6 1 2 4 8
 run benchmark_sequence
 run benchmark_robust_depth
