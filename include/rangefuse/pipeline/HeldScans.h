@@ -44,6 +44,9 @@ class HeldScans : public ScanSource {
 
   /// The rank that reads scan i.
   int reader(size_t i) const { return readers_[i]; }
+  /// Hands each scan to the rank that read it (reading shared out as it went, the same list
+  /// on every rank): that rank keeps it or reads it again from here on.
+  void setReaders(std::vector<int> readers) { readers_ = std::move(readers); }
 
   /// The listed scans read from their files on up to `threads` threads, in order, whether kept
   /// or not; none is kept (offer them).
