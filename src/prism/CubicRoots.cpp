@@ -53,7 +53,7 @@ int criticalPoints(const double c[4], double lo, double hi, double out[2]) {
       }
     }
   }
-  std::sort(xs, xs + n);
+  if (n == 2 && xs[1] < xs[0]) std::swap(xs[0], xs[1]);  // ascending (std::sort costs a call)
   int m = 0;
   for (int i = 0; i < n; ++i)
     if (xs[i] > lo && xs[i] < hi) out[m++] = xs[i];
