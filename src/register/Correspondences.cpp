@@ -108,8 +108,8 @@ namespace {
 
 /// Collective: the per-brick sums of every rank (`used` marks those this rank made), added in
 /// the bricks' code order (a growing store's local order is not), so that every rank gets the same
-/// bits whatever the rank count. A fit calls this a few times a frame: the ranks' parts are
-/// ordered, not put in a map (which took a tenth of a tracked frame's fitting).
+/// bits whatever the rank count. A tracked frame's fits call this several times a frame, so the
+/// ranks' parts are summed as they come, in order, with no map of every brick's sums.
 template <class Sums>
 Sums addInBrickOrder(const BrickStore& store, const std::vector<Sums>& perBrick,
                      const std::vector<char>& used, MPI_Comm comm) {
