@@ -151,7 +151,7 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
                              const std::vector<double>& weights,
                              const CorrespondenceSettings& settings, MPI_Comm comm) {
   const VoxelGrid& g = store.grid();
-  // This rank's sums per local brick; local order is global order (a rank owns one run).
+  // This rank's sums per local brick, added over the ranks in brick order.
   std::vector<RigidSums> perBrick(store.brickCount());
   std::vector<char> used(store.brickCount(), 0);
   forEachSample(store, points, normals, weights, settings, [&](size_t i, const FieldSample& f) {
