@@ -9,6 +9,7 @@
 #include "rangefuse/core/Limits.h"
 #include "rangefuse/core/MemoryLedger.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/volume/BrickPlanning.h"
 
 namespace rangefuse::internal {
@@ -102,6 +103,8 @@ uint64_t meanWork(const std::vector<Pair>& own, uint64_t bricks, MPI_Comm comm) 
 GrowingBricks::GrowingBricks(const VoxelGrid& grid, uint64_t maxVoxels, int threads, MPI_Comm comm)
     : grid_(grid), maxVoxels_(maxVoxels), threads_(threads), comm_(comm) {}
 
+GrowingBricks::~GrowingBricks() = default;
+
 void GrowingBricks::startEmpty(ColourKind colour) {
   const int ranks = mpi::size(comm_);
   BrickLayout empty;
@@ -110,43 +113,86 @@ void GrowingBricks::startEmpty(ColourKind colour) {
   empty.globalStart.assign(ranks + 1, 0);
   empty.firstCodes.assign(ranks + 1, ~uint64_t{0});
   empty.firstCodes[0] = 0;
+  integrator_.reset();
   store_ = std::make_unique<BrickStore>(empty, mpi::rank(comm_));
   store_->enableColour(colour);
   balancedAt_ = empty.globalStart;
 }
 
 void GrowingBricks::start(const BrickLayout& layout) {
+  integrator_.reset();
   store_ = std::make_unique<BrickStore>(layout, mpi::rank(comm_));
   balancedAt_ = layout.globalStart;
   memoryLedger().set(Held::field, store_->bytes());
 }
 
-bool GrowingBricks::grow(const PrismScan* scan) {
-  const std::vector<uint64_t> fresh = newBricks(scan);
-  const uint64_t before = store_->layout().totalBricks();
-  BrickLayout next = grownBy(store_->layout(), fresh, comm_);
+PrismIntegrator& GrowingBricks::integrator() {
+  if (!integrator_) integrator_ = std::make_unique<PrismIntegrator>(*store_, threads_);
+  return *integrator_;
+}
+
+IntegrationStats GrowingBricks::add(PrismScan* placed) {
+  std::vector<std::vector<size_t>> rounds(1);
+  if (placed) rounds[0].push_back(0);
+  RoutedParts parts;
+  RoutingStats routing;
+  const auto take = [&](size_t) { return TakenScan{{}, std::move(*placed)}; };
+  if (!routeRounds(rounds, take, store_->layout(), 0, store_->hasColour(), comm_, parts, routing,
+                   RouteTo::ranges))
+    throw mpi::Reported();
+  IndexedScans mine = parts.takeAll();  // one reader: one part at most
+  const PrismScan* part = mine.empty() ? nullptr : &mine[0].second;
+  growBy(part);
+  IntegrationStats added;
+  if (part) added = integrator().addScan(*part);
+  if (splitIfDue()) integrator_.reset();
+  return added;
+}
+
+void GrowingBricks::growBy(const PrismScan* part) {
+  const BrickLayout& layout = store_->layout();
+  const int me = mpi::rank(comm_);
+  std::vector<uint64_t> fresh;  // (code, work) pairs, sorted
+  mpi::collectivelyOrThrow(comm_, [&] {
+    if (!part) return;
+    BrickWork work;
+    addPrismWork(*part, grid_, maxVoxels_, work, threads_);
+    for (const Pair& p : sortedPairs(work)) {
+      if (layout.ownerOfCode(p.first) != me) continue;  // its own owner plans it
+      const int64_t known = layout.find(p.first);
+      if (known >= 0)
+        store_->addWork(static_cast<size_t>(known), p.second);
+      else
+        fresh.insert(fresh.end(), {p.first, p.second});
+    }
+  });
+  const uint64_t before = layout.totalBricks();
+  BrickLayout next = grownBy(layout, fresh, comm_);
   const uint64_t total = next.totalBricks();
-  if (total == before) return false;
+  if (total == before) return;
   const double voxels = static_cast<double>(total) * std::pow(grid_.brick, 3);
   if (voxels > static_cast<double>(maxVoxels_))  // the same total on every rank
     throw InputError("--voxel " + formatNumber(grid_.voxel) + ": the field needs " +
                      std::to_string(static_cast<uint64_t>(voxels)) +
                      " voxels, more than --max-voxels " + std::to_string(maxVoxels_));
-  if (needsSplit(next.globalStart)) {
-    std::vector<Pair> own = ownJoined(store_->layout(), mpi::rank(comm_), fresh);
-    const uint64_t brickCost = meanWork(own, total, comm_);
-    next = spreadSorted(std::move(own), grid_, comm_, brickCost);
-    store_ = moveSums(*store_, next, comm_);
-    malloc_trim(0);  // the old store's pages go back to the system, not to a fragmented heap
-    balancedAt_ = store_->layout().globalStart;
-    memoryLedger().set(Held::field, store_->bytes());
-    return true;
-  }
   std::vector<uint64_t> mine;
   for (size_t k = 0; k < fresh.size(); k += 2) mine.push_back(fresh[k]);
   store_->grow(next, mine);
+  if (integrator_) integrator_->storeGrew();
   memoryLedger().set(Held::field, store_->bytes());
-  return false;
+}
+
+bool GrowingBricks::splitIfDue() {
+  const BrickLayout& layout = store_->layout();
+  if (!needsSplit(layout.globalStart)) return false;
+  std::vector<Pair> own = ownJoined(layout, mpi::rank(comm_), {});
+  const uint64_t brickCost = meanWork(own, layout.totalBricks(), comm_);
+  const BrickLayout next = spreadSorted(std::move(own), grid_, comm_, brickCost);
+  store_ = moveSums(*store_, next, comm_);
+  malloc_trim(0);  // the old store's pages go back to the system, not to a fragmented heap
+  balancedAt_ = store_->layout().globalStart;
+  memoryLedger().set(Held::field, store_->bytes());
+  return true;
 }
 
 bool GrowingBricks::needsSplit(const std::vector<uint64_t>& start) const {
@@ -162,32 +208,8 @@ bool GrowingBricks::needsSplit(const std::vector<uint64_t>& start) const {
   return false;
 }
 
-std::vector<uint64_t> GrowingBricks::newBricks(const PrismScan* scan) {
-  // The reader plans the scan's bricks; each (brick, work) pair goes to the rank whose range
-  // holds the brick.
-  const BrickLayout& layout = store_->layout();
-  std::vector<std::vector<char>> out(mpi::size(comm_));
-  mpi::collectivelyOrThrow(comm_, [&] {
-    if (!scan) return;
-    BrickWork work;
-    addPrismWork(*scan, grid_, maxVoxels_, work, threads_);
-    for (const Pair& p : sortedPairs(work)) mpi::pack(out[layout.ownerOfCode(p.first)], &p, 1);
-  });
-  std::vector<uint64_t> fresh;
-  for (const auto& part : mpi::exchangeBytes(std::move(out), comm_))
-    for (size_t at = 0; at < part.size();) {
-      uint64_t v[2];
-      mpi::unpack(part, at, v, 2);
-      const int64_t known = layout.find(v[0]);
-      if (known >= 0)
-        store_->addWork(static_cast<size_t>(known), v[1]);
-      else
-        fresh.insert(fresh.end(), v, v + 2);
-    }
-  return fresh;
-}
-
 std::unique_ptr<BrickStore> GrowingBricks::release() {
+  integrator_.reset();
   store_->sortBricks();
   // The bricks of other ranks that joined beside this rank's since the last split: the mesh's
   // halo needs them.

@@ -71,13 +71,7 @@ class GrowingPrismField : public RegistrationField {
     });
     MPI_Allreduce(MPI_IN_PLACE, &holds, 1, MPI_INT, MPI_MIN, comm_);
     if (!holds) return rebuild();
-    bool moved = false;
-    collectivelyOrThrow(comm_, [&] { moved = bricks_->grow(one.empty() ? nullptr : &one[0]); });
-    if (moved)
-      integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), f_.threads);
-    else
-      integrator_->storeGrew();
-    addRouted(scans_, {i}, poses_, *integrator_, bricks_->store().layout(), comm_);
+    collectivelyOrThrow(comm_, [&] { bricks_->add(one.empty() ? nullptr : &one[0]); });
     return bricks_->store();
   }
 
@@ -107,12 +101,10 @@ class GrowingPrismField : public RegistrationField {
       if (!gridHoldsBox(grid_, box, eps_))
         grid_ = gridAround(box, f_.voxel, f_.brick, eps_, kLatticeMargin);
     });
-    integrator_.reset();
     bricks_.reset();  // the old field's memory goes before the new one's comes
     bricks_ = std::make_unique<GrowingBricks>(grid_, f_.maxVoxels, f_.threads, comm_);
     bricks_->start(planPlacedOn(scans_, order, poses_, grid_, f_.maxVoxels, f_.threads, comm_));
-    integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), f_.threads);
-    addRouted(scans_, order, poses_, *integrator_, bricks_->store().layout(), comm_);
+    addRouted(scans_, order, poses_, bricks_->integrator(), bricks_->store().layout(), comm_);
     return bricks_->store();
   }
 
@@ -125,7 +117,6 @@ class GrowingPrismField : public RegistrationField {
   std::vector<Pose> poses_;
   std::vector<std::pair<size_t, Pose>> placed_;  ///< the fused scans and their poses, in order
   std::unique_ptr<GrowingBricks> bricks_;
-  std::unique_ptr<PrismIntegrator> integrator_;
 };
 
 /// Consensus and naive fields need every view at once: each call builds from scratch, with the

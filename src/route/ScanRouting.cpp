@@ -79,15 +79,18 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
   return box;
 }
 
-/// The ranks that may own bricks of [lo, hi] (BrickLayout::mayOwn), ascending, each once.
+/// The ranks that may own bricks of [lo, hi] (BrickLayout::mayOwn), or own their ranges of
+/// codes, ascending, each once.
 std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo, const BrickCoord& hi,
-                             int me) {
+                             int me, RouteTo to) {
   std::vector<int> owners;
   BrickCoord b;
   for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
     for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
       for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
-        const int owner = layout.mayOwn(mortonEncode(b), me);
+        const uint64_t code = mortonEncode(b);
+        const int owner =
+            to == RouteTo::ranges ? layout.ownerOfCode(code) : layout.mayOwn(code, me);
         if (owner >= 0) owners.push_back(owner);
       }
   std::sort(owners.begin(), owners.end());
@@ -98,7 +101,8 @@ std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo, co
 }  // namespace
 
 void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
-               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats) {
+               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats,
+               RouteTo to) {
   const int ranks = layout.ranks();
   std::vector<std::vector<uint32_t>> triangles(ranks);
   std::vector<int> owners;
@@ -108,7 +112,7 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
     BrickCoord lo, hi;
     if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
     if (lo != lastLo || hi != lastHi) {
-      owners = brickOwners(layout, lo, hi, me);
+      owners = brickOwners(layout, lo, hi, me, to);
       lastLo = lo, lastHi = hi;
     }
     for (int r : owners) triangles[r].push_back(static_cast<uint32_t>(t));
@@ -222,7 +226,7 @@ class Trimmer {
 /// Routes one taken scan (see routeRounds), its parts for others appended to `out`; returns
 /// the bytes it freed.
 uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double reach, bool colour,
-                    int me, std::vector<std::vector<char>>& out, RoutedParts& parts,
+                    int me, RouteTo to, std::vector<std::vector<char>>& out, RoutedParts& parts,
                     RoutingStats& stats) {
   const bool packed = !s.packed.empty();
   if (layout.ranks() == 1 && reach == 0) {
@@ -238,7 +242,7 @@ uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double r
   if (!colour) dropColour(s.scan.surface);  // nothing to send or keep
   const size_t triangles = s.scan.surface.triangles.size();
   IndexedScans mine;
-  routeScan(i, std::move(s.scan), layout, reach, me, out, mine, stats);
+  routeScan(i, std::move(s.scan), layout, reach, me, out, mine, stats, to);
   for (auto& [entry, part] : mine)
     if (packed && part.surface.triangles.size() == triangles)
       parts.keepBytes(entry, std::move(s.packed));  // all of it stays: packed already
@@ -253,8 +257,8 @@ uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double r
 
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
                  const std::function<TakenScan(size_t)>& take, const BrickLayout& layout,
-                 double reach, bool colour, MPI_Comm comm, RoutedParts& parts,
-                 RoutingStats& stats) {
+                 double reach, bool colour, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats,
+                 RouteTo to) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
   if (stats.bytes.size() != static_cast<size_t>(ranks)) stats.bytes.assign(ranks, 0);
   Trimmer trim;
@@ -263,7 +267,7 @@ bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
     uint64_t given = 0;
     if (!mpi::collectively(comm, [&] {
           for (size_t i : round) {
-            given += routeTaken(i, take(i), layout, reach, colour, me, out, parts, stats);
+            given += routeTaken(i, take(i), layout, reach, colour, me, to, out, parts, stats);
           }
         }))
       return false;

@@ -49,7 +49,6 @@ const BrickStore& TrackingField::build(const std::vector<size_t>& which,
                                        const std::vector<Pose>& poses) {
   bricks_ = std::make_unique<GrowingBricks>(grid_, settings_.maxVoxels, settings_.threads, comm_);
   bricks_->startEmpty(settings_.colour);
-  integrator_.reset();
   for (size_t i : which) {
     // A frame let go of since is read once for both of add()'s passes, not once for each
     // (a read-ahead thread gained nothing on two cores busy with two ranks).
@@ -65,36 +64,18 @@ const BrickStore& TrackingField::build(const std::vector<size_t>& which,
 }
 
 const BrickStore& TrackingField::add(size_t i, const std::vector<Pose>& poses) {
-  grow(i, poses[i]);
-  integrate(i, poses);
-  return bricks_->store();
-}
-
-void TrackingField::grow(size_t i, const Pose& pose) {
   std::vector<PrismScan> one;
   collectivelyOrThrow(comm_, [&] {
     if (!scans_.holds(i)) return;
-    one.push_back(placeScan(*scans_.held->get(i), pose));
+    one.push_back(placeScan(*scans_.held->get(i), poses[i]));
     if (!gridHolds(grid_, one, settings_.eps))
       throw InputError(scans_.paths[i] + ": the frame lies more than " + std::to_string(kRoom) +
                        " voxels from the first frames: tracking lost");
   });
-  const bool moved = bricks_->grow(one.empty() ? nullptr : &one[0]);
-  if (moved)
-    integrator_.reset();
-  else if (integrator_)
-    integrator_->storeGrew();
-}
-
-void TrackingField::integrate(size_t i, const std::vector<Pose>& poses) {
-  if (!integrator_)
-    integrator_ = std::make_unique<PrismIntegrator>(bricks_->store(), settings_.threads);
-  routePlaced(scans_, {i}, poses, bricks_->store().layout(), 0, comm_,
-              [&](size_t, const PrismScan& part) {
-                const auto added = integrator_->addScan(part);
-                voxelUpdates_ += added.voxelUpdates;
-                prisms_ += added.prisms;
-              });
+  const IntegrationStats added = bricks_->add(one.empty() ? nullptr : &one[0]);
+  voxelUpdates_ += added.voxelUpdates;
+  prisms_ += added.prisms;
+  return bricks_->store();
 }
 
 const BrickStore& TrackingField::store() const {
@@ -102,7 +83,6 @@ const BrickStore& TrackingField::store() const {
 }
 
 std::unique_ptr<BrickStore> TrackingField::release() {
-  integrator_.reset();
   return bricks_->release();
 }
 

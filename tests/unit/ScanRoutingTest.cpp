@@ -180,6 +180,52 @@ TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
   EXPECT_GT(expected[0] * expected[1] * expected[2], 0u) << "every rank should get some";
 }
 
+TEST(ScanRouting, ToRangesEachRankGetsTheTrianglesReachingItsRangeHeldOrNot) {
+  const PrismScan scan = wavyScan();
+  const std::vector<PrismScan> one{scan};
+  const VoxelGrid grid = fitGrid(one, 0.5, 4, 1.5);
+  const int ranks = 3;
+  BrickLayout layout = planBricks(one, grid, ranks);
+  // A growing field lacks bricks the scan reaches: two in three here, in every rank's range.
+  const std::vector<uint64_t> firstCodes = layout.firstCodes;
+  BrickWork work;
+  for (size_t i = 0; i < layout.codes.size(); ++i)
+    if (i % 3 == 0) work[layout.codes[i]] = layout.work[i];
+  layout = layoutFromWork(work, grid, ranks);
+  layout.firstCodes = firstCodes;
+  layout.rankStart = runsOf(layout.codes, firstCodes);
+
+  for (int me = 0; me < ranks; ++me) {
+    std::vector<std::vector<char>> out(ranks);
+    RoutingStats stats;
+    stats.bytes.assign(ranks, 0);
+    IndexedScans mine;
+    routeScan(4, scan, layout, 0, me, out, mine, stats, RouteTo::ranges);
+    const size_t got = mine.empty() ? 0 : mine[0].second.surface.triangles.size();
+    // Brute force: the triangles with a brick of their prism's box in me's range of codes.
+    size_t expected = 0;
+    for (size_t t = 0; t < scan.surface.triangles.size(); ++t) {
+      VoxelIndex lo, hi;
+      grid.voxelRange(prismBounds(scanPrism(scan, t)), lo, hi);
+      bool reaches = false;
+      for (int z = lo.z(); z <= hi.z(); ++z)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+          for (int x = lo.x(); x <= hi.x(); ++x) {
+            const uint64_t code = mortonEncode(brickOf({x, y, z}, grid.brick));
+            reaches |= code >= firstCodes[me] && code < firstCodes[me + 1];
+          }
+      expected += reaches;
+    }
+    EXPECT_EQ(got, expected) << "rank " << me;
+    EXPECT_GT(expected, 0u);
+    // Routed to the bricks alone, the triangles reaching only the missing bricks go nowhere.
+    IndexedScans held;
+    routeScan(4, scan, layout, 0, me, out, held, stats);
+    const size_t toBricks = held.empty() ? 0 : held[0].second.surface.triangles.size();
+    EXPECT_LT(toBricks, got) << "rank " << me;
+  }
+}
+
 TEST(ScanRouting, PartsCarryOnlyTheVerticesTheirTrianglesUse) {
   const PrismScan scan = wavyScan();
   const std::vector<PrismScan> one{scan};

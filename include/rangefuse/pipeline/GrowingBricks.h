@@ -13,25 +13,29 @@
 
 namespace rangefuse::internal {
 
-/// A field's store, grown a scan at a time. A brick new to the field joins the rank whose range
-/// of codes holds it, and every sum stays where it is, so a voxel's sums are those of adding
-/// the scans in order on any number of ranks. When a rank has gained half a fair share of
-/// bricks since the field was last split, its bricks are split by work anew and the sums move
-/// to their new owners.
+/// A field's store, grown a scan at a time, and the integrator adding to it. A brick new to
+/// the field joins the rank whose range of codes holds it, and every sum stays where it is,
+/// so a voxel's sums are those of adding the scans in order on any number of ranks. When a
+/// rank has gained half a fair share of bricks since the field was last split, its bricks are
+/// split by work anew and the sums move to their new owners.
 class GrowingBricks {
  public:
-  /// Bricks on `grid`, at most maxVoxels voxels; planning uses `threads`.
+  /// Bricks on `grid`, at most maxVoxels voxels; planning and adding use `threads`.
   GrowingBricks(const VoxelGrid& grid, uint64_t maxVoxels, int threads, MPI_Comm comm);
+  ~GrowingBricks();
 
   /// Starts with no bricks, every code in rank 0's range until the first split.
   void startEmpty(ColourKind colour);
   /// Starts with the bricks of a planned layout (already split).
   void start(const BrickLayout& layout);
-  /// Collective: adds the bricks `scan`'s prisms reach (the placed scan on the rank holding
-  /// it, null on the others). Returns true when the bricks moved: an integrator on the store
-  /// must then be made anew, otherwise told that the store grew. Throws InputError on every
-  /// rank past maxVoxels.
-  bool grow(const PrismScan* scan);
+  /// Collective: adds a scan placed in the world (on the rank that read it, null on the
+  /// others). It is routed to the owners of the ranges of codes its prisms reach; each owner
+  /// plans the work of its part on its own range, joins the bricks new to it and adds the
+  /// part; then the bricks are split anew if due. The reader alone planning the whole scan
+  /// kept the others waiting. Throws InputError on every rank past maxVoxels.
+  IntegrationStats add(PrismScan* placed);
+  /// The integrator on the store as it stands (made anew after the bricks moved).
+  PrismIntegrator& integrator();
   BrickStore& store() { return *store_; }
   const BrickStore& store() const { return *store_; }
   bool empty() const { return !store_; }
@@ -40,9 +44,12 @@ class GrowingBricks {
   std::unique_ptr<BrickStore> release();
 
  private:
-  /// Collective: the sorted (code, work) pairs, flat, of the scan's bricks that this rank's
-  /// range lacks; the work of those it has is added to them.
-  std::vector<uint64_t> newBricks(const PrismScan* scan);
+  /// Collective: joins the bricks of this rank's range that `part`'s prisms reach (this rank's
+  /// routed part of a scan, or null) and adds their work to those held.
+  void growBy(const PrismScan* part);
+  /// Collective: splits the bricks by work anew when a rank has gained half a fair share;
+  /// true when they moved.
+  bool splitIfDue();
   /// True when the bricks, as `start` splits them, should be split by work anew.
   bool needsSplit(const std::vector<uint64_t>& start) const;
 
@@ -51,6 +58,7 @@ class GrowingBricks {
   int threads_;
   MPI_Comm comm_;
   std::unique_ptr<BrickStore> store_;
+  std::unique_ptr<PrismIntegrator> integrator_;
   std::vector<uint64_t> balancedAt_;  ///< every rank's first brick when last split by work
 };
 

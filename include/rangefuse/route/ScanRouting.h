@@ -22,14 +22,21 @@ struct RoutingStats {
   std::vector<uint64_t> bytes;
 };
 
+/// Where a triangle goes: to the ranks that own or may own the bricks it reaches
+/// (BrickLayout::mayOwn: a brick of this rank's own range that its directory lacks does not
+/// exist), or to the owners of the ranges of codes that hold those bricks, existing or not (a
+/// growing field, whose owners join the bricks they are sent).
+enum class RouteTo { bricks, ranges };
+
 /// Appends to out[r], for every rank r owning a brick some triangle of the placed scan must
-/// reach, the part of the scan made of those triangles (in order) and their vertices. With
+/// reach (`to`), the part of the scan made of those triangles (in order) and their vertices. With
 /// reach 0 a triangle reaches the bricks its prism touches (prism fields); with reach > 0, the
 /// bricks with a voxel centre within reach of its bounding box (closest-surface methods). A
 /// triangle that reaches no existing brick goes nowhere. The part for rank `me` (none when -1)
 /// is appended to `mine` instead, unserialised (the whole scan when it all goes there).
 void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
-               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats);
+               std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats,
+               RouteTo to = RouteTo::bricks);
 
 /// A whole scan in the bytes routing sends, and the scan again from them: how a streamed field
 /// keeps a scan until it is routed. Only what a field needs goes: the points its triangles use
@@ -75,6 +82,7 @@ struct TakenScan {
 /// system as they add up. False when `take` threw on some rank (printed once).
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
                  const std::function<TakenScan(size_t)>& take, const BrickLayout& layout,
-                 double reach, bool colour, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats);
+                 double reach, bool colour, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats,
+                 RouteTo to = RouteTo::bricks);
 
 }  // namespace rangefuse

@@ -60,17 +60,11 @@ class TrackingField : public RegistrationField {
   uint64_t prisms() const { return prisms_; }
 
  private:
-  /// Collective: the layout grown by the bricks scan i's prisms touch at `pose`.
-  void grow(size_t i, const Pose& pose);
-  /// Collective: scan i added to the sums.
-  void integrate(size_t i, const std::vector<Pose>& poses);
-
   TrackingLattice settings_;
   const LoadedScans& scans_;
   MPI_Comm comm_;
   VoxelGrid grid_;
   std::unique_ptr<internal::GrowingBricks> bricks_;
-  std::unique_ptr<PrismIntegrator> integrator_;
   uint64_t voxelUpdates_ = 0;
   uint64_t prisms_ = 0;
 };
