@@ -54,6 +54,31 @@ void BrickStore::grow(const BrickLayout& layout, const std::vector<uint64_t>& fr
   if (hasColour()) colours_.resize(voxels);
 }
 
+void BrickStore::rehome(const BrickLayout& layout, const std::vector<uint64_t>& arriving) {
+  const auto moveBrick = [&](auto& voxels, size_t from, size_t to) {
+    std::copy_n(voxels.begin() + from * perBrick_, perBrick_, voxels.begin() + to * perBrick_);
+  };
+  for (size_t b = 0; b < codes_.size();) {
+    if (layout.ownerOfCode(codes_[b]) == rank_) {
+      ++b;
+      continue;
+    }
+    index_.erase(codes_[b]);
+    const size_t last = codes_.size() - 1;
+    if (b != last) {
+      moveBrick(sums_, last, b);
+      if (hasColour()) moveBrick(colours_, last, b);
+      codes_[b] = codes_[last];
+      index_[codes_[b]] = static_cast<int64_t>(b);
+      ordered_ = false;
+    }
+    codes_.pop_back();
+  }
+  sums_.resize(codes_.size() * perBrick_);
+  if (hasColour()) colours_.resize(sums_.size());
+  grow(layout, arriving);  // the arriving bricks' voxels are made anew: zero
+}
+
 void BrickStore::enableColour(ColourKind kind) {
   colourKind_ = kind;
   colours_.resize(sums_.size());

@@ -3,10 +3,7 @@
 // one's values and bricks.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstring>
-#include <map>
-
+#include "ObservedVoxels.h"
 #include "rangefuse/options/FuseParameters.h"
 #include "rangefuse/options/RunSettings.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -20,44 +17,11 @@ namespace {
 
 constexpr double kFieldVoxel = 0.002;  // 2 mm: the real bunny scans, quickly
 
-using VoxelKey = std::pair<uint64_t, uint32_t>;  // brick code, voxel within the brick
-using VoxelValues = std::map<VoxelKey, std::array<float, 6>>;
+using test::expectIdentical;
 
-/// Every observed voxel of a distributed field, gathered on every rank.
-VoxelValues observedVoxels(const BrickStore& store) {
-  std::vector<char> mine;
-  const size_t per = store.voxelsPerBrick();
-  for (size_t b = 0; b < store.brickCount(); ++b)
-    for (uint32_t k = 0; k < per; ++k) {
-      const VoxelSums& s = store.sums()[b * per + k];
-      if (s.w == 0 && s.images == 0) continue;
-      const uint64_t code = store.code(b);
-      const std::array<float, 6> v{s.wd, s.w, s.wf[0], s.wf[1], s.wf[2], s.images};
-      mpi::pack(mine, &code, 1);
-      mpi::pack(mine, &k, 1);
-      mpi::pack(mine, v.data(), v.size());
-    }
-  VoxelValues all;
-  for (const auto& part : mpi::allgatherBytes(mine, MPI_COMM_WORLD))
-    for (size_t at = 0; at < part.size();) {
-      VoxelKey key;
-      std::array<float, 6> v;
-      mpi::unpack(part, at, &key.first, 1);
-      mpi::unpack(part, at, &key.second, 1);
-      mpi::unpack(part, at, v.data(), v.size());
-      all[key] = v;
-    }
-  return all;
-}
-
-/// Same voxels, same bits.
-void expectIdentical(const VoxelValues& a, const VoxelValues& b) {
-  ASSERT_EQ(a.size(), b.size());
-  size_t differing = 0;
-  for (auto ia = a.begin(), ib = b.begin(); ia != a.end(); ++ia, ++ib)
-    differing += ia->first != ib->first ||
-                 std::memcmp(ia->second.data(), ib->second.data(), sizeof(float) * 6) != 0;
-  EXPECT_EQ(differing, 0u) << "of " << a.size() << " voxels";
+/// Every observed voxel of the field, gathered on every rank.
+test::VoxelValues observedVoxels(const BrickStore& store) {
+  return test::observedVoxels(store, MPI_COMM_WORLD);
 }
 
 RunSettings bunnySettings() {
@@ -105,7 +69,7 @@ TEST(RegistrationField, GrownFieldEqualsAFreshBuildVoxelByVoxel) {
   auto fresh = growingField(o, scans);
   fresh->fixLattice(grown->latticeOrigin(), poses);
   const BrickStore& simple = fresh->build({0, 1, 3, 5}, poses);
-  const VoxelValues a = observedVoxels(fast), b = observedVoxels(simple);
+  const test::VoxelValues a = observedVoxels(fast), b = observedVoxels(simple);
   EXPECT_GT(a.size(), 10000u);
   expectIdentical(a, b);
   // Bricks on demand: the grown field holds the bricks the scans reach and no room around them.

@@ -15,9 +15,11 @@ namespace rangefuse::internal {
 
 /// A field's store, grown a scan at a time, and the integrator adding to it. A brick new to
 /// the field joins the rank whose range of codes holds it, and every sum stays where it is,
-/// so a voxel's sums are those of adding the scans in order on any number of ranks. When a
-/// rank has gained half a fair share of bricks since the field was last split, its bricks are
-/// split by work anew and the sums move to their new owners.
+/// so a voxel's sums are those of adding the scans in order on any number of ranks. The bricks
+/// are split by their recent work anew, the sums of those that change owner moving, when a
+/// rank has gained half a fair share of bricks since the last split, or when the ranks' voxel
+/// updates over the last scans drift apart: a stream's next frames fall where its last ones
+/// did.
 class GrowingBricks {
  public:
   /// Bricks on `grid`, at most maxVoxels voxels; planning and adding use `threads`.
@@ -39,6 +41,8 @@ class GrowingBricks {
   BrickStore& store() { return *store_; }
   const BrickStore& store() const { return *store_; }
   bool empty() const { return !store_; }
+  /// Times the bricks were split anew since the start.
+  uint64_t splits() const { return splits_; }
   /// Collective: the store in code order, its directory knowing the bricks that border its
   /// own; the growth is empty afterwards.
   std::unique_ptr<BrickStore> release();
@@ -50,6 +54,9 @@ class GrowingBricks {
   /// Collective: splits the bricks by work anew when a rank has gained half a fair share;
   /// true when they moved.
   bool splitIfDue();
+  /// Collective: counts a scan, and every kCheckEvery scans tells whether the ranks' voxel
+  /// updates since the last check drifted apart.
+  bool drifted();
   /// True when the bricks, as `start` splits them, should be split by work anew.
   bool needsSplit(const std::vector<uint64_t>& start) const;
 
@@ -60,6 +67,8 @@ class GrowingBricks {
   std::unique_ptr<BrickStore> store_;
   std::unique_ptr<PrismIntegrator> integrator_;
   std::vector<uint64_t> balancedAt_;  ///< every rank's first brick when last split by work
+  uint64_t scansSinceCheck_ = 0, updatesSinceCheck_ = 0;  ///< since drifted() last compared
+  uint64_t splits_ = 0;
 };
 
 }  // namespace rangefuse::internal

@@ -64,6 +64,10 @@ class BrickStore {
   /// Adds to the work of the brick at layout position `at`: work only steers how the next
   /// layout is split, never which bricks exist or what they hold.
   void addWork(size_t at, uint64_t work) { layout_.work[at] += work; }
+  /// Takes 1/2^shift off every brick's work (rounded down), so that recent work outweighs old.
+  void decayWork(int shift) {
+    for (uint64_t& w : layout_.work) w -= w >> shift;
+  }
 
   Sums& sums() { return sums_; }
   const Sums& sums() const { return sums_; }
@@ -82,6 +86,12 @@ class BrickStore {
   /// stay where they are, so a field grows without moving (amortised over the vector's
   /// doubling). Local indices then no longer follow code order.
   void grow(const BrickLayout& layout, const std::vector<uint64_t>& fresh);
+  /// Takes `layout`, a new split of the same lattice's bricks: the local bricks it gives other
+  /// ranks leave (the last local bricks take their places) and `arriving` (codes this rank did
+  /// not hold) join with zero sums after them. The bricks that stay keep their sums in place,
+  /// so a split costs the bricks that move, not the whole field. Local order then no longer
+  /// follows code order.
+  void rehome(const BrickLayout& layout, const std::vector<uint64_t>& arriving);
   /// Puts the local bricks back in code order, in place (one brick of scratch).
   void sortBricks();
   /// Bytes of the local bricks: sums, colours, codes and their index (not the layout).
