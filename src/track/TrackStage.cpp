@@ -17,6 +17,7 @@
 #include "rangefuse/io/Trajectory.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/pipeline/Checkpointing.h"
+#include "rangefuse/pipeline/RunLines.h"
 #include "rangefuse/pipeline/VoxelCheck.h"
 #include "rangefuse/register/ProjectiveIcp.h"
 #include "rangefuse/render/Render.h"
@@ -422,12 +423,16 @@ bool trackStream(const RunSettings& s, MPI_Comm comm, Progress& progress, Loaded
   field.store = tracked.release();
   field.layout = field.store->layout();
   counters.bricks = field.store->brickCount();
+  // How evenly the ranks shared the frames' voxels: the rank with fewer waits at every frame.
+  const std::string updates = "voxels updated per rank " +
+                              internal::perRank(comm, counters.voxelUpdates) +
+                              internal::balance(comm, counters.voxelUpdates);
   progress.stage("track", std::to_string(field.scanCount) + " of " +
                               std::to_string(scans.names.size()) + " frames tracked and fused" +
                               (lostCount ? ", " + std::to_string(lostCount) + " lost and left out"
                                          : std::string()) +
                               "; " + std::to_string(field.layout.totalBricks()) + " bricks; " +
-                              summary.frameTimes() + "; " + loopLine(loops));
+                              updates + "; " + summary.frameTimes() + "; " + loopLine(loops));
   return true;
 }
 
