@@ -30,13 +30,14 @@ class GrowingBricks {
   void startEmpty(ColourKind colour);
   /// Starts with the bricks of a planned layout (already split).
   void start(const BrickLayout& layout);
-  /// Collective: adds a scan placed in the world (on the rank that read it, null on the
-  /// others). It is routed to the owners of the ranges of codes its prisms reach; each owner
-  /// plans the work of its part on its own range, joins the bricks new to it and adds the
-  /// part; then the bricks are split anew if due. The reader alone planning the whole scan
-  /// kept the others waiting. Throws InputError on every rank past maxVoxels.
+  /// Collective: adds a scan placed in the world (on the rank that read it, which gives it up;
+  /// null on the others). It is routed to the owners of the ranges of codes its prisms reach;
+  /// each owner plans the work of its part on its own range, joins the bricks new to it and
+  /// adds the part, so that no rank waits while one plans the whole scan; then the bricks are
+  /// split anew if due. Throws InputError on every rank past maxVoxels.
   IntegrationStats add(PrismScan* placed);
-  /// The integrator on the store as it stands (made anew after the bricks moved).
+  /// The integrator on the store, made at first use; it follows the store as it grows and as
+  /// its bricks are split anew.
   PrismIntegrator& integrator();
   BrickStore& store() { return *store_; }
   const BrickStore& store() const { return *store_; }
@@ -51,8 +52,8 @@ class GrowingBricks {
   /// Collective: joins the bricks of this rank's range that `part`'s prisms reach (this rank's
   /// routed part of a scan, or null) and adds their work to those held.
   void growBy(const PrismScan* part);
-  /// Collective: splits the bricks by work anew when a rank has gained half a fair share;
-  /// true when they moved.
+  /// Collective: splits the bricks by their work anew when a rank has gained half a fair
+  /// share of bricks or the ranks' updates drifted apart (drifted()); true when they moved.
   bool splitIfDue();
   /// Collective: counts a scan, and every kCheckEvery scans tells whether the ranks' voxel
   /// updates since the last check drifted apart.
