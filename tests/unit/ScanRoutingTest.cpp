@@ -31,6 +31,16 @@ PrismScan wavyScan() {
   return s;
 }
 
+/// `planned` with only the bricks whose positions `keep` accepts, split over `ranks` by work:
+/// triangles of the scan then reach bricks the layout lacks.
+template <class Keep>
+BrickLayout keptBricks(const BrickLayout& planned, int ranks, Keep keep) {
+  BrickWork work;
+  for (size_t i = 0; i < planned.codes.size(); ++i)
+    if (keep(i)) work[planned.codes[i]] = planned.work[i];
+  return layoutFromWork(work, planned.grid, ranks);
+}
+
 /// Brute force: the ranks owning some brick a prism's bounds touch.
 std::set<int> ownersOf(const Prism& p, const BrickLayout& layout) {
   std::set<int> owners;
@@ -132,12 +142,9 @@ TEST(ScanRouting, EachRankGetsExactlyTheTrianglesTouchingItsBricks) {
   const std::vector<PrismScan> one{scan};
   const VoxelGrid grid = fitGrid(one, 0.5, 4, 1.5);
   const int ranks = 3;
-  BrickLayout layout = planBricks(one, grid, ranks);
   // Drop every 5th brick: triangles touching only missing bricks must go nowhere.
-  BrickWork work;
-  for (size_t i = 0; i < layout.codes.size(); ++i)
-    if (i % 5) work[layout.codes[i]] = layout.work[i];
-  layout = layoutFromWork(work, grid, ranks);
+  const BrickLayout layout =
+      keptBricks(planBricks(one, grid, ranks), ranks, [](size_t i) { return i % 5 != 0; });
 
   std::vector<std::vector<char>> out(ranks);
   RoutingStats stats;
@@ -185,13 +192,10 @@ TEST(ScanRouting, ToRangesEachRankGetsTheTrianglesReachingItsRangeHeldOrNot) {
   const std::vector<PrismScan> one{scan};
   const VoxelGrid grid = fitGrid(one, 0.5, 4, 1.5);
   const int ranks = 3;
-  BrickLayout layout = planBricks(one, grid, ranks);
+  const BrickLayout planned = planBricks(one, grid, ranks);
   // A growing field lacks bricks the scan reaches: two in three here, in every rank's range.
-  const std::vector<uint64_t> firstCodes = layout.firstCodes;
-  BrickWork work;
-  for (size_t i = 0; i < layout.codes.size(); ++i)
-    if (i % 3 == 0) work[layout.codes[i]] = layout.work[i];
-  layout = layoutFromWork(work, grid, ranks);
+  const std::vector<uint64_t> firstCodes = planned.firstCodes;
+  BrickLayout layout = keptBricks(planned, ranks, [](size_t i) { return i % 3 == 0; });
   layout.firstCodes = firstCodes;
   layout.rankStart = runsOf(layout.codes, firstCodes);
 
