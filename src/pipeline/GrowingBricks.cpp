@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "rangefuse/core/Error.h"
 #include "rangefuse/core/Limits.h"
@@ -79,15 +78,10 @@ void moveSums(BrickStore& store, const BrickLayout& layout, MPI_Comm comm) {
     if (coloured) mpi::pack(out[owner], &store.colours()[b * per], per);
   }
   const std::vector<std::vector<char>> in = mpi::exchangeBytes(std::move(out), comm);
-  const size_t brickBytes =
-      sizeof(uint64_t) + per * (sizeof(VoxelSums) + (coloured ? sizeof(VoxelColour) : 0));
+  // The bricks of this rank's new run that it does not hold yet are those it is sent.
   std::vector<uint64_t> arriving;
-  for (const auto& part : in)
-    for (size_t at = 0; at < part.size(); at += brickBytes) {
-      uint64_t code;
-      std::memcpy(&code, &part[at], sizeof code);
-      arriving.push_back(code);
-    }
+  for (size_t i = layout.rankStart[me]; i < layout.rankStart[me + 1]; ++i)
+    if (store.localBrick(layout.codes[i]) < 0) arriving.push_back(layout.codes[i]);
   store.rehome(layout, arriving);
   for (const auto& part : in)
     for (size_t at = 0; at < part.size();) {
