@@ -79,23 +79,83 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
   return box;
 }
 
-/// The ranks that may own bricks of [lo, hi] (BrickLayout::mayOwn), or own their ranges of
-/// codes, ascending, each once.
-std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo, const BrickCoord& hi,
-                             int me, RouteTo to) {
-  std::vector<int> owners;
-  BrickCoord b;
-  for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
-    for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
-      for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
-        const uint64_t code = mortonEncode(b);
-        const int owner =
-            to == RouteTo::ranges ? layout.ownerOfCode(code) : layout.mayOwn(code, me);
-        if (owner >= 0) owners.push_back(owner);
-      }
-  std::sort(owners.begin(), owners.end());
-  owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
-  return owners;
+/// The ranks each triangle of a scan goes to, remembered by the box of bricks it reaches:
+/// neighbouring triangles (grid order) mostly reach the same bricks, and a brick's owner is
+/// looked up in the layout once, not at every box that holds it.
+class TriangleOwners {
+ public:
+  TriangleOwners(const BrickLayout& layout, int me, RouteTo to)
+      : layout_(layout), me_(me), to_(to), codes_(kSlots, kNoCode), owners_(kSlots) {}
+
+  /// The ranks that may own bricks of [lo, hi] (BrickLayout::mayOwn), or own their ranges of
+  /// codes, ascending, each once.
+  const std::vector<int>& of(const BrickCoord& lo, const BrickCoord& hi) {
+    if (lo == lastLo_ && hi == lastHi_) return ranks_;
+    lastLo_ = lo, lastHi_ = hi;
+    ranks_.clear();
+    BrickCoord b;
+    for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
+      for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
+        for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
+          const int owner = ownerOf(mortonEncode(b));
+          if (owner >= 0 && std::find(ranks_.begin(), ranks_.end(), owner) == ranks_.end())
+            ranks_.push_back(owner);
+        }
+    std::sort(ranks_.begin(), ranks_.end());
+    return ranks_;
+  }
+
+ private:
+  /// A brick's owner as the layout answers it, through a cache indexed by the code's hash.
+  int ownerOf(uint64_t code) {
+    const size_t slot = (code * 0x9E3779B97F4A7C15ull) >> (64 - kSlotBits);
+    if (codes_[slot] != code) {
+      codes_[slot] = code;
+      owners_[slot] =
+          to_ == RouteTo::ranges ? layout_.ownerOfCode(code) : layout_.mayOwn(code, me_);
+    }
+    return owners_[slot];
+  }
+
+  static constexpr int kSlotBits = 10;
+  static constexpr size_t kSlots = size_t{1} << kSlotBits;
+  static constexpr uint64_t kNoCode = ~uint64_t{0};  // above every code of 21-bit coordinates
+  const BrickLayout& layout_;
+  const int me_;
+  const RouteTo to_;
+  std::vector<uint64_t> codes_;
+  std::vector<int> owners_;
+  std::vector<int> ranks_;
+  BrickCoord lastLo_{1, 1, 1}, lastHi_{0, 0, 0};  // an empty box: no triangle's
+};
+
+/// Each rank's triangles of `world`, ascending: those that reach a brick it owns or may own.
+std::vector<std::vector<uint32_t>> trianglesByRank(const PrismScan& world,
+                                                   const BrickLayout& layout, double reach, int me,
+                                                   RouteTo to) {
+  std::vector<std::vector<uint32_t>> triangles(layout.ranks());
+  TriangleOwners owners(layout, me, to);
+  for (size_t t = 0; t < world.surface.triangles.size(); ++t) {
+    BrickCoord lo, hi;
+    if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
+    for (int r : owners.of(lo, hi)) triangles[r].push_back(static_cast<uint32_t>(t));
+  }
+  return triangles;
+}
+
+/// Packs the triangles of every rank but `me` into out[r], counting them in `stats`.
+void packForOthers(uint64_t index, const PrismScan& world,
+                   const std::vector<std::vector<uint32_t>>& triangles, int me,
+                   std::vector<std::vector<char>>& out, std::vector<int32_t>& remap,
+                   RoutingStats& stats) {
+  stats.triangles += world.surface.triangles.size();
+  for (size_t r = 0; r < triangles.size(); ++r) {
+    if (triangles[r].empty() || static_cast<int>(r) == me) continue;
+    const size_t before = out[r].size();
+    packPart(out[r], index, world, triangles[r], remap);
+    stats.copies += triangles[r].size();
+    stats.bytes[r] += out[r].size() - before;
+  }
 }
 
 }  // namespace
@@ -103,29 +163,9 @@ std::vector<int> brickOwners(const BrickLayout& layout, const BrickCoord& lo, co
 void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, double reach, int me,
                std::vector<std::vector<char>>& out, IndexedScans& mine, RoutingStats& stats,
                RouteTo to) {
-  const int ranks = layout.ranks();
-  std::vector<std::vector<uint32_t>> triangles(ranks);
-  std::vector<int> owners;
-  // Neighbouring triangles (grid order) mostly reach the same bricks: their owners are known.
-  BrickCoord lastLo(1, 1, 1), lastHi(0, 0, 0);
-  for (size_t t = 0; t < world.surface.triangles.size(); ++t) {
-    BrickCoord lo, hi;
-    if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
-    if (lo != lastLo || hi != lastHi) {
-      owners = brickOwners(layout, lo, hi, me, to);
-      lastLo = lo, lastHi = hi;
-    }
-    for (int r : owners) triangles[r].push_back(static_cast<uint32_t>(t));
-  }
+  const auto triangles = trianglesByRank(world, layout, reach, me, to);
   std::vector<int32_t> remap(world.surface.points.size(), -1);
-  stats.triangles += world.surface.triangles.size();
-  for (int r = 0; r < ranks; ++r) {
-    if (triangles[r].empty() || r == me) continue;
-    const size_t before = out[r].size();
-    packPart(out[r], index, world, triangles[r], remap);
-    stats.copies += triangles[r].size();
-    stats.bytes[r] += out[r].size() - before;
-  }
+  packForOthers(index, world, triangles, me, out, remap, stats);
   // This rank's own part is kept as it is, not serialised: with one rank, the whole field.
   if (me < 0 || triangles[me].empty()) return;
   stats.copies += triangles[me].size();
@@ -240,16 +280,24 @@ uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double r
   if (packed) s.scan = unpackedScan(s.packed);
   const uint64_t freed = s.packed.size() + scanBytes(s.scan);
   if (!colour) dropColour(s.scan.surface);  // nothing to send or keep
-  const size_t triangles = s.scan.surface.triangles.size();
-  IndexedScans mine;
-  routeScan(i, std::move(s.scan), layout, reach, me, out, mine, stats, to);
-  for (auto& [entry, part] : mine)
-    if (packed && part.surface.triangles.size() == triangles)
-      parts.keepBytes(entry, std::move(s.packed));  // all of it stays: packed already
-    else if (part.compact())
-      parts.keepPacked(entry, part);
-    else
-      parts.keep(entry, std::move(part));
+  const PrismScan& world = s.scan;
+  const auto triangles = trianglesByRank(world, layout, reach, me, to);
+  std::vector<int32_t> remap(world.surface.points.size(), -1);
+  packForOthers(i, world, triangles, me, out, remap, stats);
+  const std::vector<uint32_t>& own = triangles[me];
+  if (own.empty()) return freed;
+  stats.copies += own.size();
+  if (packed && own.size() == world.surface.triangles.size()) {
+    parts.keepBytes(i, std::move(s.packed));  // all of it stays: packed already
+  } else if (world.compact()) {  // packed straight from the scan: the bytes a copy would pack
+    std::vector<char> bytes;
+    packPart(bytes, i, world, own, remap);
+    parts.keepBytes(i, std::move(bytes));
+  } else if (own.size() == world.surface.triangles.size()) {
+    parts.keep(i, std::move(s.scan));
+  } else {
+    parts.keep(i, subScan(world, own, remap));
+  }
   return freed;
 }
 

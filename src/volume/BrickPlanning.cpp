@@ -214,16 +214,6 @@ bool gridHoldsBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, double 
   return above && extentVoxels(grid, box, eps) < kMaxVoxelsPerAxis;
 }
 
-bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
-                 BrickCoord& hi) {
-  VoxelIndex vlo, vhi;
-  grid.voxelRange(box, vlo, vhi);
-  if ((vlo.array() > vhi.array()).any()) return false;
-  lo = brickOf(vlo, grid.brick);
-  hi = brickOf(vhi, grid.brick);
-  return true;
-}
-
 void addBrickWork(const VoxelGrid& grid, const BrickCoord& lo, const BrickCoord& hi, uint64_t count,
                   uint64_t maxVoxels, BrickWork& work) {
   // One huge box or many small ones: either way refused before the map grows.

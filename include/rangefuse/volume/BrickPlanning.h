@@ -24,9 +24,17 @@ VoxelGrid gridAround(const Eigen::AlignedBox3d& box, double voxel, int brick, do
 /// True when `box` grown by eps lies a brick inside the lattice (gridAround's guarantee).
 bool gridHoldsBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, double eps);
 
-/// Bricks [lo, hi] holding the voxel centres inside box; false when it holds none.
-bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
-                 BrickCoord& hi);
+/// Bricks [lo, hi] holding the voxel centres inside box; false when it holds none. Inline:
+/// routing asks it for every triangle.
+inline bool bricksOfBox(const VoxelGrid& grid, const Eigen::AlignedBox3d& box, BrickCoord& lo,
+                        BrickCoord& hi) {
+  VoxelIndex vlo, vhi;
+  grid.voxelRange(box, vlo, vhi);
+  if ((vlo.array() > vhi.array()).any()) return false;
+  lo = brickOf(vlo, grid.brick);
+  hi = brickOf(vhi, grid.brick);
+  return true;
+}
 
 /// Adds the work of `part` (planned apart, e.g. on another thread) to `work`; refuses the sum
 /// as addBrickWork does.
