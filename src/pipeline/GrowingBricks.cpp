@@ -41,6 +41,29 @@ std::vector<Pair> ownJoined(const BrickLayout& layout, int me, const std::vector
   return own;
 }
 
+/// The bricks of rank me's range that `part`'s prisms reach and `layout` lacks, as (code, 0)
+/// pairs sorted by code: they join with no work, and take the updates they are given.
+/// Refused as addBrickWork refuses, before a prism's box of too many bricks is listed.
+std::vector<uint64_t> freshBricks(const PrismScan& part, const BrickLayout& layout, int me,
+                                  uint64_t maxVoxels) {
+  BrickWork reached;
+  BrickCoord lastLo(1, 1, 1), lastHi(0, 0, 0);
+  for (size_t t = 0; t < part.surface.triangles.size(); ++t) {
+    BrickCoord lo, hi;
+    if (!bricksOfBox(layout.grid, prismBounds(scanPrism(part, t)), lo, hi)) continue;
+    if (lo == lastLo && hi == lastHi) continue;  // neighbours (grid order) mostly share a box
+    lastLo = lo, lastHi = hi;
+    addBrickWork(layout.grid, lo, hi, 0, maxVoxels, reached);
+  }
+  std::vector<uint64_t> codes;
+  for (const auto& [code, work] : reached)
+    if (layout.ownerOfCode(code) == me && layout.find(code) < 0) codes.push_back(code);
+  std::sort(codes.begin(), codes.end());
+  std::vector<uint64_t> fresh;
+  for (const uint64_t code : codes) fresh.insert(fresh.end(), {code, 0});
+  return fresh;
+}
+
 /// Collective: `layout` with this rank's `fresh` (code, work) pairs joined, the owners' ranges
 /// kept and every rank's bricks counted; the bricks bordering other ranks' new bricks are not
 /// learnt (borderKnown false).
@@ -150,7 +173,7 @@ IntegrationStats GrowingBricks::add(PrismScan* placed) {
   store_->decayWork(kWorkDecayShift);
   growBy(part);
   IntegrationStats added;
-  if (part) added = integrator().addScan(*part);
+  if (part) added = addCounted(*part);
   updatesSinceCheck_ += added.voxelUpdates;
   if (splitIfDue() && integrator_) integrator_->storeGrew();
   return added;
@@ -158,20 +181,9 @@ IntegrationStats GrowingBricks::add(PrismScan* placed) {
 
 void GrowingBricks::growBy(const PrismScan* part) {
   const BrickLayout& layout = store_->layout();
-  const int me = mpi::rank(comm_);
   std::vector<uint64_t> fresh;  // (code, work) pairs, sorted
   mpi::collectivelyOrThrow(comm_, [&] {
-    if (!part) return;
-    BrickWork work;
-    addPrismWork(*part, grid_, maxVoxels_, work, threads_);
-    for (const Pair& p : sortedPairs(work)) {
-      if (layout.ownerOfCode(p.first) != me) continue;  // its own owner plans it
-      const int64_t known = layout.find(p.first);
-      if (known >= 0)
-        store_->addWork(static_cast<size_t>(known), p.second);
-      else
-        fresh.insert(fresh.end(), {p.first, p.second});
-    }
+    if (part) fresh = freshBricks(*part, layout, mpi::rank(comm_), maxVoxels_);
   });
   const uint64_t before = layout.totalBricks();
   BrickLayout next = grownBy(layout, fresh, comm_);
@@ -187,6 +199,19 @@ void GrowingBricks::growBy(const PrismScan* part) {
   store_->grow(next, mine);
   if (integrator_) integrator_->storeGrew();
   memoryLedger().set(Held::field, store_->bytes());
+}
+
+IntegrationStats GrowingBricks::addCounted(const PrismScan& part) {
+  PrismIntegrator& integrator = this->integrator();
+  integrator.countUpdatesPerBrick();
+  const IntegrationStats added = integrator.addScan(part);
+  const std::vector<uint64_t> updates = integrator.updatesPerBrick();
+  const BrickLayout& layout = store_->layout();
+  for (size_t b = 0; b < updates.size(); ++b)
+    if (updates[b] > 0)
+      store_->addWork(static_cast<size_t>(layout.find(store_->code(b))),
+                      static_cast<uint64_t>(kWorkPerUpdate) * updates[b]);
+  return added;
 }
 
 bool GrowingBricks::drifted() {

@@ -357,6 +357,18 @@ void PrismIntegrator::accumulate(Slab& slab) {
   }
 }
 
+void PrismIntegrator::countBrickUpdates(Slab& slab) const {
+  const size_t per = store_.voxelsPerBrick();
+  // Bricks of 8 (the default) or any power of two: a shift, not a division, a sample (a
+  // growing field counts every scan's updates).
+  if ((per & (per - 1)) == 0) {
+    const int shift = __builtin_ctzll(per);
+    for (const Sample& s : slab.samples) ++slab.brickUpdates[s.at >> shift];
+  } else {
+    for (const Sample& s : slab.samples) ++slab.brickUpdates[s.at / per];
+  }
+}
+
 void PrismIntegrator::cutSlabs(const std::vector<Image>& images) {
   const size_t threads = slabs_.size();
   slabs_.back().zLo = std::numeric_limits<int>::min();
@@ -398,8 +410,7 @@ IntegrationStats PrismIntegrator::integrateSlab(const std::vector<Image>& images
     for (const PrismScan* part : image) stats.prisms += rasterizeSlab(*part, slab);
     accumulate(slab);
     stats.voxelUpdates += slab.samples.size();
-    if (!slab.brickUpdates.empty())
-      for (const Sample& s : slab.samples) ++slab.brickUpdates[s.at / store_.voxelsPerBrick()];
+    if (!slab.brickUpdates.empty()) countBrickUpdates(slab);
     slab.samples.clear();
     slab.colours.clear();
     slab.sigmas.clear();

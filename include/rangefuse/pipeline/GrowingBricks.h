@@ -16,9 +16,9 @@ namespace rangefuse::internal {
 /// A field's store, grown a scan at a time, and the integrator adding to it. A brick new to
 /// the field joins the rank whose range of codes holds it, and every sum stays where it is,
 /// so a voxel's sums are those of adding the scans in order on any number of ranks. The bricks
-/// are split by their recent work anew, the sums of those that change owner moving, when a
-/// rank has gained half a fair share of bricks since the last split, or when the ranks' voxel
-/// updates over the last scans drift apart: a stream's next frames fall where its last ones
+/// are split by their recent work (voxel updates) anew, the sums of those that change owner moving,
+/// when a rank has gained half a fair share of bricks since the last split, or when the ranks'
+/// voxel updates over the last scans drift apart: a stream's next frames fall where its last ones
 /// did.
 class GrowingBricks {
  public:
@@ -32,9 +32,10 @@ class GrowingBricks {
   void start(const BrickLayout& layout);
   /// Collective: adds a scan placed in the world (on the rank that read it, which gives it up;
   /// null on the others). It is routed to the owners of the ranges of codes its prisms reach;
-  /// each owner plans the work of its part on its own range, joins the bricks new to it and
-  /// adds the part, so that no rank waits while one plans the whole scan; then the bricks are
-  /// split anew if due. Throws InputError on every rank past maxVoxels.
+  /// each owner joins the bricks of its range that its part reaches and adds the part, each
+  /// brick's work growing by the voxel updates it took (measured, they split the ranks' updates
+  /// more evenly than a prediction did on real frames); then the bricks are split anew if due.
+  /// Throws InputError on every rank past maxVoxels.
   IntegrationStats add(PrismScan* placed);
   /// The integrator on the store, made at first use; it follows the store as it grows and as
   /// its bricks are split anew.
@@ -50,8 +51,10 @@ class GrowingBricks {
 
  private:
   /// Collective: joins the bricks of this rank's range that `part`'s prisms reach (this rank's
-  /// routed part of a scan, or null) and adds their work to those held.
+  /// routed part of a scan, or null).
   void growBy(const PrismScan* part);
+  /// Adds `part` to the field, and to each brick's work the voxel updates it took.
+  IntegrationStats addCounted(const PrismScan& part);
   /// Collective: splits the bricks by their work anew when a rank has gained half a fair
   /// share of bricks or the ranks' updates drifted apart (drifted()); true when they moved.
   bool splitIfDue();

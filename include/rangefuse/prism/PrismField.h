@@ -111,8 +111,8 @@ class PrismIntegrator {
   void storeGrew();
   /// Bytes of its per-voxel index and the threads' sample lists.
   uint64_t bytes() const;
-  /// From now on counts the voxel updates of each local brick (a check of the planner's cost
-  /// model; off by default, it costs a division a sample).
+  /// From now on counts the voxel updates of each local brick (a growing field's work, and a
+  /// check of the planner's cost model; off by default, it costs a shift a sample).
   void countUpdatesPerBrick();
   /// Per local brick, the voxel updates counted since countUpdatesPerBrick().
   std::vector<uint64_t> updatesPerBrick() const;
@@ -142,6 +142,8 @@ class PrismIntegrator {
   /// The sample this image gives voxel `at` in the slab's list, or null if none yet.
   Sample* sampleOf(Slab& slab, size_t at) const;
   void accumulate(Slab& slab);
+  /// Adds the slab's samples to its count per local brick.
+  void countBrickUpdates(Slab& slab) const;
 
   BrickStore& store_;
   SurfaceHypotheses* hypotheses_ = nullptr;
