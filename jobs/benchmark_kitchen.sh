@@ -16,8 +16,8 @@ source jobs/mpi_env.sh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 source jobs/trajectory_ate.sh
-echo "| set | frames | rangefuse ATE | frames/s | lost | peak MiB/rank | Open3D ICP ATE | Open3D frames/s |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| set | frames | rangefuse ATE | frames/s | lost | peak MiB/rank | updates max/mean | Open3D ICP ATE | Open3D frames/s |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for set in ${1:-dev judge}; do
   case $set in dev) first=0 count=300 ;; judge) first=500 count=400 ;; *) exit 2 ;; esac
   # rangefuse reads the 7-Scenes layout itself: depth images and intrinsics, no pose files.
@@ -47,11 +47,14 @@ with open(path, "w") as out:
 PY
   peak=$(grep -o 'peak memory per rank (MiB) [0-9]* / [0-9]*' "$tmp/$set.log" | grep -o '[0-9]* / [0-9]*')
   lost=$(grep -c ' LOST ' "$tmp/$set.log" || true)
+  # The ranks' balance: the track line's voxel updates per rank, max/mean.
+  balance=$(grep -o 'voxels updated per rank [0-9 /]* (max/mean [0-9.]*' "$tmp/$set.log" |
+    grep -o '[0-9.]*$' || echo -)
   o3d_start=$(date +%s.%N)
   /usr/bin/python3 jobs/open3d_track.py "$tmp/$set-o3d" 0.01 "$tmp/o3d.ply" "$tmp/o3d.txt" >/dev/null 2>&1
   o3d_seconds=$(echo "$(date +%s.%N) - $o3d_start" | bc)
-  printf "| %s | %d from %d | %s | %.1f | %d | %s | %s | %.1f |\n" "$set" "$count" "$first" \
+  printf "| %s | %d from %d | %s | %.1f | %d | %s | %s | %s | %.1f |\n" "$set" "$count" "$first" \
     "$(ate "$tmp/$set.txt" "$tmp/$set-ref/trajectory.log")" "$(echo "$count / $seconds" | bc -l)" \
-    "$lost" "$peak" "$(ate "$tmp/o3d.txt" "$tmp/$set-ref/trajectory.log")" \
+    "$lost" "$peak" "$balance" "$(ate "$tmp/o3d.txt" "$tmp/$set-ref/trajectory.log")" \
     "$(echo "$count / $o3d_seconds" | bc -l)"
 done
