@@ -86,6 +86,10 @@ def summary(out):
             a, b = number(r.get("frames/s")), number(r.get("Open3D frames/s"))
             rows.append(("frames/s, real Kinect, Open3D ICP beside",
                          "7-Scenes kitchen, %s" % r["set"], show(a, 1), show(b, 1), ratio(a, b)))
+            a = number(r.get("updates max/mean"))
+            if a is not None:
+                rows.append(("voxel updates max/mean, tracked real Kinect, 2 ranks",
+                             "7-Scenes kitchen, %s" % r["set"], show(a, 3), "", ""))
     for table in tables(os.path.join(out, "benchmark_stream_speed.md"))[:1]:
         for r in table:
             if not r["tool"].startswith("rangefuse prism"):

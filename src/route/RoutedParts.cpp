@@ -14,12 +14,6 @@ void RoutedParts::keep(uint64_t entry, PrismScan&& part) {
   loose_.push_back(std::move(part));
 }
 
-void RoutedParts::keepPacked(uint64_t entry, const PrismScan& part) {
-  std::vector<char> bytes;
-  internal::packWhole(bytes, entry, part);
-  receive(std::move(bytes));
-}
-
 void RoutedParts::keepBytes(uint64_t entry, std::vector<char>&& bytes) {
   parts_.push_back({entry, buffers_.size(), 0, bytes.size()});
   hold(std::move(bytes), 1);

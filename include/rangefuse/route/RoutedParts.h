@@ -19,9 +19,7 @@ class RoutedParts {
  public:
   /// Holds one of this rank's own parts as it is.
   void keep(uint64_t entry, PrismScan&& part);
-  /// Holds one of this rank's own parts packed.
-  void keepPacked(uint64_t entry, const PrismScan& part);
-  /// Holds a whole scan of entry `entry` packed already (packedScan's bytes).
+  /// Holds one part of entry `entry` packed already, as packedScan or routing packs it.
   void keepBytes(uint64_t entry, std::vector<char>&& bytes);
   /// Holds the parts one rank sent (routeScan's bytes for this rank), packed.
   void receive(std::vector<char>&& bytes);
