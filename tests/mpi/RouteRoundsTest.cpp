@@ -4,30 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 
+#include "../common/WavyScan.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/route/ScanRouting.h"
-#include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
 namespace {
 
-/// A wavy patch, compact as a streamed field holds its scans.
+/// The routing tests' wavy patch, compact as a streamed field holds its scans.
 PrismScan wavyPatch() {
-  RangeGrid g;
-  g.cols = 40;
-  g.rows = 30;
-  for (int y = 0; y < g.rows; ++y)
-    for (int x = 0; x < g.cols; ++x) {
-      g.cell.push_back(static_cast<int32_t>(g.points.size()));
-      g.points.emplace_back(x * 0.5, y * 0.5, std::sin(x * 0.3) + 20);
-    }
-  PrismScan s;
-  s.surface = buildScanSurface(g, Pose{}, SurfaceOptions{});
-  s.limits = computePrismLimits(s.surface, 1.5);
-  return compactScan(std::move(s));
+  return compactScan(test::wavyScan());
 }
 
 bool sameParts(const PrismScan& a, const PrismScan& b) {

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <set>
 
+#include "../common/WavyScan.h"
 #include "rangefuse/pipeline/StreamedField.h"
 #include "rangefuse/route/RoutingPlan.h"
 #include "rangefuse/route/ScanLoader.h"
@@ -15,21 +16,7 @@ using namespace rangefuse;
 
 namespace {
 
-/// A wavy patch of triangles, as a scan would give.
-PrismScan wavyScan() {
-  RangeGrid g;
-  g.cols = 40;
-  g.rows = 30;
-  for (int y = 0; y < g.rows; ++y)
-    for (int x = 0; x < g.cols; ++x) {
-      g.cell.push_back(static_cast<int32_t>(g.points.size()));
-      g.points.emplace_back(x * 0.5, y * 0.5, std::sin(x * 0.3) + 20);
-    }
-  PrismScan s;
-  s.surface = buildScanSurface(g, Pose{}, SurfaceOptions{});
-  s.limits = computePrismLimits(s.surface, 1.5);
-  return s;
-}
+using test::wavyScan;
 
 /// `planned` with only the bricks whose positions `keep` accepts, split over `ranks` by work:
 /// triangles of the scan then reach bricks the layout lacks.
