@@ -97,6 +97,9 @@ int main(int argc, char** argv) {
   // writer killed mid-checkpoint leaves it locked and the next open of that name hangs. We
   // never use shared file pointers, so leave that component out (unless the user chose).
   setenv("OMPI_MCA_sharedfp", "^sm", 0);
+  // A rank waiting for its peers gives its core up, so that the thread preparing its next depth
+  // frame runs then (runOnlyWhenIdle) and not while the rank's own step is awaited (decision 50).
+  setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
   // Worker threads read and compute; only this thread calls MPI.
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);

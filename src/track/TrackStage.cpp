@@ -16,6 +16,7 @@
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/io/Trajectory.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/Threads.h"
 #include "rangefuse/pipeline/Checkpointing.h"
 #include "rangefuse/pipeline/RunLines.h"
 #include "rangefuse/pipeline/VoxelCheck.h"
@@ -131,7 +132,10 @@ class FrameReader {
       if (scans_.holds(j)) {
         aheadFrame_ = j;
         const HeldScans* held = scans_.held.get();
-        ahead_ = std::async(std::launch::async, [held, j] { return held->get(j); });
+        ahead_ = std::async(std::launch::async, [held, j] {
+          runOnlyWhenIdle();  // in the time the rank waits for its peers
+          return held->get(j);
+        });
         return;
       }
   }

@@ -17,6 +17,14 @@ namespace rangefuse {
 /// shared among the ranks on its node (at least 1).
 int threadsPerRank(MPI_Comm comm);
 
+/// Lowers the calling thread to run only on cores no other thread wants (Linux's SCHED_IDLE;
+/// elsewhere, or when refused, it keeps its priority). For work done ahead of need, such as
+/// preparing the next depth frame: it then fills the time a rank waits for its peers instead
+/// of sharing the core with the rank's own step, which its peers wait for in turn. MPI must
+/// yield while it waits (`mpi_yield_when_idle`, set by main) or the thread is starved until
+/// its result is asked for.
+void runOnlyWhenIdle();
+
 /// Calls fn(i) for every i in [0, n) on up to `threads` threads (the calling one among them).
 /// Every call runs; if any threw, the exception of the lowest i is rethrown.
 template <class Fn>
