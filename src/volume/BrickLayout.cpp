@@ -6,16 +6,6 @@
 namespace rangefuse {
 namespace {
 
-uint64_t spreadBits(uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-
 uint64_t compactBits(uint64_t x) {
   x &= 0x1249249249249249ULL;
   x = (x ^ (x >> 2)) & 0x10c30c30c30c30c3ULL;
@@ -27,10 +17,6 @@ uint64_t compactBits(uint64_t x) {
 }
 
 }  // namespace
-
-uint64_t mortonEncode(const BrickCoord& b) {
-  return spreadBits(b.x()) | spreadBits(b.y()) << 1 | spreadBits(b.z()) << 2;
-}
 
 BrickCoord mortonDecode(uint64_t code) {
   return BrickCoord(static_cast<int>(compactBits(code)), static_cast<int>(compactBits(code >> 1)),

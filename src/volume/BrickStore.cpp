@@ -31,10 +31,9 @@ void permuteBricks(std::vector<T>& data, const std::vector<size_t>& slot, size_t
 BrickStore::BrickStore(const BrickLayout& layout, int rank) : layout_(layout), rank_(rank) {
   const int B = layout.grid.brick;
   perBrick_ = static_cast<size_t>(B) * B * B;
-  for (size_t i = layout.rankStart[rank]; i < layout.rankStart[rank + 1]; ++i) {
-    index_[layout.codes[i]] = static_cast<int64_t>(codes_.size());
-    codes_.push_back(layout.codes[i]);
-  }
+  codes_.assign(layout.codes.begin() + static_cast<std::ptrdiff_t>(layout.rankStart[rank]),
+                layout.codes.begin() + static_cast<std::ptrdiff_t>(layout.rankStart[rank + 1]));
+  index_.assign(codes_);
   sums_.resize(codes_.size() * perBrick_);
 }
 
@@ -42,7 +41,7 @@ void BrickStore::grow(const BrickLayout& layout, const std::vector<uint64_t>& fr
   layout_ = layout;
   for (const uint64_t code : fresh) {
     if (code < (codes_.empty() ? 0 : codes_.back())) ordered_ = false;
-    index_[code] = static_cast<int64_t>(codes_.size());
+    index_.set(code, static_cast<int64_t>(codes_.size()));
     codes_.push_back(code);
   }
   // A quarter of room, not the vector's doubling: a growing field on many ranks holds at most
@@ -63,17 +62,16 @@ void BrickStore::rehome(const BrickLayout& layout, const std::vector<uint64_t>& 
       ++b;
       continue;
     }
-    index_.erase(codes_[b]);
     const size_t last = codes_.size() - 1;
     if (b != last) {
       moveBrick(sums_, last, b);
       if (hasColour()) moveBrick(colours_, last, b);
       codes_[b] = codes_[last];
-      index_[codes_[b]] = static_cast<int64_t>(b);
       ordered_ = false;
     }
     codes_.pop_back();
   }
+  index_.assign(codes_);  // the bricks that stay, some in new places
   sums_.resize(codes_.size() * perBrick_);
   if (hasColour()) colours_.resize(sums_.size());
   grow(layout, arriving);  // the arriving bricks' voxels are made anew: zero
@@ -85,10 +83,8 @@ void BrickStore::enableColour(ColourKind kind) {
 }
 
 uint64_t BrickStore::bytes() const {
-  // An index entry: its node (key, value, next) and a bucket pointer.
-  const uint64_t perEntry = sizeof(std::pair<uint64_t, int64_t>) + 2 * sizeof(void*);
   return sizeof(VoxelSums) * sums_.capacity() + sizeof(VoxelColour) * colours_.capacity() +
-         sizeof(uint64_t) * codes_.capacity() + perEntry * index_.size();
+         sizeof(uint64_t) * codes_.capacity() + index_.bytes();
 }
 
 void BrickStore::sortBricks() {
@@ -101,7 +97,7 @@ void BrickStore::sortBricks() {
   permuteBricks(sums_, slot, perBrick_);
   if (hasColour()) permuteBricks(colours_, slot, perBrick_);
   std::sort(codes_.begin(), codes_.end());
-  for (size_t k = 0; k < codes_.size(); ++k) index_[codes_[k]] = static_cast<int64_t>(k);
+  index_.assign(codes_);
   ordered_ = true;
 }
 

@@ -10,8 +10,27 @@ namespace rangefuse {
 
 using BrickCoord = Eigen::Vector3i;
 
-/// Morton code of a brick coordinate; coordinates must lie in [0, 2^21).
-uint64_t mortonEncode(const BrickCoord& b);
+namespace internal {
+
+/// The low 21 bits of x, two zero bits after each.
+inline uint64_t spreadBits(uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+}  // namespace internal
+
+/// Morton code of a brick coordinate; coordinates must lie in [0, 2^21). Inline: asked at every
+/// brick a prism or a control point reaches.
+inline uint64_t mortonEncode(const BrickCoord& b) {
+  using internal::spreadBits;
+  return spreadBits(b.x()) | spreadBits(b.y()) << 1 | spreadBits(b.z()) << 2;
+}
 BrickCoord mortonDecode(uint64_t code);
 
 /// Brick of voxel v (floor division by the brick size).

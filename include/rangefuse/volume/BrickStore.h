@@ -2,11 +2,11 @@
 #pragma once
 
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "rangefuse/core/Colour.h"
 #include "rangefuse/volume/BrickLayout.h"
+#include "rangefuse/volume/CodeIndex.h"
 
 namespace rangefuse {
 
@@ -48,10 +48,7 @@ class BrickStore {
   size_t voxelsPerBrick() const { return perBrick_; }
 
   /// Local brick index of a Morton code, or -1 when this rank does not own it.
-  int64_t localBrick(uint64_t code) const {
-    auto it = index_.find(code);
-    return it == index_.end() ? -1 : it->second;
-  }
+  int64_t localBrick(uint64_t code) const { return index_.find(code); }
   /// Flat offset of voxel v (which must lie in local brick b) into sums().
   size_t offset(size_t b, const VoxelIndex& v) const;
   /// The same, when the caller knows v's brick coordinate already (saves decoding the code).
@@ -100,7 +97,7 @@ class BrickStore {
  private:
   BrickLayout layout_;
   std::vector<uint64_t> codes_;
-  std::unordered_map<uint64_t, int64_t> index_;
+  internal::CodeIndex index_;
   int rank_;
   size_t perBrick_;
   bool ordered_ = true;
