@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "../common/GridScan.h"
 #include "ObservedVoxels.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/pipeline/GrowingBricks.h"
@@ -20,19 +21,10 @@ constexpr double kVoxel = 0.25;
 /// A wavy patch of 24 x 18 points a voxel apart, its corner at `corner`: one frame of a
 /// camera sliding along the surface, so that each frame brings new bricks and moves the work.
 PrismScan patch(const Eigen::Vector3d& corner) {
-  RangeGrid g;
-  g.cols = 24;
-  g.rows = 18;
-  for (int y = 0; y < g.rows; ++y)
-    for (int x = 0; x < g.cols; ++x) {
-      g.cell.push_back(static_cast<int32_t>(g.points.size()));
-      const Eigen::Vector3d p(x * 0.25, y * 0.25, std::sin((corner.x() + x * 0.25) * 0.7));
-      g.points.push_back(corner + p);
-    }
-  PrismScan s;
-  s.surface = buildScanSurface(g, Pose{}, SurfaceOptions{});
-  s.limits = computePrismLimits(s.surface, 1.5 * kVoxel);
-  return s;
+  return test::gridScan(24, 18, 1.5 * kVoxel, [&](int x, int y) {
+    const Eigen::Vector3d p(x * 0.25, y * 0.25, std::sin((corner.x() + x * 0.25) * 0.7));
+    return Eigen::Vector3d(corner + p);
+  });
 }
 
 std::vector<PrismScan> walk() {

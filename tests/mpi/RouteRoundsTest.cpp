@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "../common/WavyScan.h"
+#include "../common/GridScan.h"
 #include "rangefuse/parallel/Mpi.h"
 #include "rangefuse/route/ScanLoader.h"
 #include "rangefuse/route/ScanRouting.h"

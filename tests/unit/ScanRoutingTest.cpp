@@ -5,7 +5,7 @@
 #include <cstring>
 #include <set>
 
-#include "../common/WavyScan.h"
+#include "../common/GridScan.h"
 #include "rangefuse/pipeline/StreamedField.h"
 #include "rangefuse/route/RoutingPlan.h"
 #include "rangefuse/route/ScanLoader.h"

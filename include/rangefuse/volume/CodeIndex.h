@@ -8,7 +8,7 @@
 namespace rangefuse::internal {
 
 /// Morton codes to local brick indices: open addressing with linear probing, at most half full,
-/// each entry's code and index side by side (one cache line a lookup). Codes of 21-bit
+/// each entry's code and index side by side (a lookup mostly reads one cache line). Codes of 21-bit
 /// coordinates never reach ~0, the empty slot's mark.
 class CodeIndex {
  public:
