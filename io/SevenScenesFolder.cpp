@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <regex>
 
 #include "SequenceParts.h"
 #include "TextLines.h"
@@ -83,9 +82,23 @@ void checkPairs(const std::string& dir, const std::vector<Numbered>& images,
 }  // namespace
 
 long internal::sevenScenesNumber(const std::string& file, const std::string& kind) {
-  static const std::regex name("frame-([0-9]{1,9})\\.(depth\\.png|pose\\.txt)");
-  std::smatch m;
-  return std::regex_match(file, m, name) && m[2] == kind ? std::stol(m[1]) : -1;
+  // frame-, 1 to 9 digits, '.', kind. Parsed by hand: <regex> brought GCC 12's false
+  // -Wmaybe-uninitialized into the sanitizer build.
+  const std::string prefix = "frame-";
+  if (kind != "depth.png" && kind != "pose.txt") return -1;
+  if (file.size() <= prefix.size() + kind.size() + 1 || file.compare(0, prefix.size(), prefix) ||
+      file.compare(file.size() - kind.size(), kind.size(), kind))
+    return -1;
+  const size_t digitsEnd = file.size() - kind.size() - 1;
+  if (file[digitsEnd] != '.') return -1;
+  const size_t digits = digitsEnd - prefix.size();
+  if (digits < 1 || digits > 9) return -1;
+  long number = 0;
+  for (size_t i = prefix.size(); i < digitsEnd; ++i) {
+    if (file[i] < '0' || file[i] > '9') return -1;
+    number = 10 * number + (file[i] - '0');
+  }
+  return number;
 }
 
 ConfFile readSevenScenesSequence(const std::string& dir, const DepthReading& reading) {

@@ -19,9 +19,9 @@
 #                             ScalableTSDFVolume: seconds, ns an update, balance, memory
 #   benchmark_heldout.sh      the real kitchen's fused surfaces judged by frames left out
 # Usage: bash jobs/benchmark_all.sh [OUT_DIR]  (each script's output in OUT_DIR/NAME.md, the
-# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about 75 minutes on two cores;
-# SEQ_ROOT and SEQUENCES pass to benchmark_tracking.sh (SEQUENCES="orbit handheld desk" leaves
-# out the walk through the room, 40 of those minutes).
+# summary in OUT_DIR/summary.md; default benchmarks-out/). Takes about 35 minutes on two cores;
+# SEQ_ROOT and SEQUENCES pass to benchmark_tracking.sh (SEQUENCES="orbit handheld desk walk"
+# adds the walk through the room, which both trackers lose, and 10-40 minutes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-benchmarks-out}

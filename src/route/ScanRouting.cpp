@@ -287,13 +287,14 @@ uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double r
   const std::vector<uint32_t>& own = triangles[me];
   if (own.empty()) return freed;
   stats.copies += own.size();
-  if (packed && own.size() == world.surface.triangles.size()) {
+  const bool whole = own.size() == world.surface.triangles.size();
+  if (packed && whole) {
     parts.keepBytes(i, std::move(s.packed));  // all of it stays: packed already
   } else if (world.compact()) {  // packed straight from the scan: the bytes a copy would pack
     std::vector<char> bytes;
     packPart(bytes, i, world, own, remap);
     parts.keepBytes(i, std::move(bytes));
-  } else if (own.size() == world.surface.triangles.size()) {
+  } else if (whole) {
     parts.keep(i, std::move(s.scan));
   } else {
     parts.keep(i, subScan(world, own, remap));

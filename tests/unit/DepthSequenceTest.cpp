@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 
+#include "SequenceParts.h"
 #include "TempDir.h"
 #include "rangefuse/core/Error.h"
 #include "rangefuse/io/DepthSequence.h"
@@ -493,6 +494,19 @@ TEST(DepthSequence, SevenScenesFolderRoundTripsWithAndWithoutPoses) {
   io::ScanSourceOptions given;
   given.intrinsics = dir.file("7s/camera-intrinsics.txt");
   EXPECT_EQ(io::readScanList(dir.file("bare"), {}, given).scans[0].depth->fx, 525);
+}
+
+TEST(DepthSequence, SevenScenesNamesGiveTheirFrameNumber) {
+  using io::internal::sevenScenesNumber;
+  EXPECT_EQ(sevenScenesNumber("frame-000012.depth.png", "depth.png"), 12);
+  EXPECT_EQ(sevenScenesNumber("frame-1.depth.png", "depth.png"), 1);
+  EXPECT_EQ(sevenScenesNumber("frame-123456789.pose.txt", "pose.txt"), 123456789);
+  EXPECT_EQ(sevenScenesNumber("frame-000012.pose.txt", "depth.png"), -1);  // the other kind
+  EXPECT_EQ(sevenScenesNumber("frame-000012.color.png", "color.png"), -1);
+  for (const char* name : {"frame-.depth.png", "frame-1234567890.depth.png", "frame-12a.depth.png",
+                           "xframe-1.depth.png", "frame-1.depth.png.bak", "frame-1xdepth.png",
+                           "frame--1.depth.png", "depth.png", ""})
+    EXPECT_EQ(sevenScenesNumber(name, "depth.png"), -1) << name;
 }
 
 TEST(DepthSequence, MalformedSevenScenesFoldersNameTheFile) {
