@@ -77,6 +77,7 @@ std::string frameHash(const io::MemoryScan& m) {
 nlohmann::json recordedSettings(const FieldSettings& f, const SurfaceOptions& surface) {
   FuseOptions o;
   o.field = f;
+  o.surface = surface;
   o.mergeCells = surface.mergeTarget / f.voxel, o.smoothNoise = surface.smoothTarget / f.voxel;
   o.joinFlat = surface.flatTolerance / f.voxel;
   return resultParameters(o);

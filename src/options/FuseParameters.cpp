@@ -72,6 +72,12 @@ std::vector<FuseParameter> commandOptions() {
        "neighbour-averaging passes over vertex normals",
        [](O& o) -> SettingValue { return &o.surface.normalPasses; },
        [](const O& o) { return o.surface.normalPasses >= 0 ? "" : "must be >= 0"; }},
+      {"depth-normal-passes", "depth_normal_passes", R::Result, false, G::Field,
+       "the same for a depth camera's frames fused at known poses, whose noisier normals twist "
+       "their prisms; frames being registered or tracked take --normal-passes (-1: as "
+       "--normal-passes)",
+       [](O& o) -> SettingValue { return &o.surface.depthNormalPasses; },
+       [](const O& o) { return o.surface.depthNormalPasses >= -1 ? "" : "must be >= -1"; }},
       {"max-edge", "max_edge", R::Result, false, G::Field,
        "drop scan triangles with an edge longer than this x grid spacing",
        [](O& o) -> SettingValue { return &o.surface.maxEdgeFactor; },

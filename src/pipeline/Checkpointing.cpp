@@ -20,6 +20,7 @@ const std::pair<const char*, const char*> kBeforeTheOption[] = {
     {"merge-cells", "0"},             // unmerged grids
     {"smooth-noise", "0"},            // depths as read
     {"join-flat", "0"},               // every cell's own triangles
+    {"depth-normal-passes", "-1"},    // depth frames' normals as every scan's
     {"min-views", "1"},               // the quorum alone
     {"register-solve", "per-scan"}};  // per-scan fits
 

@@ -154,6 +154,9 @@ std::shared_ptr<HeldScans> heldScans(std::vector<io::ConfScan> scans, std::vecto
                                      int rank, const ReadSettings& read) {
   ScanPreparation preparation{read.surface, read.limits, read.eps};
   preparation.surface.sightMap = false;
+  // Held for registration or tracking, whose fits follow the field's gradients: a depth frame's
+  // normals filtered further smooth them, and fits lose what they pinned (decision 51).
+  preparation.surface.depthNormalPasses = -1;
   return std::make_shared<HeldScans>(std::move(scans), std::move(readers), rank, preparation,
                                      read.keepBytes);
 }

@@ -55,9 +55,11 @@ PrismScan prepareBand(const io::ConfScan& c, const SurfaceOptions& options, doub
 /// walls, where smoothing is what keeps them; a scanner's noise of about a voxel is averaged
 /// better by the field and registration than by smoothing, which rounds its edges (decision 41).
 /// Only they have flat blocks joined: a scanner's grids meet a voxel's accuracy to a few
-/// hundredths, below the joins' tolerance (decision 42).
+/// hundredths, below the joins' tolerance (decision 42). Their normals are filtered apart
+/// (decision 51).
 SurfaceOptions optionsFor(const io::ConfScan& c, SurfaceOptions options) {
   if (!c.depth) options.smoothTarget = 0, options.flatTolerance = 0;
+  if (c.depth && options.depthNormalPasses >= 0) options.normalPasses = options.depthNormalPasses;
   return options;
 }
 

@@ -24,7 +24,8 @@ FuseOptions changed() {
   o.registration.solve = RegistrationSolve::PerScan;
   o.field.voxel = 0.00125, o.field.envelope = 2.5, o.field.brick = 16, o.minWeight = 0.25f,
   o.normals = false;
-  o.surface.normalPasses = 3, o.surface.maxEdgeFactor = 5, o.surface.minCosine = 0.3;
+  o.surface.normalPasses = 3, o.surface.depthNormalPasses = 1, o.surface.maxEdgeFactor = 5;
+  o.surface.minCosine = 0.3;
   o.mergeCells = 1.5, o.smoothNoise = 0.5, o.joinFlat = 0.1, o.field.quorum = 0.7,
   o.field.minViews = 3, o.field.edgeAngle = 60, o.field.sameDistance = 1.5;
   o.field.sameAngle = 30, o.field.freeMargin = INFINITY, o.field.fillHoles = true,

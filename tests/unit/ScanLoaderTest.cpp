@@ -1,4 +1,5 @@
-// Which scans loadScan smooths: a depth camera's frames, never a scanner's grid.
+// Which scans loadScan smooths, and whose normals it filters apart: a depth camera's frames,
+// never a scanner's grid.
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
@@ -9,6 +10,8 @@
 #include <set>
 
 #include "rangefuse/io/DepthCamera.h"
+#include "rangefuse/options/RunSettings.h"
+#include "rangefuse/pipeline/HeldScans.h"
 #include "rangefuse/route/ScanLoader.h"
 
 namespace rangefuse {
@@ -82,6 +85,33 @@ TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
                smooth = planeRms(fromDepth.surface.points);
   EXPECT_GT(rough, 0.025);
   EXPECT_LT(smooth, 0.5 * rough) << "the depth frame was not smoothed";
+}
+
+TEST(ScanLoader, ADepthCameraFrameTakesItsOwnNormalPasses) {
+  const io::DepthCamera camera = wallCamera(200);
+  const io::DepthImage image = wallImage(10);
+  io::ConfScan asGrid;
+  asGrid.name = asGrid.path = "grid";
+  asGrid.memory = std::make_shared<io::MemoryScan>(
+      io::MemoryScan{io::depthGrid(image, camera, "wall"), {}, {}});
+  const io::ConfScan asDepth = depthScan(image, camera);
+  const auto normals = [](const io::ConfScan& scan, int passes, int depthPasses) {
+    SurfaceOptions options;
+    options.normalPasses = passes, options.depthNormalPasses = depthPasses;
+    return loadScan(scan, options, InputLimits{}, 0.04).surface.normals;
+  };
+  // A depth frame: depth passes when given, else the scans' passes.
+  EXPECT_EQ(normals(asDepth, 2, 4), normals(asDepth, 4, -1));
+  EXPECT_EQ(normals(asDepth, 2, -1), normals(asDepth, 2, 2));
+  EXPECT_NE(normals(asDepth, 2, 4), normals(asDepth, 2, -1));
+  // A scanner's grid: the scans' passes alone.
+  EXPECT_EQ(normals(asGrid, 2, 4), normals(asGrid, 2, -1));
+  EXPECT_NE(normals(asGrid, 2, 4), normals(asGrid, 4, -1));
+  // Frames held for registration or tracking keep the scans' passes.
+  ReadSettings read;
+  read.surface.normalPasses = 2, read.surface.depthNormalPasses = 4, read.eps = 0.04;
+  const auto held = heldScans({asDepth}, {0}, 0, read);
+  EXPECT_EQ(held->read({0}, 1).at(0).surface.normals, normals(asDepth, 2, -1));
 }
 
 TEST(ScanLoader, NoiseIsMeasuredWhereSomethingReadsIt) {

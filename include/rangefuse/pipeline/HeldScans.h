@@ -106,7 +106,8 @@ class HeldScans : public ScanSource {
 
 /// The scans this rank reads for registration or tracking, prepared as `read` says without
 /// sight maps (registration fields are prism or closest-surface fields; robust fusion's maps
-/// are made when the final field streams the scans again), kept within read.keepBytes.
+/// are made when the final field streams the scans again), kept within read.keepBytes. Depth
+/// frames take --normal-passes, not --depth-normal-passes.
 std::shared_ptr<HeldScans> heldScans(std::vector<io::ConfScan> scans, std::vector<int> readers,
                                      int rank, const ReadSettings& read);
 
