@@ -59,6 +59,15 @@ io::ConfScan depthScan(const io::DepthImage& image, const io::DepthCamera& camer
   return scan;
 }
 
+/// The same samples as a scanner's range grid.
+io::ConfScan gridScan(const io::DepthImage& image, const io::DepthCamera& camera) {
+  io::ConfScan scan;
+  scan.name = scan.path = "grid";
+  scan.memory = std::make_shared<io::MemoryScan>(
+      io::MemoryScan{io::depthGrid(image, camera, "wall"), {}, {}});
+  return scan;
+}
+
 TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
   // 30 mm of depth noise, 3 voxels of 1 cm: the same samples as a depth image and as a grid.
   const io::DepthCamera camera = wallCamera(200);
@@ -67,9 +76,7 @@ TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
 
   SurfaceOptions options;
   options.smoothTarget = 0.01;
-  io::ConfScan asGrid;
-  asGrid.name = asGrid.path = "grid";
-  asGrid.memory = std::make_shared<io::MemoryScan>(io::MemoryScan{grid, {}, {}});
+  const io::ConfScan asGrid = gridScan(image, camera);
   const io::ConfScan asDepth = depthScan(image, camera);
 
   // The surface keeps the points its triangles use, each exactly as the grid has it.
@@ -90,10 +97,7 @@ TEST(ScanLoader, OnlyADepthCameraFrameIsSmoothed) {
 TEST(ScanLoader, ADepthCameraFrameTakesItsOwnNormalPasses) {
   const io::DepthCamera camera = wallCamera(200);
   const io::DepthImage image = wallImage(10);
-  io::ConfScan asGrid;
-  asGrid.name = asGrid.path = "grid";
-  asGrid.memory = std::make_shared<io::MemoryScan>(
-      io::MemoryScan{io::depthGrid(image, camera, "wall"), {}, {}});
+  const io::ConfScan asGrid = gridScan(image, camera);
   const io::ConfScan asDepth = depthScan(image, camera);
   const auto normals = [](const io::ConfScan& scan, int passes, int depthPasses) {
     SurfaceOptions options;
@@ -119,10 +123,7 @@ TEST(ScanLoader, NoiseIsMeasuredWhereSomethingReadsIt) {
   // maps measure it.
   const io::DepthCamera camera = wallCamera(200);
   const io::DepthImage image = wallImage(30);
-  io::ConfScan asGrid;
-  asGrid.name = asGrid.path = "grid";
-  asGrid.memory = std::make_shared<io::MemoryScan>(
-      io::MemoryScan{io::depthGrid(image, camera, "wall"), {}, {}});
+  const io::ConfScan asGrid = gridScan(image, camera);
   SurfaceOptions options;
   options.measureNoise = false;
   EXPECT_TRUE(loadScan(asGrid, options, InputLimits{}, 0.04).noise.empty());
