@@ -91,8 +91,7 @@ long internal::sevenScenesNumber(const std::string& file, const std::string& kin
     return -1;
   const size_t digitsEnd = file.size() - kind.size() - 1;
   if (file[digitsEnd] != '.') return -1;
-  const size_t digits = digitsEnd - prefix.size();
-  if (digits < 1 || digits > 9) return -1;
+  if (digitsEnd - prefix.size() > 9) return -1;  // at least one: the size test above
   long number = 0;
   for (size_t i = prefix.size(); i < digitsEnd; ++i) {
     if (file[i] < '0' || file[i] > '9') return -1;
