@@ -118,6 +118,22 @@ void skipVector(const std::vector<char>& buf, size_t& pos, size_t bytes) {
   pos += n * bytes;
 }
 
+/// Appends texels: the rectangle's place and size, then its cells as a vector.
+void packTexels(std::vector<char>& buf, const TexelImage& part) {
+  const int32_t place[4] = {part.top, part.left, part.rows, part.cols};
+  mpi::pack(buf, place, 4);
+  const uint64_t n = part.cells.size();
+  mpi::pack(buf, &n, 1);
+  mpi::pack(buf, part.cells.data(), n);
+}
+
+void unpackTexels(const std::vector<char>& buf, size_t& pos, TexelImage& t) {
+  int32_t place[4];
+  mpi::unpack(buf, pos, place, 4);
+  t.top = place[0], t.left = place[1], t.rows = place[2], t.cols = place[3];
+  unpackVector(buf, pos, t.cells);
+}
+
 }  // namespace
 
 std::vector<uint32_t> usedVertices(const ScanSurface& s, const std::vector<uint32_t>& triangles,
@@ -136,13 +152,16 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
               const std::vector<uint32_t>& triangles, std::vector<int32_t>& remap) {
   const ScanSurface& s = scan.surface;
   const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
-  const size_t perPoint = size_t(s.texelSide) * s.texelSide;
+  // The texels the used points' blocks cover.
+  const TexelImage texels =
+      s.texels.empty() ? TexelImage{} : blockTexels(s.texels, s.blocks, s.texelSide, &used);
   const size_t v = used.size(), t = triangles.size();
   const size_t real = scan.compact() ? sizeof(float) : sizeof(double);
-  const size_t bytes =
-      13 * sizeof(uint64_t) + sizeof(s.texelSide) + sizeof(s.sensor) + v * 7 * real +
-      t * (sizeof(Triangle) + 2 * real) + (s.colours.empty() ? 0 : v * sizeof(Colour)) +
-      (s.texels.empty() ? 0 : v * (perPoint * sizeof(Texel) + sizeof(s.blocks[0])));
+  const size_t bytes = 13 * sizeof(uint64_t) + sizeof(s.texelSide) + 4 * sizeof(int32_t) +
+                       sizeof(s.sensor) + v * 7 * real + t * (sizeof(Triangle) + 2 * real) +
+                       (s.colours.empty() ? 0 : v * sizeof(Colour)) +
+                       texels.cells.size() * sizeof(Texel) +
+                       (s.blocks.empty() ? 0 : v * sizeof(s.blocks[0]));
   buf.reserve(buf.size() + bytes);
   mpi::pack(buf, &index, 1);
   mpi::pack(buf, &scan.quantum, 1);
@@ -161,7 +180,7 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
   }
   packPicked(buf, s.colours, used);
   mpi::pack(buf, &s.texelSide, 1);
-  packPicked(buf, s.texels, used, perPoint);
+  packTexels(buf, texels);
   packPicked(buf, s.blocks, used);
   packPickedReals(buf, scan.limits, triangles, scan.compact());
   mpi::pack(buf, &s.sensor, 1);
@@ -185,7 +204,7 @@ uint64_t unpackPart(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   unpackVector(buf, pos, s.surface.triangles);
   unpackVector(buf, pos, s.surface.colours);
   mpi::unpack(buf, pos, &s.surface.texelSide, 1);
-  unpackVector(buf, pos, s.surface.texels);
+  unpackTexels(buf, pos, s.surface.texels);
   unpackVector(buf, pos, s.surface.blocks);
   unpackReals(buf, pos, s.limits, s.compact());
   mpi::unpack(buf, pos, &s.surface.sensor, 1);
@@ -206,6 +225,7 @@ uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
   skipVector(buf, pos, sizeof(Triangle));
   skipVector(buf, pos, sizeof(Colour));
   pos += sizeof(s.texelSide);
+  pos += 4 * sizeof(int32_t);  // the texels' rectangle
   skipVector(buf, pos, sizeof(Texel));
   skipVector(buf, pos, sizeof(s.blocks[0]));
   skipVector(buf, pos, 2 * real);  // limits

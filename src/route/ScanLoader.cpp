@@ -103,7 +103,7 @@ uint64_t scanBytes(const PrismScan& s) {
   const uint64_t perPoint = 2 * sizeof(Eigen::Vector3d) + sizeof(double);
   const uint64_t perTriangle = sizeof(Triangle) + sizeof(std::array<double, 2>);
   return perPoint * s.surface.points.size() + sizeof(Colour) * s.surface.colours.size() +
-         sizeof(Texel) * s.surface.texels.size() +
+         sizeof(Texel) * s.surface.texels.cells.size() +
          sizeof(std::array<int32_t, 2>) * s.surface.blocks.size() +
          perTriangle * s.surface.triangles.size();
 }

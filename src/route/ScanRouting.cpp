@@ -30,22 +30,20 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
   part.origin = scan.origin;
   p.sensor = s.sensor;
   p.texelSide = s.texelSide;
-  const size_t perPoint = size_t(s.texelSide) * s.texelSide;
   p.points.reserve(used.size());
   p.normals.reserve(used.size());
   p.confidence.reserve(used.size());
   if (!s.colours.empty()) p.colours.reserve(used.size());
-  if (!s.texels.empty()) p.blocks.reserve(used.size()), p.texels.reserve(used.size() * perPoint);
+  if (!s.texels.empty()) {
+    p.blocks.reserve(used.size());
+    p.texels = blockTexels(s.texels, s.blocks, s.texelSide, &used);
+  }
   for (const uint32_t v : used) {
     p.points.push_back(s.points[v]);
     p.normals.push_back(s.normals[v]);
     p.confidence.push_back(s.confidence[v]);
     if (!s.colours.empty()) p.colours.push_back(s.colours[v]);
-    if (!s.texels.empty()) {
-      p.blocks.push_back(s.blocks[v]);
-      const auto from = s.texels.begin() + v * perPoint;
-      p.texels.insert(p.texels.end(), from, from + perPoint);
-    }
+    if (!s.texels.empty()) p.blocks.push_back(s.blocks[v]);
   }
   p.triangles.reserve(triangles.size());
   part.limits.reserve(triangles.size());
@@ -221,7 +219,7 @@ PrismScan joinScans(std::vector<PrismScan>&& parts) {
     s.confidence.insert(s.confidence.end(), p.confidence.begin(), p.confidence.end());
     s.colours.insert(s.colours.end(), p.colours.begin(), p.colours.end());
     // Parts of one scan share its texel side; parts without texels (bands) have none at all.
-    s.texels.insert(s.texels.end(), p.texels.begin(), p.texels.end());
+    s.texels.include(p.texels);
     s.blocks.insert(s.blocks.end(), p.blocks.begin(), p.blocks.end());
     for (Triangle t : p.triangles) s.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
     out.limits.insert(out.limits.end(), parts[k].limits.begin(), parts[k].limits.end());

@@ -31,16 +31,15 @@ int32_t centralCell(const RangeGrid& g, int r0, int c0, int k, int& rc, int& cc)
 /// The mean of block (r0, c0)'s points on the surface of its central cell, and that cell's colour
 /// if the grid has any; false if none. The colour is sampled, not averaged: the merged cells
 /// interpolate it between their corners, and a block mean on top of that would blur a texture
-/// edge over two blocks instead of one. `texels` (if set, k x k of them) gets the cells' colours.
+/// edge over two blocks instead of one. `texels` (if set) gets the cells' colours.
 bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Vector3d& mean,
-               Colour& colour, Texel* texels) {
+               Colour& colour, TexelImage* texels) {
   int rc = 0, cc = 0;
   const int32_t centre = centralCell(g, r0, c0, k, rc, cc);
   if (centre < 0) return false;
   const Eigen::Vector3d& ref = g.points[centre];
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   int n = 0;
-  if (texels) std::fill(texels, texels + size_t(k) * k, Texel{0, 0, 0, 0});
   for (int r = r0; r < std::min(r0 + k, g.rows); ++r)
     for (int c = c0; c < std::min(c0 + k, g.cols); ++c) {
       const int32_t i = g.at(r, c);
@@ -49,7 +48,7 @@ bool blockMean(const RangeGrid& g, int r0, int c0, int k, double step, Eigen::Ve
       if ((g.points[i] - ref).norm() > step * apart) continue;
       sum += g.points[i];
       ++n;
-      if (texels) texels[(r - r0) * k + (c - c0)] = texelOf(g.colours[i]);
+      if (texels) texels->cell(r, c) = texelOf(g.colours[i]);
     }
   mean = sum / n;
   if (!g.colours.empty()) colour = g.colours[centre];
@@ -90,8 +89,17 @@ double mergedEdgeLimit(double mergedStep, double fineStep, int k, double maxEdge
   return maxEdgeFactor * std::max(mergedStep, k * fineStep);
 }
 
+TexelImage cellTexels(const RangeGrid& g) {
+  if (g.colours.empty()) return {};
+  TexelImage out = TexelImage::blank(0, 0, g.rows, g.cols);
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c)
+      if (const int32_t i = g.at(r, c); i >= 0) out.cell(r, c) = texelOf(g.colours[i]);
+  return out;
+}
+
 RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFactor,
-                     std::vector<Texel>* texels) {
+                     TexelImage* texels) {
   if (k <= 1) return g;
   RangeGrid out;
   out.cols = (g.cols + k - 1) / k;
@@ -111,15 +119,13 @@ RangeGrid mergeCells(const RangeGrid& g, int k, double spacing, double maxEdgeFa
   Eigen::Vector3d mean;
   Colour colour;
   if (g.colours.empty()) texels = nullptr;
-  std::vector<Texel> block(texels ? size_t(k) * k : 0);
+  if (texels) *texels = TexelImage::blank(0, 0, g.rows, g.cols);
   // A merged grid lives while its frame is read: room for every block, not growth by doubling.
   out.points.reserve(out.cell.size());
   if (!g.colours.empty()) out.colours.reserve(out.cell.size());
   for (int R = 0; R < out.rows; ++R)
     for (int C = 0; C < out.cols; ++C) {
-      if (!blockMean(g, R * k, C * k, k, step, mean, colour, texels ? block.data() : nullptr))
-        continue;
-      if (texels) texels->insert(texels->end(), block.begin(), block.end());
+      if (!blockMean(g, R * k, C * k, k, step, mean, colour, texels)) continue;
       out.cell[static_cast<size_t>(R) * out.cols + C] = static_cast<int32_t>(out.points.size());
       out.points.push_back(mean);
       if (!g.colours.empty()) out.colours.push_back(colour);

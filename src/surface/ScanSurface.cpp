@@ -18,28 +18,25 @@ std::vector<std::array<int32_t, 2>> blockPlaces(const RangeGrid& merged) {
   return places;
 }
 
-/// Gives the surface's points the texels of the merged points they came from.
-void attachTexels(ScanSurface& s, const RangeGrid& merged, int k, const std::vector<Texel>& texels,
+/// Gives the surface the texels of its points' blocks: each point's block, and the rectangle
+/// of cells those blocks cover.
+void attachTexels(ScanSurface& s, const RangeGrid& merged, int k, const TexelImage& texels,
                   const std::vector<int32_t>& sources) {
   const std::vector<std::array<int32_t, 2>> places = blockPlaces(merged);
-  const size_t per = size_t(k) * k;
   s.texelSide = k;
-  s.texels.reserve(sources.size() * per);
-  for (int32_t i : sources) {
-    s.blocks.push_back(places[i]);
-    s.texels.insert(s.texels.end(), texels.begin() + i * per, texels.begin() + (i + 1) * per);
-  }
+  s.blocks.reserve(sources.size());
+  for (int32_t i : sources) s.blocks.push_back(places[i]);
+  s.texels = blockTexels(texels, s.blocks, k);
 }
 
-/// The grid triangulated by `rules`, with filtered normals and, on a grid without colour, flat
-/// blocks joined within `flatTolerance`, placed by `pose`; with `texels` (grid merged from k x k
-/// cells), the points keep their blocks' original colours. A joined triangle's corners hold
-/// only their own blocks' colours, so a coloured grid stays fine: its texture would blur.
+/// The grid triangulated by `rules`, with filtered normals and flat blocks joined within
+/// `flatTolerance`, placed by `pose`; with `texels` (the grid's colours, cells merged k x k),
+/// the surface keeps them, so that merged and joined triangles show the grid's own texture.
 ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, const Pose& pose,
                       const SurfaceOptions& options, int k = 1,
-                      const std::vector<Texel>* texels = nullptr) {
+                      const TexelImage* texels = nullptr) {
   GridSurface s;
-  const bool joins = grid.colours.empty() && options.flatTolerance > 0;
+  const bool joins = options.flatTolerance > 0;
   const bool textured = texels && !texels->empty();
   // Both read which grid point each vertex came from; nothing else does.
   s.mesh = triangulateGrid(grid, rules, nullptr, joins || textured ? &s.sources : nullptr);
@@ -65,7 +62,7 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const Surf
   DepthSmoothing smoothing{options.smoothTarget, 0, 1.0 / k};
   if (k > 1) {
     const double fineStep = gridSpacing(grid);
-    std::vector<Texel> texels;
+    TexelImage texels;
     const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor, &texels);
     const GridTriangulation rules = gridTriangulation(
         coarse, options, mergedEdgeLimit(gridSpacing(coarse), fineStep, k, options.maxEdgeFactor));
@@ -75,7 +72,9 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const Surf
   // The rules come from the grid as read: smoothing shortens its median step.
   const GridTriangulation rules = gridTriangulation(grid, options);
   smoothing.edge = rules.maxEdge;
-  return surfaceOf(smoothDepths(grid, noise, smoothing), rules, pose, options);
+  // Joined blocks span two cells: their feet take the cells' own colours, not a blend.
+  const TexelImage texels = options.flatTolerance > 0 ? cellTexels(grid) : TexelImage{};
+  return surfaceOf(smoothDepths(grid, noise, smoothing), rules, pose, options, 1, &texels);
 }
 
 ScanSurface orientedSurface(TriangleMesh&& mesh, const std::vector<Eigen::Vector3d>& normals,

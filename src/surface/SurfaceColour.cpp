@@ -1,5 +1,5 @@
+#include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "rangefuse/surface/ScanSurface.h"
 
@@ -17,37 +17,37 @@ ColourTriangle colourTriangle(const ScanSurface& s, const Triangle& t) {
   c.surface = &s;
   c.corners = t;
   c.texels = !s.texels.empty();
-  const int k = s.texelSide;
-  for (int i = 0; c.texels && i < 3; ++i) {
+  if (!c.texels) return c;
+  const long k = s.texelSide;
+  long r0 = s.blocks[t[0]][0], r1 = r0, c0 = s.blocks[t[0]][1], c1 = c0;
+  for (int i = 0; i < 3; ++i) {
     const auto& b = s.blocks[t[i]];
-    c.top[i] = long(k) * b[0], c.left[i] = long(k) * b[1];
     // A block's centre is its original cells' centre.
-    c.row[i] = c.top[i] + 0.5 * (k - 1), c.col[i] = c.left[i] + 0.5 * (k - 1);
-    for (int j = 0; j < i; ++j)  // across a station's 0/360 seam the places do not interpolate
-      if (std::abs(b[1] - s.blocks[t[j]][1]) > 1) c.texels = false;
+    c.row[i] = k * b[0] + 0.5 * (k - 1), c.col[i] = k * b[1] + 0.5 * (k - 1);
+    r0 = std::min<long>(r0, b[0]), r1 = std::max<long>(r1, b[0]);
+    c0 = std::min<long>(c0, b[1]), c1 = std::max<long>(c1, b[1]);
   }
+  // Across a station's 0/360 seam the places do not interpolate. A joined flat block spans
+  // two cells; nothing wider is a triangle of neighbours.
+  if (c1 - c0 > 2) c.texels = false;
+  // Unmerged cells interpolate their corners' colours; only a joined block needs the texels.
+  if (k == 1 && r1 - r0 <= 1 && c1 - c0 <= 1) c.texels = false;
+  c.top = k * r0, c.bottom = k * (r1 + 1), c.left = k * c0, c.right = k * (c1 + 1);
   return c;
 }
 
 namespace {
 
 /// The texel of the original cell nearest the barycentric point, or null where it has none
-/// (the cell held no sample, or rounding reached a block the triangle does not touch).
+/// (the cell held no sample, or rounding reached a block beyond the triangle's corners).
 const Texel* nearestTexel(const ColourTriangle& c, const Eigen::Vector3d& bary) {
   const double row = bary[0] * c.row[0] + bary[1] * c.row[1] + bary[2] * c.row[2];
   const double col = bary[0] * c.col[0] + bary[1] * c.col[1] + bary[2] * c.col[2];
   // floor, not lround: this runs once a voxel sample, and lround is a library call.
   const long r = static_cast<long>(std::floor(row + 0.5));
   const long q = static_cast<long>(std::floor(col + 0.5));
-  const ScanSurface& s = *c.surface;
-  const long k = s.texelSide;
-  for (int i = 0; i < 3; ++i) {
-    const long dr = r - c.top[i], dc = q - c.left[i];
-    if (dr < 0 || dr >= k || dc < 0 || dc >= k) continue;
-    const Texel& texel = s.texels[size_t(c.corners[i]) * size_t(k * k) + size_t(dr * k + dc)];
-    return texel[3] != 0 ? &texel : nullptr;
-  }
-  return nullptr;
+  if (r < c.top || r >= c.bottom || q < c.left || q >= c.right) return nullptr;
+  return c.surface->texels.at(r, q);
 }
 
 }  // namespace

@@ -15,6 +15,11 @@ namespace {
 
 constexpr float kStep = 1.0f / 65535;  // one unit of the 16-bit mean
 
+/// checkedPlane's colour of cell (col, row).
+Colour planeColour(int col, int row) {
+  return Colour(col < 101 ? 0.9f : 0.1f, float(col % 7) / 7, float(row % 5) / 5);
+}
+
 /// A flat patch at height z, 0.5 apart, coloured by `colourAt(x)`.
 template <class ColourAt>
 PrismScan patch(double z, ColourAt colourAt) {
@@ -200,35 +205,33 @@ TEST(ColourField, ThreadsGiveTheSameColourBits) {
   }
 }
 
-TEST(SurfaceColour, MergedCellsShowTheOriginalCellNearestTheFoot) {
-  // A fine grid 0.1 apart merged into blocks of k x k: anywhere in a merged triangle the colour
-  // must be the original cell's nearest that point (brute force: by its coordinates), not the
-  // blend of the block corners.
+namespace {
+
+/// A fine grid 0.1 apart on a plane, coloured cell by cell with an edge at column 101.
+RangeGrid checkedPlane() {
   RangeGrid g;
   g.cols = 200, g.rows = 160;
   g.colourKind = ColourKind::rgb;
-  auto colourAt = [](int col, int row) {
-    return Colour(col < 101 ? 0.9f : 0.1f, float(col % 7) / 7, float(row % 5) / 5);
-  };
   for (int y = 0; y < g.rows; ++y)
     for (int x = 0; x < g.cols; ++x) {
       g.cell.push_back(static_cast<int32_t>(g.points.size()));
       g.points.emplace_back(x * 0.1, y * 0.1, 10);
-      g.colours.push_back(colourAt(x, y));
+      g.colours.push_back(planeColour(x, y));
     }
-  SurfaceOptions options;
-  options.mergeTarget = 0.5;
-  const ScanSurface s = buildScanSurface(g, Pose{}, options);
-  const int k = s.texelSide;
-  ASSERT_GT(k, 1);
-  ASSERT_EQ(g.cols % k, 0);
-  ASSERT_EQ(g.rows % k, 0);
-  ASSERT_EQ(s.texels.size(), s.points.size() * k * k);
+  return g;
+}
+
+/// Checks, at random points of the triangles `which` accepts, that the colour is the original
+/// cell's nearest that point (brute force: by its coordinates), not the blend of the corners.
+/// Returns how many points were checked.
+template <class Which>
+size_t expectNearestCell(const ScanSurface& s, Which which) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(0, 1);
   size_t checked = 0;
   for (size_t t = 0; t < s.triangles.size(); ++t) {
     const Triangle& tri = s.triangles[t];
+    if (!which(tri)) continue;
     for (int n = 0; n < 4; ++n) {
       double a = unit(rng), b = unit(rng);
       if (a + b > 1) a = 1 - a, b = 1 - b;
@@ -240,12 +243,79 @@ TEST(SurfaceColour, MergedCellsShowTheOriginalCellNearestTheFoot) {
       if (std::abs(col - std::round(col) - 0.5) < 1e-6 ||
           std::abs(row - std::round(row) - 0.5) < 1e-6)
         continue;
-      const Colour want = colourOf(texelOf(colourAt(int(std::lround(col)), int(std::lround(row)))));
-      ASSERT_TRUE(surfaceColour(s, tri, bary).isApprox(want, 1e-6))
+      const Colour want =
+          colourOf(texelOf(planeColour(int(std::lround(col)), int(std::lround(row)))));
+      EXPECT_TRUE(surfaceColour(s, tri, bary).isApprox(want, 1e-6))
           << "at " << col << ", " << row << ": " << surfaceColour(s, tri, bary).transpose()
           << " want " << want.transpose();
+      if (::testing::Test::HasFailure()) return checked;
       ++checked;
     }
   }
-  EXPECT_GT(checked, 1000u);
+  return checked;
+}
+
+/// Whether a triangle of `s` spans more than one block: a joined flat block's.
+bool spansTwoBlocks(const ScanSurface& s, const Triangle& t) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < i; ++j)
+      for (int a = 0; a < 2; ++a)
+        if (std::abs(s.blocks[t[i]][a] - s.blocks[t[j]][a]) > 1) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST(SurfaceColour, MergedCellsShowTheOriginalCellNearestTheFoot) {
+  // Merged into blocks of k x k: anywhere in a merged triangle the colour is the nearest
+  // original cell's.
+  const RangeGrid g = checkedPlane();
+  SurfaceOptions options;
+  options.mergeTarget = 0.5;
+  const ScanSurface s = buildScanSurface(g, Pose{}, options);
+  const int k = s.texelSide;
+  ASSERT_GT(k, 1);
+  ASSERT_EQ(g.cols % k, 0);
+  ASSERT_EQ(g.rows % k, 0);
+  EXPECT_EQ(s.texels.rows, g.rows);
+  EXPECT_EQ(s.texels.cols, g.cols);
+  ASSERT_EQ(s.blocks.size(), s.points.size());
+  EXPECT_GT(expectNearestCell(s, [](const Triangle&) { return true; }), 1000u);
+}
+
+TEST(SurfaceColour, JoinedFlatBlocksShowTheOriginalCellNearestTheFoot) {
+  // Joined flat blocks span two cells, merged or not: their feet still take the nearest
+  // original cell's colour, also from the blocks between their corners.
+  const RangeGrid g = checkedPlane();
+  for (double merge : {0.0, 0.5}) {
+    SurfaceOptions options;
+    options.mergeTarget = merge;
+    options.flatTolerance = 0.01;
+    const ScanSurface s = buildScanSurface(g, Pose{}, options);
+    ASSERT_FALSE(s.texels.empty()) << merge;
+    size_t joined = 0;
+    for (const Triangle& t : s.triangles) joined += spansTwoBlocks(s, t);
+    EXPECT_GT(joined, s.triangles.size() / 2) << merge;
+    const size_t checked =
+        expectNearestCell(s, [&](const Triangle& t) { return spansTwoBlocks(s, t); });
+    EXPECT_GT(checked, 1000u) << merge;
+  }
+}
+
+TEST(SurfaceColour, UnmergedCellsBlendTheirCorners) {
+  // Cells neither merged nor joined interpolate their corners' colours: the texels are only
+  // for triangles that span more than a cell.
+  const RangeGrid g = checkedPlane();
+  SurfaceOptions options;
+  options.flatTolerance = 0.01;
+  const ScanSurface s = buildScanSurface(g, Pose{}, options);
+  size_t checked = 0;
+  for (const Triangle& t : s.triangles) {
+    if (spansTwoBlocks(s, t)) continue;
+    const Eigen::Vector3d bary(0.2, 0.3, 0.5);
+    const Colour want = 0.2f * s.colours[t[0]] + 0.3f * s.colours[t[1]] + 0.5f * s.colours[t[2]];
+    ASSERT_TRUE(surfaceColour(s, t, bary).isApprox(want, 1e-6));
+    ++checked;
+  }
+  EXPECT_GT(checked, 0u);
 }

@@ -142,15 +142,22 @@ TEST(FlatBlocks, JoinedChordsStayWithinTheToleranceOfASphere) {
   EXPECT_EQ(tight.mesh.faces, fine.mesh.faces);  // no block is that flat
 }
 
-TEST(FlatBlocks, AreJoinedInScanSurfacesWithoutColourOnly) {
+TEST(FlatBlocks, AreJoinedInScanSurfacesWithColourToo) {
   RangeGrid g = imageOf(41, 31, plane);
   SurfaceOptions options;
   options.flatTolerance = 1e-6;
-  EXPECT_EQ(buildScanSurface(g, Pose{}, options).triangles.size(), 2u * 20 * 15);
-  // A joined triangle would spread its corners' colours over cells whose colours it dropped.
+  const ScanSurface plain = buildScanSurface(g, Pose{}, options);
+  EXPECT_EQ(plain.triangles.size(), 2u * 20 * 15);
+  EXPECT_TRUE(plain.texels.empty());
+  // A coloured grid joins the same blocks and keeps its cells' colours as texels
+  // (SurfaceColour tests what its triangles show).
   g.colours.assign(g.points.size(), Colour(0.5f, 0.25f, 1.0f));
   g.colourKind = ColourKind::rgb;
-  EXPECT_EQ(buildScanSurface(g, Pose{}, options).triangles.size(), 2u * 40 * 30);
+  const ScanSurface coloured = buildScanSurface(g, Pose{}, options);
+  EXPECT_EQ(coloured.triangles, plain.triangles);
+  EXPECT_EQ(coloured.points, plain.points);
+  EXPECT_EQ(coloured.texels.rows * coloured.texels.cols, 41 * 31);
+  EXPECT_EQ(coloured.blocks.size(), coloured.points.size());
 }
 
 /// A plane with a hemispherical bump in its middle and a hole: joined and fine cells meet.

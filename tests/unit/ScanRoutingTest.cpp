@@ -398,10 +398,11 @@ TEST(ScanRouting, ASentPartIsThePartKeptUnserialised) {
   for (size_t v = 0; v < s.points.size(); ++v) {
     const float c = static_cast<float>(v % 251) / 251;
     s.colours.emplace_back(c, 1 - c, 0.5f);
-    s.blocks.push_back({static_cast<int32_t>(v), static_cast<int32_t>(2 * v)});
-    for (int k = 0; k < 4; ++k)
-      s.texels.push_back({static_cast<uint8_t>(v + k), static_cast<uint8_t>(k), 7, 255});
+    s.blocks.push_back({static_cast<int32_t>(v / 10), static_cast<int32_t>(v % 10)});
   }
+  s.texels = TexelImage::blank(0, 0, 2 * s.blocks.back()[0] + 2, 20);
+  for (size_t i = 0; i < s.texels.cells.size(); ++i)
+    s.texels.cells[i] = {static_cast<uint8_t>(i), static_cast<uint8_t>(i / 256), 7, 255};
   const std::vector<PrismScan> one{scan};
   const BrickLayout layout = planBricks(one, fitGrid(one, 0.5, 4, 1.5), 3);
   for (int r = 0; r < 3; ++r) {

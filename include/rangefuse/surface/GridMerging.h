@@ -5,6 +5,7 @@
 
 #include "rangefuse/core/Colour.h"
 #include "rangefuse/core/RangeGrid.h"
+#include "rangefuse/surface/TexelImage.h"
 
 namespace rangefuse {
 
@@ -29,13 +30,16 @@ double angularSpacing(const RangeGrid& grid, int downEvery = 1);
 /// scanner station.
 double mergedEdgeLimit(double mergedStep, double fineStep, int k, double maxEdgeFactor);
 
+/// The grid's colours, cell by cell (alpha 0 where a cell has no point); empty without colour.
+TexelImage cellTexels(const RangeGrid& grid);
+
 /// The grid with each k x k block of cells merged into one: the mean of the block's points that
 /// lie on the surface of its most central point (within maxEdgeFactor grid steps per cell of
 /// separation, the triangulation's own test), so that a block across a depth edge keeps only the
 /// side of its centre. Pinhole intrinsics are scaled to the new cells. k = 1 returns the grid.
-/// With `texels` and a coloured grid, each merged point's k x k cells are appended to it
-/// (row-major; alpha 0 for cells without a point or off the centre's surface).
+/// With `texels` and a coloured grid, it gets the grid's colours, cell by cell (alpha 0 for
+/// cells without a point or off their block centre's surface).
 RangeGrid mergeCells(const RangeGrid& grid, int k, double spacing, double maxEdgeFactor,
-                     std::vector<Texel>* texels = nullptr);
+                     TexelImage* texels = nullptr);
 
 }  // namespace rangefuse

@@ -8,6 +8,7 @@
 #include "rangefuse/core/Pose.h"
 #include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/core/TriangleMesh.h"
+#include "rangefuse/surface/TexelImage.h"
 
 namespace rangefuse {
 
@@ -44,11 +45,11 @@ struct ScanSurface {
   std::vector<Triangle> triangles;
   std::vector<Colour> colours;               ///< empty, or one per point
   ColourKind colourKind = ColourKind::none;  ///< what the scan's grid carried
-  /// Colour finer than the points, kept when merging k x k cells coarsened a coloured grid
-  /// (texelSide = k > 1): per point, the k x k original cells of its block (row-major) and the
-  /// block's place (row, column) in the merged grid. Empty otherwise.
+  /// Colour finer than the triangles, kept when merged k x k cells (texelSide = k) or joined
+  /// flat blocks coarsened a coloured grid: the grid's own colours, and each point's block
+  /// (row, column) in the merged grid. Both empty otherwise.
   int texelSide = 1;
-  std::vector<Texel> texels;                   ///< points x k^2
+  TexelImage texels;
   std::vector<std::array<int32_t, 2>> blocks;  ///< one per point
   Sensor sensor;  ///< where the lines of sight come from, in the same frame
 };
@@ -60,7 +61,9 @@ struct ColourTriangle {
   Triangle corners{};
   bool texels = false;    ///< false: the corners' colours are interpolated
   double row[3], col[3];  ///< each corner's block centre
-  long top[3], left[3];   ///< each corner's block's first original cell
+  /// The original cells of the blocks between the corners, [top, bottom) x [left, right): a
+  /// triangle's feet take texels from there only, never from a block across a depth edge.
+  long top = 0, left = 0, bottom = 0, right = 0;
 };
 
 ColourTriangle colourTriangle(const ScanSurface& s, const Triangle& t);
