@@ -51,6 +51,13 @@ void packPickedReals(std::vector<char>& buf, const std::vector<T>& v,
 }
 
 template <class T>
+void packVector(std::vector<char>& buf, const std::vector<T>& v) {
+  const uint64_t n = v.size();
+  mpi::pack(buf, &n, 1);
+  mpi::pack(buf, v.data(), n);
+}
+
+template <class T>
 void unpackVector(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) {
   uint64_t n;
   mpi::unpack(buf, pos, &n, 1);
@@ -118,19 +125,19 @@ void skipVector(const std::vector<char>& buf, size_t& pos, size_t bytes) {
   pos += n * bytes;
 }
 
-/// Appends texels: the rectangle's place and size, then its cells as a vector.
+/// Appends texels: the first row, then each row's first column, where each row starts and the
+/// cells, as vectors.
 void packTexels(std::vector<char>& buf, const TexelImage& part) {
-  const int32_t place[4] = {part.top, part.left, part.rows, part.cols};
-  mpi::pack(buf, place, 4);
-  const uint64_t n = part.cells.size();
-  mpi::pack(buf, &n, 1);
-  mpi::pack(buf, part.cells.data(), n);
+  mpi::pack(buf, &part.top, 1);
+  packVector(buf, part.left);
+  packVector(buf, part.from);
+  packVector(buf, part.cells);
 }
 
 void unpackTexels(const std::vector<char>& buf, size_t& pos, TexelImage& t) {
-  int32_t place[4];
-  mpi::unpack(buf, pos, place, 4);
-  t.top = place[0], t.left = place[1], t.rows = place[2], t.cols = place[3];
+  mpi::unpack(buf, pos, &t.top, 1);
+  unpackVector(buf, pos, t.left);
+  unpackVector(buf, pos, t.from);
   unpackVector(buf, pos, t.cells);
 }
 
@@ -154,13 +161,14 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
   const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
   // The texels the used points' blocks cover.
   const TexelImage texels =
-      s.texels.empty() ? TexelImage{} : blockTexels(s.texels, s.blocks, s.texelSide, &used);
+      s.texels.empty() ? TexelImage{}
+                       : triangleTexels(s.texels, s.blocks, s.triangles, s.texelSide, &triangles);
   const size_t v = used.size(), t = triangles.size();
   const size_t real = scan.compact() ? sizeof(float) : sizeof(double);
-  const size_t bytes = 13 * sizeof(uint64_t) + sizeof(s.texelSide) + 4 * sizeof(int32_t) +
+  const size_t bytes = 15 * sizeof(uint64_t) + sizeof(s.texelSide) + sizeof(int32_t) +
                        sizeof(s.sensor) + v * 7 * real + t * (sizeof(Triangle) + 2 * real) +
                        (s.colours.empty() ? 0 : v * sizeof(Colour)) +
-                       texels.cells.size() * sizeof(Texel) +
+                       texels.cells.size() * sizeof(Texel) + size_t(texels.rows()) * 8 + 4 +
                        (s.blocks.empty() ? 0 : v * sizeof(s.blocks[0]));
   buf.reserve(buf.size() + bytes);
   mpi::pack(buf, &index, 1);
@@ -225,7 +233,9 @@ uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
   skipVector(buf, pos, sizeof(Triangle));
   skipVector(buf, pos, sizeof(Colour));
   pos += sizeof(s.texelSide);
-  pos += 4 * sizeof(int32_t);  // the texels' rectangle
+  pos += sizeof(int32_t);                  // the texels' first row
+  skipVector(buf, pos, sizeof(int32_t));   // each row's first column
+  skipVector(buf, pos, sizeof(uint32_t));  // where each row starts
   skipVector(buf, pos, sizeof(Texel));
   skipVector(buf, pos, sizeof(s.blocks[0]));
   skipVector(buf, pos, 2 * real);  // limits

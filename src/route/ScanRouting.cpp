@@ -36,7 +36,7 @@ PrismScan subScan(const PrismScan& scan, const std::vector<uint32_t>& triangles,
   if (!s.colours.empty()) p.colours.reserve(used.size());
   if (!s.texels.empty()) {
     p.blocks.reserve(used.size());
-    p.texels = blockTexels(s.texels, s.blocks, s.texelSide, &used);
+    p.texels = triangleTexels(s.texels, s.blocks, s.triangles, s.texelSide, &triangles);
   }
   for (const uint32_t v : used) {
     p.points.push_back(s.points[v]);

@@ -26,7 +26,7 @@ void attachTexels(ScanSurface& s, const RangeGrid& merged, int k, const TexelIma
   s.texelSide = k;
   s.blocks.reserve(sources.size());
   for (int32_t i : sources) s.blocks.push_back(places[i]);
-  s.texels = blockTexels(texels, s.blocks, k);
+  s.texels = triangleTexels(texels, s.blocks, s.triangles, k);
 }
 
 /// The grid triangulated by `rules`, with filtered normals and flat blocks joined within

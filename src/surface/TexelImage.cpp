@@ -1,30 +1,53 @@
 #include "rangefuse/surface/TexelImage.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 namespace rangefuse {
+namespace {
 
-TexelImage TexelImage::blank(int32_t top, int32_t left, int32_t rows, int32_t cols) {
+/// Rows from `top` on holding columns [lo[r], hi[r]) each (none where hi <= lo), no texel
+/// sampled yet.
+TexelImage spanned(int32_t top, const std::vector<long>& lo, const std::vector<long>& hi) {
   TexelImage t;
-  t.top = top, t.left = left, t.rows = std::max(rows, 0), t.cols = std::max(cols, 0);
-  t.cells.assign(size_t(t.rows) * size_t(t.cols), Texel{0, 0, 0, 0});
+  t.top = top;
+  t.left.reserve(lo.size());
+  t.from.reserve(lo.size() + 1);
+  t.from.push_back(0);
+  for (size_t r = 0; r < lo.size(); ++r) {
+    const long width = std::max(0L, hi[r] - lo[r]);
+    t.left.push_back(int32_t(width ? lo[r] : 0));
+    t.from.push_back(t.from.back() + uint32_t(width));
+  }
+  t.cells.assign(t.from.back(), Texel{0, 0, 0, 0});
   return t;
 }
 
-TexelImage TexelImage::cropped(long r0, long c0, long r1, long c1) const {
-  r0 = std::max<long>(r0, top), c0 = std::max<long>(c0, left);
-  r1 = std::min<long>(r1, long(top) + rows), c1 = std::min<long>(c1, long(left) + cols);
-  if (r1 <= r0 || c1 <= c0) return {};
-  TexelImage out;
-  out.top = int32_t(r0), out.left = int32_t(c0);
-  out.rows = int32_t(r1 - r0), out.cols = int32_t(c1 - c0);
-  out.cells.reserve(size_t(out.rows) * size_t(out.cols));
-  for (long r = r0; r < r1; ++r) {
-    const auto from = cells.begin() + (r - top) * long(cols) + (c0 - left);
-    out.cells.insert(out.cells.end(), from, from + (c1 - c0));
-  }
-  return out;
+/// Copies the cells `from` holds in row `row` into `to`, where `to` holds them too.
+void copyRow(const TexelImage& from, long row, TexelImage& to) {
+  const size_t a = size_t(row - from.top), b = size_t(row - to.top);
+  const long c0 = std::max<long>(from.left[a], to.left[b]);
+  const long c1 = std::min<long>(from.left[a] + long(from.from[a + 1] - from.from[a]),
+                                 to.left[b] + long(to.from[b + 1] - to.from[b]));
+  if (c1 <= c0) return;
+  std::memcpy(&to.cells[to.from[b] + size_t(c0 - to.left[b])],
+              &from.cells[from.from[a] + size_t(c0 - from.left[a])],
+              size_t(c1 - c0) * sizeof(Texel));
+}
+
+/// Copies every row of `from` that `to` holds.
+void copyRows(const TexelImage& from, TexelImage& to) {
+  const long r0 = std::max<long>(from.top, to.top);
+  const long r1 = std::min(from.top + from.rows(), to.top + to.rows());
+  for (long r = r0; r < r1; ++r) copyRow(from, r, to);
+}
+
+}  // namespace
+
+TexelImage TexelImage::blank(int32_t top, int32_t left, int32_t rows, int32_t cols) {
+  const size_t n = size_t(std::max(rows, 0));
+  return spanned(top, std::vector<long>(n, left), std::vector<long>(n, long(left) + cols));
 }
 
 void TexelImage::include(const TexelImage& other) {
@@ -33,30 +56,70 @@ void TexelImage::include(const TexelImage& other) {
     *this = other;
     return;
   }
-  const long r0 = std::min(top, other.top), c0 = std::min(left, other.left);
-  const long r1 = std::max(long(top) + rows, long(other.top) + other.rows);
-  const long c1 = std::max(long(left) + cols, long(other.left) + other.cols);
-  TexelImage both = blank(int32_t(r0), int32_t(c0), int32_t(r1 - r0), int32_t(c1 - c0));
+  const long r0 = std::min(top, other.top);
+  const long r1 = std::max(top + rows(), other.top + other.rows());
+  std::vector<long> lo(size_t(r1 - r0), std::numeric_limits<long>::max()), hi(lo.size(), 0);
   for (const TexelImage* part : {static_cast<const TexelImage*>(this), &other})
-    for (long r = part->top; r < part->top + part->rows; ++r)
-      for (long c = part->left; c < part->left + part->cols; ++c)
-        if (const Texel* t = part->at(r, c)) both.cell(r, c) = *t;
+    for (long r = 0; r < part->rows(); ++r) {
+      const long width = long(part->from[size_t(r) + 1] - part->from[size_t(r)]);
+      if (width == 0) continue;
+      const size_t at = size_t(part->top + r - r0);
+      lo[at] = std::min<long>(lo[at], part->left[size_t(r)]);
+      hi[at] = std::max<long>(hi[at], part->left[size_t(r)] + width);
+    }
+  TexelImage both = spanned(int32_t(r0), lo, hi);
+  copyRows(*this, both);
+  copyRows(other, both);
   *this = std::move(both);
 }
 
-TexelImage blockTexels(const TexelImage& texels, const std::vector<std::array<int32_t, 2>>& blocks,
-                       int k, const std::vector<uint32_t>* used) {
-  constexpr long kNone = std::numeric_limits<long>::max();
-  long r0 = kNone, c0 = kNone, r1 = 0, c1 = 0;
-  const auto span = [&](const std::array<int32_t, 2>& b) {
-    r0 = std::min<long>(r0, b[0]), r1 = std::max<long>(r1, b[0] + 1);
-    c0 = std::min<long>(c0, b[1]), c1 = std::max<long>(c1, b[1] + 1);
+TexelImage triangleTexels(const TexelImage& texels,
+                          const std::vector<std::array<int32_t, 2>>& blocks,
+                          const std::vector<Triangle>& triangles, int k,
+                          const std::vector<uint32_t>* pick) {
+  // Each triangle's blocks: rows [r0, r1] x columns [c0, c1]; false where it takes no texels.
+  const auto box = [&](uint32_t t, long& r0, long& r1, long& c0, long& c1) {
+    r0 = r1 = blocks[triangles[t][0]][0], c0 = c1 = blocks[triangles[t][0]][1];
+    for (const int32_t v : triangles[t]) {
+      r0 = std::min<long>(r0, blocks[v][0]), r1 = std::max<long>(r1, blocks[v][0]);
+      c0 = std::min<long>(c0, blocks[v][1]), c1 = std::max<long>(c1, blocks[v][1]);
+    }
+    return c1 - c0 <= kWidestTexelledTriangle;
   };
-  if (used)
-    for (uint32_t i : *used) span(blocks[i]);
-  else
-    for (const auto& b : blocks) span(b);
-  return texels.cropped(k * r0, k * c0, k * r1, k * c1);
+  const auto each = [&](auto&& f) {
+    if (pick)
+      for (uint32_t t : *pick) f(t);
+    else
+      for (uint32_t t = 0; t < triangles.size(); ++t) f(t);
+  };
+  constexpr long kNone = std::numeric_limits<long>::max();
+  long first = kNone, last = -1, r0, r1, c0, c1;  // rows of blocks
+  each([&](uint32_t t) {
+    if (box(t, r0, r1, c0, c1)) first = std::min(first, r0), last = std::max(last, r1);
+  });
+  if (last < first) return {};
+  // Per row of cells from the first block's, the columns its blocks span.
+  std::vector<long> lo(size_t(k) * size_t(last - first + 1), kNone), hi(lo.size(), 0);
+  each([&](uint32_t t) {
+    if (!box(t, r0, r1, c0, c1)) return;
+    for (size_t r = size_t(k) * size_t(r0 - first); r < size_t(k) * size_t(r1 + 1 - first); ++r)
+      lo[r] = std::min(lo[r], k * c0), hi[r] = std::max(hi[r], k * (c1 + 1));
+  });
+  // Held where the image holds them: a partial last block reaches beyond the grid.
+  const long top = long(k) * first;
+  for (size_t r = 0; r < lo.size(); ++r) {
+    const long row = top + long(r) - texels.top;
+    if (row < 0 || row >= texels.rows()) {
+      hi[r] = 0;
+      continue;
+    }
+    const size_t a = size_t(row);
+    lo[r] = std::max<long>(lo[r], texels.left[a]);
+    hi[r] = std::min<long>(hi[r], texels.left[a] + long(texels.from[a + 1] - texels.from[a]));
+  }
+  TexelImage out = spanned(int32_t(top), lo, hi);
+  copyRows(texels, out);
+  return out;
 }
 
 }  // namespace rangefuse

@@ -277,8 +277,8 @@ TEST(SurfaceColour, MergedCellsShowTheOriginalCellNearestTheFoot) {
   ASSERT_GT(k, 1);
   ASSERT_EQ(g.cols % k, 0);
   ASSERT_EQ(g.rows % k, 0);
-  EXPECT_EQ(s.texels.rows, g.rows);
-  EXPECT_EQ(s.texels.cols, g.cols);
+  EXPECT_EQ(s.texels.rows(), g.rows);
+  EXPECT_EQ(s.texels.cells.size(), size_t(g.rows) * g.cols);
   ASSERT_EQ(s.blocks.size(), s.points.size());
   EXPECT_GT(expectNearestCell(s, [](const Triangle&) { return true; }), 1000u);
 }

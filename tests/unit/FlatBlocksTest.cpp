@@ -156,7 +156,7 @@ TEST(FlatBlocks, AreJoinedInScanSurfacesWithColourToo) {
   const ScanSurface coloured = buildScanSurface(g, Pose{}, options);
   EXPECT_EQ(coloured.triangles, plain.triangles);
   EXPECT_EQ(coloured.points, plain.points);
-  EXPECT_EQ(coloured.texels.rows * coloured.texels.cols, 41 * 31);
+  EXPECT_EQ(coloured.texels.cells.size(), 41u * 31);
   EXPECT_EQ(coloured.blocks.size(), coloured.points.size());
 }
 

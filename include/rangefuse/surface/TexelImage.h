@@ -7,47 +7,60 @@
 #include <vector>
 
 #include "rangefuse/core/Colour.h"
+#include "rangefuse/core/TriangleMesh.h"
 
 namespace rangefuse {
 
-/// A rectangle of a range grid's cells, one texel each, row-major; alpha 0 where a cell holds no
+/// The widest triangle, in blocks, whose feet take texels: a joined flat block's two. A wider
+/// one closes a station's 0/360 degree seam, across which block places do not interpolate.
+constexpr long kWidestTexelledTriangle = 2;
+
+/// Some of a range grid's cells, one texel each: from row `top` on, a span of columns a row,
+/// which holds a part of a scan as tightly as its outline allows. Alpha 0 where a cell holds no
 /// sample of its block's surface. Places are the original grid's (row, column).
 struct TexelImage {
-  int32_t top = 0, left = 0;   ///< the first cell held
-  int32_t rows = 0, cols = 0;  ///< how many
-  std::vector<Texel> cells;    ///< rows x cols
+  int32_t top = 0;             ///< the first row held
+  std::vector<int32_t> left;   ///< per row held: its first column
+  std::vector<uint32_t> from;  ///< per row held, and one more: its first cell in `cells`
+  std::vector<Texel> cells;
 
   /// A rectangle of `rows` x `cols` cells from (top, left), every texel without a sample.
   static TexelImage blank(int32_t top, int32_t left, int32_t rows, int32_t cols);
 
   bool empty() const { return cells.empty(); }
+  long rows() const { return long(left.size()); }
 
-  /// The texel of cell (row, col), or null outside the rectangle or where it has no sample.
+  /// The texel of cell (row, col), or null where none is held or it has no sample.
   const Texel* at(long row, long col) const {
-    const long r = row - top, c = col - left;
-    if (r < 0 || r >= rows || c < 0 || c >= cols) return nullptr;
-    const Texel& t = cells[size_t(r) * size_t(cols) + size_t(c)];
+    const long r = row - top;
+    if (r < 0 || r >= rows()) return nullptr;
+    const long c = col - left[size_t(r)];
+    if (c < 0 || c >= long(from[size_t(r) + 1] - from[size_t(r)])) return nullptr;
+    const Texel& t = cells[from[size_t(r)] + size_t(c)];
     return t[3] != 0 ? &t : nullptr;
   }
+
+  /// Cell (row, col), which the image must hold.
   Texel& cell(long row, long col) {
-    return cells[size_t(row - top) * size_t(cols) + size_t(col - left)];
+    const size_t r = size_t(row - top);
+    return cells[from[r] + size_t(col - left[r])];
   }
 
-  /// The cells of rows [r0, r1) and columns [c0, c1), clipped to this rectangle.
-  TexelImage cropped(long r0, long c0, long r1, long c1) const;
-
-  /// Adds the sampled cells of `other`, a part of the same scan, growing the rectangle to hold
+  /// Adds the sampled cells of `other`, a part of the same scan, each row's span grown to hold
   /// both (where they overlap both hold the same texels).
   void include(const TexelImage& other);
 
   bool operator==(const TexelImage& o) const {
-    return top == o.top && left == o.left && rows == o.rows && cols == o.cols && cells == o.cells;
+    return top == o.top && left == o.left && from == o.from && cells == o.cells;
   }
 };
 
-/// The cells of the k x k blocks spanned by `blocks` (each a block's row and column; with
-/// `used`, only those listed), as a part of `texels` needs them.
-TexelImage blockTexels(const TexelImage& texels, const std::vector<std::array<int32_t, 2>>& blocks,
-                       int k, const std::vector<uint32_t>* used = nullptr);
+/// The cells a part of a surface needs: those of the k x k blocks between the corners of each
+/// of its triangles (`blocks` gives each point's block row and column; with `pick`, only the
+/// triangles listed). Each row of blocks holds the span from its first such block to its last.
+TexelImage triangleTexels(const TexelImage& texels,
+                          const std::vector<std::array<int32_t, 2>>& blocks,
+                          const std::vector<Triangle>& triangles, int k,
+                          const std::vector<uint32_t>* pick = nullptr);
 
 }  // namespace rangefuse
