@@ -2,6 +2,7 @@
 // reaches and at every control point a fit samples, so it is one flat table, not a map of nodes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
