@@ -2,7 +2,8 @@
 # Colour fused beside the distance: range grids painted with checks of a known colour, fused on
 # 1, 2 and 3 ranks to the same bytes; the mesh's colours against the checks' colour at each
 # vertex (exact away from the check edges), by prism and robust fusion; sequences with PNG and
-# JPEG colour images; PTX r g b and intensity; a checkpoint resumed to the same coloured mesh;
+# JPEG colour images; a room walk's joined flat blocks; PTX r g b and intensity; a checkpoint
+# resumed to the same coloured mesh;
 # --colour none gives the bytes of the same scans without colour, and reads no colour image;
 # colour asked of scans that have none, or of a method that cannot fuse it, refused by name.
 # Tracked streams: colour_tracked.sh.
@@ -91,6 +92,36 @@ for format in tum redwood; do
   check_colours "$tmp/${format}2.ply" 0.2 0.01
 done
 echo "TUM and Redwood colour images: on the mesh, 2 and 3 ranks identical"
+# A room walk with colour images: its flat blocks are joined as without colour, and their feet
+# take the colours of the cells they cover (a blend of the joined corners' colours would double
+# the error); 1, 2 and 3 ranks give the same bytes.
+"$bin" scan --shape room --path walk --views 30 --width 320 --height 240 --voxel 0.02 \
+  --sensor kinect --sensor-without shutter,offset --texture 0.25 --format tum --out "$tmp/room" \
+  >/dev/null
+for n in 1 2 3; do
+  mpirun --oversubscribe -np "$n" "$bin" fuse --scans "$tmp/room" --voxel 0.02 --track off \
+    --out "$tmp/room$n.ply" >"$tmp/room$n.log"
+done
+cmp "$tmp/room1.ply" "$tmp/room2.ply" && cmp "$tmp/room1.ply" "$tmp/room3.ply"
+mpirun -np 2 "$bin" fuse --scans "$tmp/room" --voxel 0.02 --track off --join-flat 0 \
+  --out "$tmp/room-fine.ply" >"$tmp/room-fine.log"
+triangles() { grep -o 'scans, [0-9]* triangles' "$1" | grep -o '[0-9]*' | tail -n 1; }
+joined=$(triangles "$tmp/room2.log") fine=$(triangles "$tmp/room-fine.log")
+((joined * 10 < fine * 7)) || fail "coloured frames joined too few blocks: $joined of $fine"
+colour_error() {  # mesh: mean colour error and edge contrast against the painted room
+  "$bin" eval --mesh "$1" --reference "$tmp/room/truth.ply" --voxel 0.02 --json |
+    python3 -c '
+import json, sys
+c = json.load(sys.stdin)["colour"]
+print("%.3f %.3f" % (c["error"]["mean"], c["edge_contrast"]))'
+}
+read -r err contrast < <(colour_error "$tmp/room2.ply")
+read -r fine_err fine_contrast < <(colour_error "$tmp/room-fine.ply")
+python3 -c "import sys
+sys.exit(0 if $err <= 1.1 * $fine_err and $contrast >= 0.95 * $fine_contrast else 1)" ||
+  fail "joined blocks' colour: error $err, contrast $contrast; without joins $fine_err, $fine_contrast"
+echo "room walk: $joined triangles against $fine unjoined, colour error $err against $fine_err," \
+  "1, 2 and 3 ranks identical"
 # --colour none does not decode colour images: a broken one is refused only when colour is
 # fused, and the mesh without colour is the intact folder's.
 mpirun -np 2 "$bin" fuse --scans "$tmp/tum" --voxel 0.01 --track off --colour none \
