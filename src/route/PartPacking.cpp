@@ -159,7 +159,7 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
               const std::vector<uint32_t>& triangles, std::vector<int32_t>& remap) {
   const ScanSurface& s = scan.surface;
   const std::vector<uint32_t> used = usedVertices(s, triangles, remap);
-  // The texels the used points' blocks cover.
+  // The texels the part's triangles need.
   const TexelImage texels =
       s.texels.empty() ? TexelImage{}
                        : triangleTexels(s.texels, s.blocks, s.triangles, s.texelSide, &triangles);

@@ -18,8 +18,7 @@ std::vector<std::array<int32_t, 2>> blockPlaces(const RangeGrid& merged) {
   return places;
 }
 
-/// Gives the surface the texels of its points' blocks: each point's block, and the rectangle
-/// of cells those blocks cover.
+/// Gives the surface its points' blocks and the texels its triangles need.
 void attachTexels(ScanSurface& s, const RangeGrid& merged, int k, const TexelImage& texels,
                   const std::vector<int32_t>& sources) {
   const std::vector<std::array<int32_t, 2>> places = blockPlaces(merged);

@@ -27,9 +27,7 @@ ColourTriangle colourTriangle(const ScanSurface& s, const Triangle& t) {
     r0 = std::min<long>(r0, b[0]), r1 = std::max<long>(r1, b[0]);
     c0 = std::min<long>(c0, b[1]), c1 = std::max<long>(c1, b[1]);
   }
-  if (c1 - c0 > kWidestTexelledTriangle) c.texels = false;
-  // Unmerged cells interpolate their corners' colours; only a joined block needs the texels.
-  if (k == 1 && r1 - r0 <= 1 && c1 - c0 <= 1) c.texels = false;
+  c.texels = takesTexels(int(k), r1 - r0, c1 - c0);
   c.top = k * r0, c.bottom = k * (r1 + 1), c.left = k * c0, c.right = k * (c1 + 1);
   return c;
 }

@@ -84,7 +84,7 @@ TexelImage triangleTexels(const TexelImage& texels,
       r0 = std::min<long>(r0, blocks[v][0]), r1 = std::max<long>(r1, blocks[v][0]);
       c0 = std::min<long>(c0, blocks[v][1]), c1 = std::max<long>(c1, blocks[v][1]);
     }
-    return c1 - c0 <= kWidestTexelledTriangle;
+    return takesTexels(k, r1 - r0, c1 - c0);
   };
   const auto each = [&](auto&& f) {
     if (pick)

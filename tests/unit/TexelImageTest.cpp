@@ -66,8 +66,8 @@ struct RandomSurface {
     }
   }
 
-  /// The blocks between the corners of each listed triangle that takes texels.
-  std::set<Block> needed(const std::vector<uint32_t>& pick) const {
+  /// The blocks between the corners of each listed triangle that takes texels, blocks of k.
+  std::set<Block> needed(const std::vector<uint32_t>& pick, int k) const {
     std::set<Block> out;
     for (uint32_t t : pick) {
       int r0 = INT32_MAX, r1 = -1, c0 = INT32_MAX, c1 = -1;
@@ -75,7 +75,7 @@ struct RandomSurface {
         r0 = std::min(r0, blocks[v][0]), r1 = std::max(r1, blocks[v][0]);
         c0 = std::min(c0, blocks[v][1]), c1 = std::max(c1, blocks[v][1]);
       }
-      if (c1 - c0 > kWidestTexelledTriangle) continue;
+      if (!takesTexels(k, r1 - r0, c1 - c0)) continue;
       for (int R = r0; R <= r1; ++R)
         for (int C = c0; C <= c1; ++C) out.insert({R, C});
     }
@@ -107,7 +107,7 @@ TEST(TexelImage, TriangleTexelsHoldTheCellsBetweenEachTrianglesCorners) {
       all.push_back(t);
       if (rng() % 2) pick.push_back(t);
     }
-    const std::set<Block> needed = s.needed(pick);
+    const std::set<Block> needed = s.needed(pick, k);
     const TexelImage part = triangleTexels(whole, s.blocks, s.triangles, k, &pick);
     expectPartOf(part, whole, needed, k, rows, cols);
     // Held tightly: no row holds cells beyond the first and last of its needed blocks.
@@ -121,7 +121,7 @@ TEST(TexelImage, TriangleTexelsHoldTheCellsBetweenEachTrianglesCorners) {
         EXPECT_TRUE(col / k >= first && col / k <= last) << row << ", " << col;
       }
     // Every triangle, without a list.
-    expectPartOf(triangleTexels(whole, s.blocks, s.triangles, k), whole, s.needed(all), k, rows,
+    expectPartOf(triangleTexels(whole, s.blocks, s.triangles, k), whole, s.needed(all, k), k, rows,
                  cols);
   }
 }
@@ -141,6 +141,6 @@ TEST(TexelImage, PartsIncludedGiveBackEveryCellOfEither) {
         if (rng() % 3 == 0) pick.push_back(t), all.push_back(t);
       joined.include(triangleTexels(whole, s.blocks, s.triangles, k, &pick));
     }
-    expectPartOf(joined, whole, s.needed(all), k, rows, cols);
+    expectPartOf(joined, whole, s.needed(all, k), k, rows, cols);
   }
 }

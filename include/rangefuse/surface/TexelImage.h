@@ -11,9 +11,14 @@
 
 namespace rangefuse {
 
-/// The widest triangle, in blocks, whose feet take texels: a joined flat block's two. A wider
-/// one closes a station's 0/360 degree seam, across which block places do not interpolate.
-constexpr long kWidestTexelledTriangle = 2;
+/// Whether the feet of a triangle whose corners' blocks (k x k cells each) span `rows` x `cols`
+/// blocks (the largest place less the least) take texels: a merged cell's, or a joined flat
+/// block's (two blocks across). Cells neither merged nor joined interpolate their corners'
+/// colours, and a triangle wider than two blocks closes a station's 0/360 degree seam, across
+/// which block places do not interpolate.
+inline bool takesTexels(int k, long rows, long cols) {
+  return cols <= 2 && (k > 1 || rows > 1 || cols > 1);
+}
 
 /// Some of a range grid's cells, one texel each: from row `top` on, a span of columns a row,
 /// which holds a part of a scan as tightly as its outline allows. Alpha 0 where a cell holds no
@@ -56,8 +61,9 @@ struct TexelImage {
 };
 
 /// The cells a part of a surface needs: those of the k x k blocks between the corners of each
-/// of its triangles (`blocks` gives each point's block row and column; with `pick`, only the
-/// triangles listed). Each row of blocks holds the span from its first such block to its last.
+/// of its triangles that takes texels (`blocks` gives each point's block row and column; with
+/// `pick`, only the triangles listed). Each row of blocks holds the span from its first such
+/// block to its last.
 TexelImage triangleTexels(const TexelImage& texels,
                           const std::vector<std::array<int32_t, 2>>& blocks,
                           const std::vector<Triangle>& triangles, int k,
