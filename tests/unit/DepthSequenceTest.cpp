@@ -78,6 +78,28 @@ TEST(DepthPng, SixteenBitCountsRoundTripExactly) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("d.png.tmp")));
 }
 
+TEST(DepthPng, AByteChangedInThePixelsIsRefused) {
+  // The reader skips zlib's checksum of the pixels: the chunk's CRC must still catch a change.
+  TempDir dir;
+  io::writeDepthPng(dir.file("d.png"), randomImage(40, 30, 2));
+  std::string bytes;
+  {
+    std::ifstream in(dir.file("d.png"), std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t data = bytes.find("IDAT");
+  ASSERT_NE(data, std::string::npos);
+  bytes[data + 4 + 40] ^= 0x10;  // well inside the compressed pixels
+  const std::string path = dir.write("changed.png", bytes);
+  std::string message;
+  try {
+    io::readDepthPng(path, 10000);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  expectMessage(message, "changed.png: corrupt or truncated PNG");
+}
+
 TEST(DepthPng, PixelsComeFromTheHeaderAloneAndZeroForWhatIsNoPng) {
   TempDir dir;
   io::writeDepthPng(dir.file("d.png"), randomImage(37, 23, 4));
