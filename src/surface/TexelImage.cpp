@@ -77,47 +77,38 @@ TexelImage triangleTexels(const TexelImage& texels,
                           const std::vector<std::array<int32_t, 2>>& blocks,
                           const std::vector<Triangle>& triangles, int k,
                           const std::vector<uint32_t>* pick) {
-  // Each triangle's blocks: rows [r0, r1] x columns [c0, c1]; false where it takes no texels.
-  const auto box = [&](uint32_t t, long& r0, long& r1, long& c0, long& c1) {
-    r0 = r1 = blocks[triangles[t][0]][0], c0 = c1 = blocks[triangles[t][0]][1];
+  // Per row the image holds, the columns the blocks of its triangles span.
+  std::vector<long> lo(size_t(texels.rows()), std::numeric_limits<long>::max()), hi(lo.size(), 0);
+  const auto add = [&](uint32_t t) {
+    long r0 = blocks[triangles[t][0]][0], r1 = r0, c0 = blocks[triangles[t][0]][1], c1 = c0;
     for (const int32_t v : triangles[t]) {
       r0 = std::min<long>(r0, blocks[v][0]), r1 = std::max<long>(r1, blocks[v][0]);
       c0 = std::min<long>(c0, blocks[v][1]), c1 = std::max<long>(c1, blocks[v][1]);
     }
-    return takesTexels(k, r1 - r0, c1 - c0);
+    if (!takesTexels(k, r1 - r0, c1 - c0)) return;
+    // A partial last block reaches beyond the image.
+    const long first = std::max(k * r0 - texels.top, 0L);
+    const long end = std::min(k * (r1 + 1) - texels.top, texels.rows());
+    for (long r = first; r < end; ++r)
+      lo[size_t(r)] = std::min(lo[size_t(r)], k * c0),
+      hi[size_t(r)] = std::max(hi[size_t(r)], k * (c1 + 1));
   };
-  const auto each = [&](auto&& f) {
-    if (pick)
-      for (uint32_t t : *pick) f(t);
-    else
-      for (uint32_t t = 0; t < triangles.size(); ++t) f(t);
-  };
-  constexpr long kNone = std::numeric_limits<long>::max();
-  long first = kNone, last = -1, r0, r1, c0, c1;  // rows of blocks
-  each([&](uint32_t t) {
-    if (box(t, r0, r1, c0, c1)) first = std::min(first, r0), last = std::max(last, r1);
-  });
-  if (last < first) return {};
-  // Per row of cells from the first block's, the columns its blocks span.
-  std::vector<long> lo(size_t(k) * size_t(last - first + 1), kNone), hi(lo.size(), 0);
-  each([&](uint32_t t) {
-    if (!box(t, r0, r1, c0, c1)) return;
-    for (size_t r = size_t(k) * size_t(r0 - first); r < size_t(k) * size_t(r1 + 1 - first); ++r)
-      lo[r] = std::min(lo[r], k * c0), hi[r] = std::max(hi[r], k * (c1 + 1));
-  });
-  // Held where the image holds them: a partial last block reaches beyond the grid.
-  const long top = long(k) * first;
+  if (pick)
+    for (uint32_t t : *pick) add(t);
+  else
+    for (uint32_t t = 0; t < triangles.size(); ++t) add(t);
+  // Held where the image holds them; rows without a span before the first or after the last
+  // are left out.
+  size_t first = lo.size(), end = 0;
   for (size_t r = 0; r < lo.size(); ++r) {
-    const long row = top + long(r) - texels.top;
-    if (row < 0 || row >= texels.rows()) {
-      hi[r] = 0;
-      continue;
-    }
-    const size_t a = size_t(row);
-    lo[r] = std::max<long>(lo[r], texels.left[a]);
-    hi[r] = std::min<long>(hi[r], texels.left[a] + long(texels.from[a + 1] - texels.from[a]));
+    lo[r] = std::max<long>(lo[r], texels.left[r]);
+    hi[r] = std::min<long>(hi[r], texels.left[r] + long(texels.from[r + 1] - texels.from[r]));
+    if (hi[r] > lo[r]) first = std::min(first, r), end = r + 1;
   }
-  TexelImage out = spanned(int32_t(top), lo, hi);
+  if (end <= first) return {};
+  TexelImage out = spanned(int32_t(texels.top + long(first)),
+                           std::vector<long>(lo.begin() + long(first), lo.begin() + long(end)),
+                           std::vector<long>(hi.begin() + long(first), hi.begin() + long(end)));
   copyRows(texels, out);
   return out;
 }
