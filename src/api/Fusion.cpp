@@ -13,6 +13,7 @@
 #include "rangefuse/mesh/PartStitching.h"
 #include "rangefuse/options/FuseParameters.h"
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/MpiStart.h"
 #include "rangefuse/parallel/Threads.h"
 #include "rangefuse/parallelio/Checkpoint.h"
 #include "rangefuse/pipeline/Checkpointing.h"
@@ -33,8 +34,7 @@ MPI_Comm selfComm() {
   int started = 0;
   MPI_Initialized(&started);
   if (!started) {
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    mpi::start(nullptr, nullptr);
     std::atexit([] {
       int finished = 0;
       MPI_Finalized(&finished);

@@ -10,6 +10,7 @@
 
 #include "Commands.h"
 #include "InterruptHint.h"
+#include "rangefuse/parallel/MpiStart.h"
 
 namespace {
 
@@ -93,16 +94,7 @@ int dispatch(int argc, char** argv, int rank) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Open MPI's shared-memory shared-file-pointer component keeps a semaphore per file name; a
-  // writer killed mid-checkpoint leaves it locked and the next open of that name hangs. We
-  // never use shared file pointers, so leave that component out (unless the user chose).
-  setenv("OMPI_MCA_sharedfp", "^sm", 0);
-  // A rank waiting for its peers gives its core up, so that the thread preparing its next depth
-  // frame runs then (runOnlyWhenIdle) and not while the rank's own step is awaited (decision 50).
-  setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
-  // Worker threads read and compute; only this thread calls MPI.
-  int provided = 0;
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  rangefuse::mpi::start(&argc, &argv);  // worker threads read and compute; this one calls MPI
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our own messages
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

@@ -7,11 +7,11 @@
 #include <string>
 
 #include "FuzzEntries.h"
+#include "rangefuse/parallel/MpiStart.h"
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
-  setenv("OMPI_MCA_sharedfp", "^sm", 0);
   setenv("OMPI_MCA_opal_signal", "", 1);  // crashes are libFuzzer's to catch and save
-  MPI_Init(argc, argv);
+  rangefuse::mpi::start(argc, argv);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   return 0;
 }

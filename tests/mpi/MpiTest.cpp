@@ -1,13 +1,16 @@
 // parallel/Mpi.h and MpiTraffic.h: the byte collectives give the same bytes whatever the chunk
 // size, including chunk sizes that do not divide the messages and messages of zero bytes
-// (RANGEFUSE_MPI_CHUNK_BYTES); boxes and indexed texts joined across ranks; traffic counted.
+// (RANGEFUSE_MPI_CHUNK_BYTES); boxes and indexed texts joined across ranks; traffic counted;
+// MpiStart.h: the messaging layer a job on one machine starts with.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <string>
 
 #include "rangefuse/parallel/Mpi.h"
+#include "rangefuse/parallel/MpiStart.h"
 #include "rangefuse/parallel/MpiTraffic.h"
 
 namespace rangefuse {
@@ -128,6 +131,24 @@ TEST(MpiTraffic, CountsEveryByteAnExchangeMoves) {
   EXPECT_EQ(after.bytesSent - before.bytesSent, sent + sizes);
   EXPECT_EQ(after.bytesReceived - before.bytesReceived, received + sizes);
   EXPECT_EQ(after.calls - before.calls, messages + 1);
+}
+
+TEST(MpiStart, AJobOnOneMachineUsesTheMessagingLayerItWasGiven) {
+  // ctest starts this job with mpirun on this machine: start() chose ob1 unless the user did
+  // (OMPI_MCA_pml set first), and Open MPI read that choice, as its own variable shows.
+  ASSERT_TRUE(mpi::jobOnOneMachine());
+  const char* chosen = std::getenv("OMPI_MCA_pml");
+  ASSERT_NE(chosen, nullptr);
+  int provided = 0, index = 0, count = 0;
+  ASSERT_EQ(MPI_T_init_thread(MPI_THREAD_SINGLE, &provided), MPI_SUCCESS);
+  ASSERT_EQ(MPI_T_cvar_get_index("pml", &index), MPI_SUCCESS);
+  MPI_T_cvar_handle handle;
+  ASSERT_EQ(MPI_T_cvar_handle_alloc(index, nullptr, &handle, &count), MPI_SUCCESS);
+  std::string value(std::max(count, 1), '\0');
+  EXPECT_EQ(MPI_T_cvar_read(handle, value.data()), MPI_SUCCESS);
+  MPI_T_cvar_handle_free(&handle);
+  MPI_T_finalize();
+  EXPECT_STREQ(value.c_str(), chosen);
 }
 
 }  // namespace

@@ -3,12 +3,10 @@
 #include <hdf5.h>
 #include <mpi.h>
 
-#include <cstdlib>
+#include "rangefuse/parallel/MpiStart.h"
 
 int main(int argc, char** argv) {
-  setenv("OMPI_MCA_sharedfp", "^sm", 0);  // as the rangefuse executable does
-  int provided = 0;                       // worker threads never call MPI
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  rangefuse::mpi::start(&argc, &argv);          // as the rangefuse executable does
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // as the executable: errors become messages
   ::testing::InitGoogleTest(&argc, argv);
   int rank = 0;
