@@ -31,9 +31,9 @@ void buildNeighbours(const TriangleMesh& m, std::vector<size_t>& start, std::vec
   nbr.resize(start[n]);
 }
 
+/// Eigen's normalize() leaves a zero vector as it is: one root a vector.
 void normalizeAll(std::vector<Eigen::Vector3d>& v) {
-  for (auto& n : v)
-    if (n.norm() > 0) n.normalize();
+  for (auto& n : v) n.normalize();
 }
 
 }  // namespace
@@ -49,13 +49,14 @@ std::vector<Eigen::Vector3d> filteredVertexNormals(const TriangleMesh& mesh, int
   std::vector<size_t> start;
   std::vector<int32_t> nbr;
   buildNeighbours(mesh, start, nbr);
+  std::vector<Eigen::Vector3d> next(n.size());
   for (int pass = 0; pass < passes; ++pass) {
-    std::vector<Eigen::Vector3d> next(n.size());
     for (size_t v = 0; v < n.size(); ++v) {
-      next[v] = n[v];
-      for (size_t k = start[v]; k < start[v + 1]; ++k) next[v] += n[nbr[k]];
+      Eigen::Vector3d sum = n[v];
+      for (size_t k = start[v]; k < start[v + 1]; ++k) sum += n[nbr[k]];
+      sum.normalize();
+      next[v] = sum;
     }
-    normalizeAll(next);
     n.swap(next);
   }
   return n;
