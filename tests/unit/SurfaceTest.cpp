@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <map>
+#include <numeric>
+#include <random>
 #include <set>
 
 #include "rangefuse/surface/ScanSurface.h"
@@ -122,19 +124,16 @@ TEST(Surface, FilteringSmoothsANoisyNormal) {
 
 // The adjacency is built in place from triangle corners; here every vertex's neighbours are
 // found by a scan of all triangles, and the passes are summed in the same (ascending) order.
-TEST(Surface, FilteredNormalsMatchABruteForceNeighbourAverage) {
-  RangeGrid g = planeGrid(9, 8, 0.2);
-  std::srand(7);
-  for (auto& p : g.points) p.z() += 0.05 * (std::rand() % 7);
-  g.cell[2 * 9 + 4] = g.cell[5 * 9 + 1] = -1;  // holes: vertices of differing degree
-  const TriangleMesh m = triangulateGrid(g, SurfaceOptions{});
+/// filteredVertexNormals the slow way: each vertex's neighbours found anew by scanning every
+/// triangle, kept in a set (ascending, each once).
+std::vector<Eigen::Vector3d> bruteForceNormals(const TriangleMesh& m, int passes) {
   std::vector<Eigen::Vector3d> n(m.vertices.size(), Eigen::Vector3d::Zero());
   for (const Triangle& t : m.faces) {
     const auto &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
     for (int32_t v : t) n[v] += (b - a).cross(c - a).normalized();
   }
   for (auto& v : n) v.normalize();
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < passes; ++pass) {
     std::vector<Eigen::Vector3d> next = n;
     for (size_t v = 0; v < n.size(); ++v) {
       std::set<int32_t> around;
@@ -147,9 +146,32 @@ TEST(Surface, FilteredNormalsMatchABruteForceNeighbourAverage) {
     }
     n = next;
   }
-  const std::vector<Eigen::Vector3d> fast = filteredVertexNormals(m, 2);
-  ASSERT_EQ(fast.size(), n.size());
-  for (size_t v = 0; v < n.size(); ++v) EXPECT_EQ(fast[v], n[v]) << "vertex " << v;
+  return n;
+}
+
+TEST(Surface, FilteredNormalsMatchABruteForceNeighbourAverage) {
+  RangeGrid g = planeGrid(9, 8, 0.2);
+  std::srand(7);
+  for (auto& p : g.points) p.z() += 0.05 * (std::rand() % 7);
+  g.cell[2 * 9 + 4] = g.cell[5 * 9 + 1] = -1;  // holes: vertices of differing degree
+  TriangleMesh m = triangulateGrid(g, SurfaceOptions{});
+  // As triangulated (vertices numbered as first used), then numbered in a shuffled order, so
+  // that a vertex's neighbours come in no order the triangles suggest.
+  for (int numbering = 0; numbering < 2; ++numbering) {
+    const std::vector<Eigen::Vector3d> n = bruteForceNormals(m, 2);
+    const std::vector<Eigen::Vector3d> fast = filteredVertexNormals(m, 2);
+    ASSERT_EQ(fast.size(), n.size());
+    for (size_t v = 0; v < n.size(); ++v)
+      EXPECT_EQ(fast[v], n[v]) << "numbering " << numbering << ", vertex " << v;
+    std::vector<int32_t> to(m.vertices.size());
+    std::iota(to.begin(), to.end(), 0);
+    std::shuffle(to.begin(), to.end(), std::mt19937(11));
+    TriangleMesh shuffled = m;
+    for (size_t v = 0; v < to.size(); ++v) shuffled.vertices[to[v]] = m.vertices[v];
+    for (Triangle& t : shuffled.faces)
+      for (int32_t& v : t) v = to[v];
+    m = shuffled;
+  }
 }
 
 TEST(Surface, PinholeViewRayRunsToTheOrigin) {
