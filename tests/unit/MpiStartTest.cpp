@@ -3,7 +3,6 @@
 
 #include <cstdlib>
 #include <map>
-#include <optional>
 #include <string>
 
 #include "rangefuse/parallel/MpiStart.h"
