@@ -136,7 +136,7 @@ TEST(MpiTraffic, CountsEveryByteAnExchangeMoves) {
 TEST(MpiStart, AJobOnOneMachineUsesTheMessagingLayerItWasGiven) {
   // ctest starts this job with mpirun on this machine: start() chose ob1 unless the user did
   // (OMPI_MCA_pml set first), and Open MPI read that choice, as its own variable shows.
-  ASSERT_TRUE(mpi::jobOnOneMachine());
+  if (!mpi::jobOnOneMachine()) GTEST_SKIP() << "started across machines or by another launcher";
   const char* chosen = std::getenv("OMPI_MCA_pml");
   ASSERT_NE(chosen, nullptr);
   int provided = 0, index = 0, count = 0;
