@@ -51,6 +51,8 @@ RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const st
   g.points.reserve(image.counts.size() -
                    std::count(image.counts.begin(), image.counts.end(), uint16_t{0}));
   size_t measured = 0, tooFar = 0;
+  // x and y divided by fx and fy in one packed division: each lane rounds as its own would.
+  const Eigen::Array2d focal(camera.fx, camera.fy);
   for (int r = 0; r < g.rows; ++r) {
     const int v = g.rows - 1 - r;
     for (int u = 0; u < g.cols; ++u) {
@@ -60,7 +62,8 @@ RangeGrid depthGrid(const DepthImage& image, const DepthCamera& camera, const st
       tooFar += d > kImplausibleDepth;
       if (count == 0 || (camera.depthMax > 0 && d > camera.depthMax)) continue;
       g.cell[static_cast<size_t>(r) * g.cols + u] = static_cast<int32_t>(g.points.size());
-      g.points.emplace_back((u - camera.cx) * d / camera.fx, (camera.cy - v) * d / camera.fy, -d);
+      const Eigen::Array2d xy = Eigen::Array2d((u - camera.cx) * d, (camera.cy - v) * d) / focal;
+      g.points.emplace_back(xy.x(), xy.y(), -d);
     }
   }
   // A depth unit off by a factor of 1000 (counts read as metres) puts every depth kilometres

@@ -29,9 +29,21 @@ double angleBetween(double a, double b) {
 
 namespace internal {
 
+bool longerThan(const Eigen::Vector3d& d, double limit) {
+  const double s = d.squaredNorm(), limit2 = limit * limit;
+  // A square of normal size is rounded to a part in 10^16, and so is a root: outside a margin
+  // of a part in 10^12 the squares give the root's answer. Subnormal or infinite squares (and
+  // NaN) take the root.
+  if (limit > 0 && std::isnormal(limit2)) {
+    if (s < limit2 * (1 - 1e-12)) return false;
+    if (s > limit2 * (1 + 1e-12)) return true;
+  }
+  return std::sqrt(s) > limit;
+}
+
 bool keepsTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                    const Eigen::Vector3d& c, double maxEdge, double minCos) {
-  if ((a - b).norm() > maxEdge || (b - c).norm() > maxEdge || (c - a).norm() > maxEdge)
+  if (longerThan(a - b, maxEdge) || longerThan(b - c, maxEdge) || longerThan(c - a, maxEdge))
     return false;
   Eigen::Vector3d n = (b - a).cross(c - a);
   double len = n.norm();

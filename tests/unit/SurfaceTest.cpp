@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -172,6 +173,41 @@ TEST(Surface, FilteredNormalsMatchABruteForceNeighbourAverage) {
       for (int32_t& v : t) v = to[v];
     m = shuffled;
   }
+}
+
+TEST(Surface, EdgeLengthsAreTestedAsTheirRootsWould) {
+  // longerThan, the squares' fast path, against d.norm() > limit: lengths a few rounding steps
+  // to a part in 10^9 either side of limits from tiny to huge, and the limits a square cannot
+  // hold (subnormal, infinite), zero, negative and NaN.
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double limits[] = {1e-160,
+                           1e-150,
+                           3e-7,
+                           0.0125,
+                           1,
+                           4.5,
+                           1e150,
+                           1e200,
+                           0,
+                           -1,
+                           std::numeric_limits<double>::infinity(),
+                           NAN};
+  const double offsets[] = {0,     1e-17,  -1e-17, 1e-16,  -1e-16, 3e-16, -3e-16, 1e-13, -1e-13,
+                            1e-12, -1e-12, 2e-12,  -2e-12, 1e-9,   -1e-9, 0.5,    -0.5};
+  int checked = 0;
+  for (const double limit : limits)
+    for (const double offset : offsets)
+      for (int k = 0; k < 200; ++k) {
+        Eigen::Vector3d d(unit(random), unit(random), unit(random));
+        const double length = std::isfinite(limit) && limit > 0 ? limit : 1;
+        d *= length * (1 + offset) / d.norm();
+        EXPECT_EQ(internal::longerThan(d, limit), d.norm() > limit)
+            << "limit " << limit << ", length " << d.norm();
+        ++checked;
+      }
+  EXPECT_EQ(internal::longerThan(Eigen::Vector3d(NAN, 0, 0), 1), false);
+  EXPECT_GT(checked, 40000);
 }
 
 TEST(Surface, PinholeViewRayRunsToTheOrigin) {
