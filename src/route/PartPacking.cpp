@@ -4,6 +4,8 @@
 #include <cstring>
 #include <numeric>
 
+#include "ColourPacking.h"
+#include "TrianglePacking.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::internal {
@@ -131,14 +133,14 @@ void packTexels(std::vector<char>& buf, const TexelImage& part) {
   mpi::pack(buf, &part.top, 1);
   packVector(buf, part.left);
   packVector(buf, part.from);
-  packVector(buf, part.cells);
+  packTexelCells(buf, part.cells);
 }
 
 void unpackTexels(const std::vector<char>& buf, size_t& pos, TexelImage& t) {
   mpi::unpack(buf, pos, &t.top, 1);
   unpackVector(buf, pos, t.left);
   unpackVector(buf, pos, t.from);
-  unpackVector(buf, pos, t.cells);
+  unpackTexelCells(buf, pos, t.cells);
 }
 
 }  // namespace
@@ -165,8 +167,9 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
                        : triangleTexels(s.texels, s.blocks, s.triangles, s.texelSide, &triangles);
   const size_t v = used.size(), t = triangles.size();
   const size_t real = scan.compact() ? sizeof(float) : sizeof(double);
-  const size_t bytes = 15 * sizeof(uint64_t) + sizeof(s.texelSide) + sizeof(int32_t) +
-                       sizeof(s.sensor) + v * 7 * real + t * (sizeof(Triangle) + 2 * real) +
+  // About the bytes (at most, unless a triangle's corner needs 32 bits).
+  const size_t bytes = 16 * sizeof(uint64_t) + 3 + sizeof(s.texelSide) + sizeof(int32_t) +
+                       sizeof(s.sensor) + v * 7 * real + t * (3 * sizeof(uint16_t) + 2 * real) +
                        (s.colours.empty() ? 0 : v * sizeof(Colour)) +
                        texels.cells.size() * sizeof(Texel) + size_t(texels.rows()) * 8 + 4 +
                        (s.blocks.empty() ? 0 : v * sizeof(s.blocks[0]));
@@ -176,20 +179,11 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
   packPickedPoints(buf, scan, used);
   packPickedReals(buf, s.normals, used, scan.compact());
   packPickedReals(buf, s.confidence, used, scan.compact());
-  const uint64_t nt = t;
-  mpi::pack(buf, &nt, 1);
-  const size_t at = buf.size();
-  buf.resize(at + t * sizeof(Triangle));
-  char* out = buf.data() + at;
-  for (uint32_t k : triangles) {
-    const Triangle& tri = s.triangles[k];
-    const Triangle local{remap[tri[0]], remap[tri[1]], remap[tri[2]]};
-    std::memcpy(out, &local, sizeof(Triangle)), out += sizeof(Triangle);
-  }
-  packPicked(buf, s.colours, used);
+  packTriangles(buf, s.triangles, triangles, remap);
+  packColours(buf, s.colours, used);
   mpi::pack(buf, &s.texelSide, 1);
   packTexels(buf, texels);
-  packPicked(buf, s.blocks, used);
+  packBlocks(buf, s.blocks, used);
   packPickedReals(buf, scan.limits, triangles, scan.compact());
   mpi::pack(buf, &s.sensor, 1);
   for (uint32_t k : used) remap[k] = -1;
@@ -209,11 +203,11 @@ uint64_t unpackPart(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   unpackPoints(buf, pos, s);
   unpackReals(buf, pos, s.surface.normals, s.compact());
   unpackReals(buf, pos, s.surface.confidence, s.compact());
-  unpackVector(buf, pos, s.surface.triangles);
-  unpackVector(buf, pos, s.surface.colours);
+  unpackTriangles(buf, pos, s.surface.triangles);
+  unpackColours(buf, pos, s.surface.colours);
   mpi::unpack(buf, pos, &s.surface.texelSide, 1);
   unpackTexels(buf, pos, s.surface.texels);
-  unpackVector(buf, pos, s.surface.blocks);
+  unpackBlocks(buf, pos, s.surface.blocks);
   unpackReals(buf, pos, s.limits, s.compact());
   mpi::unpack(buf, pos, &s.surface.sensor, 1);
   return index;
@@ -230,14 +224,14 @@ uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
   skipVector(buf, pos, quantum > 0 ? 3 * sizeof(int32_t) : 3 * sizeof(double));  // points
   skipVector(buf, pos, 3 * real);                                                // normals
   skipVector(buf, pos, real);                                                    // confidences
-  skipVector(buf, pos, sizeof(Triangle));
-  skipVector(buf, pos, sizeof(Colour));
+  skipTriangles(buf, pos);
+  skipColours(buf, pos);
   pos += sizeof(s.texelSide);
   pos += sizeof(int32_t);                  // the texels' first row
   skipVector(buf, pos, sizeof(int32_t));   // each row's first column
   skipVector(buf, pos, sizeof(uint32_t));  // where each row starts
-  skipVector(buf, pos, sizeof(Texel));
-  skipVector(buf, pos, sizeof(s.blocks[0]));
+  skipTexelCells(buf, pos);
+  skipBlocks(buf, pos);
   skipVector(buf, pos, 2 * real);  // limits
   pos += sizeof(s.sensor);
   return index;
