@@ -11,11 +11,12 @@
 #   their reference poses.
 # Each set is also fused with --merge-cells 1.5 (larger triangles: faster, and what it costs
 # is in docs/benchmarks.md, "Held-out frames of a real stream"), beside the same Open3D run.
-# Per run: seconds read to mesh (the mpirun job, best of two), the field line's voxel updates
-# summed over the ranks and their max/mean (balance), ns per voxel update per core (wall x 2
-# cores over updates), the adding, planning and routing seconds per rank, peak memory summed
-# over ranks, and for the rooms accuracy against the true room (mean distance of the mesh to it,
-# and precision at one voxel: the room's truth holds much no frame saw, so recall is left out).
+# Per run: seconds read to mesh (the mpirun job, best of two, taken in turn with Open3D's two),
+# the field line's voxel updates summed over the ranks and their max/mean (balance), ns per
+# voxel update per core (wall x 2 cores over updates), the adding, planning and routing seconds
+# per rank, peak memory summed over ranks, and for the rooms accuracy against the true room
+# (mean distance of the mesh to it, and precision at one voxel: the room's truth holds much no
+# frame saw, so recall is left out).
 # Usage: bash jobs/benchmark_stream_speed.sh [SETS ("room-dev room-judge kitchen")] [BIN]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,20 +26,14 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 voxel=0.01
 
-best() {  # LOG COMMAND... : best of two runs; prints seconds, keeps the faster run's output in LOG
-  local log=$1 seconds= start took
+timed() {  # LOG COMMAND... : runs it once; prints its seconds, its output in LOG
+  local log=$1 start
   shift
-  for run in 1 2; do
-    start=$(date +%s.%N)
-    "$@" >"$log.$run" 2>&1
-    took=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }')
-    if [[ -z $seconds ]] || awk -v a="$took" -v b="$seconds" 'BEGIN { exit !(a < b) }'; then
-      seconds=$took
-      mv "$log.$run" "$log"
-    fi
-  done
-  echo "$seconds"
+  start=$(date +%s.%N)
+  "$@" >"$log" 2>&1
+  awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }'
 }
+faster() { [[ -z $2 ]] || awk -v a="$1" -v b="$2" 'BEGIN { exit !(a < b) }'; }
 # LOG SECONDS -> "updates | max/mean | ns an update a core | adding | planning | routing | MiB"
 field_figures() {
   /usr/bin/python3 - "$1" "$2" <<'EOF'
@@ -62,14 +57,10 @@ import json, sys
 j = json.load(sys.stdin)
 print("%.3f | %.4f" % (j["accuracy"]["mean"] / 0.01, j["precision"]))'
 }
-open3d() {  # FOLDER OUT [rgb] -> "seconds | MiB" (best of two)
-  local a b
-  a=$(/usr/bin/python3 jobs/open3d_sequence.py "$1" "$voxel" "$2" 4 ${3:-} 2>/dev/null | tail -n 1)
-  b=$(/usr/bin/python3 jobs/open3d_sequence.py "$1" "$voxel" "$2" 4 ${3:-} 2>/dev/null | tail -n 1)
-  local sa sb
-  sa=$(echo "$a" | sed 's/.*total \([0-9.]*\) s.*/\1/') sb=$(echo "$b" | sed 's/.*total \([0-9.]*\) s.*/\1/')
-  awk -v a="$sa" -v b="$sb" 'BEGIN { exit !(b < a) }' && a=$b sa=$sb
-  echo "$sa | $(echo "$a" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')"
+open3d() {  # FOLDER OUT [rgb] -> "seconds MiB" of one run
+  local line
+  line=$(/usr/bin/python3 jobs/open3d_sequence.py "$1" "$voxel" "$2" 4 ${3:-} 2>/dev/null | tail -n 1)
+  echo "$(echo "$line" | sed 's/.*total \([0-9.]*\) s.*/\1/') $(echo "$line" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')"
 }
 
 echo "| set | tool | seconds read to mesh | / Open3D | voxel updates | max/mean | ns an update a core | adding (s a rank) | planning | routing | peak MiB, all ranks | mean distance to truth (voxel) | precision |"
@@ -92,15 +83,20 @@ for set in ${1:-room-dev room-judge kitchen}; do
     [[ $colour == rgb ]] && flag=() peer="Open3D RGB8" o3dflag=rgb
     # Larger triangles (docs/benchmarks.md, "Held-out frames"), beside the same Open3D run.
     [[ $colour == merge-1.5 ]] && flag=(--colour none --merge-cells 1.5) name="colour none, --merge-cells 1.5"
-    seconds=$(best "$tmp/log" mpirun -np 2 --bind-to none "$bin" fuse --scans "$dir" \
-      --voxel $voxel "${flag[@]}" --out "$tmp/rf.ply")
-    if [[ $colour == merge-1.5 ]]; then
-      o3d=$o3d_depth
-    else
-      o3d=$(open3d "$dir" "$tmp/o3d.ply" $o3dflag)
-    fi
-    [[ $colour == none ]] && o3d_depth=$o3d
-    o3ds=${o3d%% |*}
+    # Each tool's better of two runs, taken in turn (ours, Open3D, ours, Open3D): both see the
+    # machine as it is in the same minutes.
+    seconds=
+    [[ $colour == merge-1.5 ]] || o3ds= o3dmib=
+    for run in 1 2; do
+      took=$(timed "$tmp/log.run" mpirun -np 2 --bind-to none "$bin" fuse --scans "$dir" \
+        --voxel $voxel "${flag[@]}" --out "$tmp/rf.ply")
+      faster "$took" "$seconds" && seconds=$took && mv "$tmp/log.run" "$tmp/log"
+      [[ $colour == merge-1.5 ]] && continue
+      read -r took mib < <(open3d "$dir" "$tmp/o3d.ply" $o3dflag)
+      faster "$took" "$o3ds" && o3ds=$took o3dmib=$mib
+    done
+    [[ $colour == none ]] && o3d_depth="$o3ds $o3dmib"
+    [[ $colour == merge-1.5 ]] && read -r o3ds o3dmib <<<"$o3d_depth"
     ratio=$(awk -v a="$seconds" -v b="$o3ds" 'BEGIN { printf "%.2f", a / b }')
     acc="- | -" o3dacc="- | -"
     if [[ $set == room-* ]]; then
@@ -108,7 +104,7 @@ for set in ${1:-room-dev room-judge kitchen}; do
       [[ $colour == merge-1.5 ]] || o3dacc=$(accuracy "$tmp/o3d.ply" "$dir/truth.ply")
     fi
     echo "| $set | rangefuse prism, 2 ranks, $name | $seconds | $ratio | $(field_figures "$tmp/log" "$seconds") | $acc |"
-    [[ $colour == merge-1.5 ]] || echo "| $set | $peer | $o3ds | 1 | | | | | | | ${o3d##*| } | $o3dacc |"
+    [[ $colour == merge-1.5 ]] || echo "| $set | $peer | $o3ds | 1 | | | | | | | $o3dmib | $o3dacc |"
   done
   if [[ $set == room-* ]]; then
     stream=$tmp/$set-stream
