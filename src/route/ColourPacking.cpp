@@ -54,6 +54,13 @@ bool isNarrowTexel(const Texel& t) {
   return t[3] == 255 || (t[0] | t[1] | t[2] | t[3]) == 0;
 }
 
+/// Whether the eight texels from t on are all sampled.
+bool allSampled(const Texel* t) {
+  uint8_t alpha = 255;
+  for (int b = 0; b < 8; ++b) alpha &= t[b][3];
+  return alpha == 255;
+}
+
 /// Bytes of the mask of n texels, a bit each.
 size_t maskBytes(uint64_t n) {
   return size_t((n + 7) / 8);
@@ -68,17 +75,8 @@ size_t sampledIn(const char* mask, uint64_t n) {
 
 }  // namespace
 
-const std::array<float, 256>& byteChannels() {
-  static const std::array<float, 256> channel = [] {
-    std::array<float, 256> c;
-    for (int b = 0; b < 256; ++b) c[size_t(b)] = colourOf({uint8_t(b), 0, 0, 255})[0];
-    return c;
-  }();
-  return channel;
-}
-
 bool byteColour(const Colour& c, uint8_t bytes[3]) {
-  const std::array<float, 256>& channel = byteChannels();
+  const std::array<float, 256>& channel = kByteChannels;
   for (int k = 0; k < 3; ++k) {
     if (!(c[k] >= 0 && c[k] <= 1)) return false;  // NaN too
     // The nearest byte, or one that fails the test below: the test is what keeps it exact.
@@ -106,7 +104,7 @@ void unpackColours(const std::vector<char>& buf, size_t& pos, std::vector<Colour
   const auto [form, n] = unpackHead(buf, pos);
   v.resize(n);
   if (form == Form::asIs) return unpackAsIs(buf, pos, v);
-  const std::array<float, 256>& channel = byteChannels();
+  const std::array<float, 256>& channel = kByteChannels;
   const auto* in = reinterpret_cast<const uint8_t*>(buf.data() + pos);
   for (Colour& c : v) c = {channel[in[0]], channel[in[1]], channel[in[2]]}, in += 3;
   pos += 3 * n;
@@ -164,6 +162,14 @@ void packTexelCells(std::vector<char>& buf, const std::vector<Texel>& v) {
   uint8_t* out = mask + maskBytes(n);
   const Texel* in = v.data();  // pointers of its own: stores through `out` alias nothing
   for (size_t k = 0; k < n; k += 8) {
+    if (k + 8 <= n && allSampled(in + k)) {  // most often: eight texels' 3 bytes in a row
+      // 4 bytes a texel: the next one overwrites the alpha each leaves.
+      for (size_t b = 0; b < 7; ++b) std::memcpy(out + 3 * b, in[k + b].data(), 4);
+      std::memcpy(out + 21, in[k + 7].data(), 3);
+      out += 24;
+      mask[k / 8] = 0xff;
+      continue;
+    }
     uint8_t bits = 0;
     for (size_t b = 0; b < std::min<size_t>(8, n - k); ++b)
       if (const Texel& t = in[k + b]; t[3] != 0) {
@@ -183,8 +189,14 @@ void unpackTexelCells(const std::vector<char>& buf, size_t& pos, std::vector<Tex
   Texel* out = v.data();
   for (size_t k = 0; k < n; k += 8) {
     const uint8_t bits = mask[k / 8];
-    if (bits == 0xff && k + 8 <= n) {  // most often: eight sampled texels, without a branch
-      for (size_t b = 0; b < 8; ++b) out[k + b] = {in[3 * b], in[3 * b + 1], in[3 * b + 2], 255};
+    if (bits == 0xff && k + 8 <= n) {   // most often: eight sampled texels, without a branch
+      for (size_t b = 0; b < 7; ++b) {  // 4 bytes read, the fourth the next texel's
+        Texel t;
+        std::memcpy(t.data(), in + 3 * b, 4);
+        t[3] = 255;
+        out[k + b] = t;
+      }
+      out[k + 7] = {in[21], in[22], in[23], 255};
       in += 24;
       continue;
     }

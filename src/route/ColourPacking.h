@@ -14,9 +14,6 @@ namespace rangefuse::internal {
 /// or narrow when every element allows it. Unpacking gives back the same bits either way.
 enum class Form : uint8_t { asIs = 0, narrow = 1 };
 
-/// colourOf's channel for each byte value, bit for bit.
-const std::array<float, 256>& byteChannels();
-
 /// Whether c is colourOf of a texel, bit for bit: then `bytes` gets the texel's three channels.
 bool byteColour(const Colour& c, uint8_t bytes[3]);
 

@@ -34,14 +34,19 @@ ColourTriangle colourTriangle(const ScanSurface& s, const Triangle& t) {
 
 namespace {
 
+/// std::floor of a finite v within the range of long, inline: this runs once a voxel sample,
+/// and std::floor (as lround) is a library call on the baseline x86-64.
+long floorOf(double v) {
+  const long t = static_cast<long>(v);  // toward zero
+  return t - (v < static_cast<double>(t));
+}
+
 /// The texel of the original cell nearest the barycentric point, or null where it has none
 /// (the cell held no sample, or rounding reached a block beyond the triangle's corners).
 const Texel* nearestTexel(const ColourTriangle& c, const Eigen::Vector3d& bary) {
   const double row = bary[0] * c.row[0] + bary[1] * c.row[1] + bary[2] * c.row[2];
   const double col = bary[0] * c.col[0] + bary[1] * c.col[1] + bary[2] * c.col[2];
-  // floor, not lround: this runs once a voxel sample, and lround is a library call.
-  const long r = static_cast<long>(std::floor(row + 0.5));
-  const long q = static_cast<long>(std::floor(col + 0.5));
+  const long r = floorOf(row + 0.5), q = floorOf(col + 0.5);
   if (r < c.top || r >= c.bottom || q < c.left || q >= c.right) return nullptr;
   return c.surface->texels.at(r, q);
 }

@@ -18,10 +18,21 @@ enum class ColourKind : uint8_t { none, rgb, intensity };
 /// One sample's colour, each channel in [0, 1].
 using Colour = Eigen::Vector3f;
 
-/// A channel in [0, 1] as the byte files store (clamped, rounded to the nearest of 0..255).
+/// A channel in [0, 1] as the byte files store (clamped, rounded to the nearest of 0..255,
+/// halves up; NaN gives 0).
 inline uint8_t colourByte(float channel) {
-  return static_cast<uint8_t>(std::lround(std::clamp(channel, 0.0f, 1.0f) * 255));
+  const float c = channel > 0 ? (channel < 1 ? channel : 1.0f) : 0.0f;
+  // In double, c * 255 + 0.5 is exact: truncating it is lround's answer, without a call.
+  return static_cast<uint8_t>(static_cast<int>(static_cast<double>(c * 255) + 0.5));
 }
+
+/// The channel of each byte value, b / 255 as a float division rounds it (a look-up where
+/// colours are made per voxel sample).
+inline constexpr std::array<float, 256> kByteChannels = [] {
+  std::array<float, 256> c{};
+  for (int b = 0; b < 256; ++b) c[size_t(b)] = static_cast<float>(b) / 255.0f;
+  return c;
+}();
 
 /// One cell of a scan's original colour grid in 8 bits a channel; alpha 0 where the cell has no
 /// sample of the surface (4 bytes: a quarter of a Colour).
@@ -31,7 +42,7 @@ inline Texel texelOf(const Colour& c) {
   return {colourByte(c[0]), colourByte(c[1]), colourByte(c[2]), 255};
 }
 inline Colour colourOf(const Texel& t) {
-  return Colour(t[0], t[1], t[2]) / 255;
+  return Colour(kByteChannels[t[0]], kByteChannels[t[1]], kByteChannels[t[2]]);
 }
 
 /// "none", "rgb" or "intensity".
