@@ -149,16 +149,12 @@ void skipBlocks(const std::vector<char>& buf, size_t& pos) {
 }
 
 void packTexelCells(std::vector<char>& buf, const std::vector<Texel>& v) {
-  bool narrow = true;
-  size_t sampled = 0;
-  for (const Texel& t : v) {
-    if (!(narrow = isNarrowTexel(t))) break;
-    sampled += t[3] != 0;
-  }
   const uint64_t n = v.size();
-  if (!packHead(buf, narrow ? Form::narrow : Form::asIs, n)) return;
-  if (!narrow) return mpi::pack(buf, v.data(), n);
-  auto* mask = reinterpret_cast<uint8_t*>(grow(buf, maskBytes(n) + 3 * sampled));
+  const size_t head = buf.size();
+  if (!packHead(buf, Form::narrow, n)) return;
+  // Written at once, as if every texel were narrow, and cut to the bytes used.
+  const size_t at = buf.size();
+  auto* mask = reinterpret_cast<uint8_t*>(grow(buf, maskBytes(n) + 3 * n));
   uint8_t* out = mask + maskBytes(n);
   const Texel* in = v.data();  // pointers of its own: stores through `out` alias nothing
   for (size_t k = 0; k < n; k += 8) {
@@ -171,13 +167,20 @@ void packTexelCells(std::vector<char>& buf, const std::vector<Texel>& v) {
       continue;
     }
     uint8_t bits = 0;
-    for (size_t b = 0; b < std::min<size_t>(8, n - k); ++b)
-      if (const Texel& t = in[k + b]; t[3] != 0) {
+    for (size_t b = 0; b < std::min<size_t>(8, n - k); ++b) {
+      const Texel& t = in[k + b];
+      if (t[3] == 255) {
         bits = uint8_t(bits | 1 << b);
         out[0] = t[0], out[1] = t[1], out[2] = t[2], out += 3;
+      } else if (!isNarrowTexel(t)) {  // neither sampled nor blank: all go as they are
+        buf.resize(head);
+        packHead(buf, Form::asIs, n);
+        return mpi::pack(buf, v.data(), n);
       }
+    }
     mask[k / 8] = bits;
   }
+  buf.resize(at + size_t(out - mask));
 }
 
 void unpackTexelCells(const std::vector<char>& buf, size_t& pos, std::vector<Texel>& v) {

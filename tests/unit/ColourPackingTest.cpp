@@ -151,7 +151,7 @@ TEST(ColourPacking, TexelsTakeABitAndThreeBytesEachSampledOne) {
     for (const Texel odd : {Texel{}, Texel{1, 2, 3, 7}, Texel{0, 0, 1, 0}}) {
       std::vector<Texel> w = v;
       const bool asIs = odd != Texel{};
-      if (asIs) w.push_back(odd);
+      if (asIs) w.insert(w.begin() + long(w.size() / 2), odd);  // amid sampled ones, too
       std::vector<char> buf;
       packTexelCells(buf, w);
       EXPECT_EQ(buf.size(), kHead + (asIs ? w.size() * sizeof(Texel) : (n + 7) / 8 + 3 * sampled));
