@@ -95,7 +95,8 @@ def summary(out):
             if not r["tool"].startswith("rangefuse prism"):
                 continue
             ours, times = number(r.get("seconds read to mesh")), number(r.get("/ Open3D"))
-            rows.append(("seconds read to mesh, ScalableTSDFVolume beside",
+            peer = "Open3D RGB8" if "colour rgb" in r["tool"] else "ScalableTSDFVolume"
+            rows.append(("seconds read to mesh, %s beside" % peer,
                          "%s, %s" % (r["set"], r["tool"][len("rangefuse prism, "):]),
                          show(ours), show(ours / times if ours and times else None),
                          show(times)))
