@@ -8,6 +8,7 @@
 #include <numeric>
 #include <random>
 
+#include "../common/PackedRoundTrip.h"
 #include "route/ColourPacking.h"
 
 using namespace rangefuse;
@@ -34,13 +35,7 @@ std::vector<Colour> roundTrip(const std::vector<Colour>& v, const std::vector<ui
   std::vector<char> buf(5, 'x');
   packColours(buf, v, pick);
   bytes = buf.size() - 5;
-  size_t pos = 5, skipped = 5;
-  std::vector<Colour> back;
-  unpackColours(buf, pos, back);
-  skipColours(buf, skipped);
-  EXPECT_EQ(pos, buf.size());
-  EXPECT_EQ(skipped, buf.size());
-  return back;
+  return test::unpackedFrom<Colour>(buf, 5, unpackColours, skipColours);
 }
 
 /// Every byte colour, channels in turn.
@@ -126,13 +121,7 @@ TEST(ColourPacking, BlocksWithinSixteenBitsTakeFourBytes) {
       std::vector<char> buf;
       packBlocks(buf, v, allOf(v.size()));
       EXPECT_EQ(buf.size(), kHead + v.size() * (withOdd ? 8 : 4));
-      size_t pos = 0, skipped = 0;
-      std::vector<Block> back;
-      unpackBlocks(buf, pos, back);
-      skipBlocks(buf, skipped);
-      EXPECT_EQ(back, v);
-      EXPECT_EQ(pos, buf.size());
-      EXPECT_EQ(skipped, buf.size());
+      EXPECT_EQ(test::unpackedFrom<Block>(buf, 0, unpackBlocks, skipBlocks), v);
     }
   }
 }
@@ -155,13 +144,7 @@ TEST(ColourPacking, TexelsTakeABitAndThreeBytesEachSampledOne) {
       std::vector<char> buf;
       packTexelCells(buf, w);
       EXPECT_EQ(buf.size(), kHead + (asIs ? w.size() * sizeof(Texel) : (n + 7) / 8 + 3 * sampled));
-      size_t pos = 0, skipped = 0;
-      std::vector<Texel> back;
-      unpackTexelCells(buf, pos, back);
-      skipTexelCells(buf, skipped);
-      EXPECT_EQ(back, w) << n;
-      EXPECT_EQ(pos, buf.size());
-      EXPECT_EQ(skipped, buf.size());
+      EXPECT_EQ(test::unpackedFrom<Texel>(buf, 0, unpackTexelCells, skipTexelCells), w) << n;
     }
   }
 }

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <random>
 
+#include "../common/PackedRoundTrip.h"
 #include "route/PartPacking.h"
 #include "route/TrianglePacking.h"
 
@@ -53,13 +54,7 @@ size_t packedBytes(const std::vector<Triangle>& t, const std::vector<uint32_t>& 
                    const std::vector<int32_t>& remap, const std::vector<Triangle>& expected) {
   std::vector<char> buf(3, 'x');
   packTriangles(buf, t, pick, remap);
-  size_t pos = 3, skipped = 3;
-  std::vector<Triangle> back;
-  unpackTriangles(buf, pos, back);
-  skipTriangles(buf, skipped);
-  EXPECT_EQ(back, expected);
-  EXPECT_EQ(pos, buf.size());
-  EXPECT_EQ(skipped, buf.size());
+  EXPECT_EQ(test::unpackedFrom<Triangle>(buf, 3, unpackTriangles, skipTriangles), expected);
   return buf.size() - 3;
 }
 
