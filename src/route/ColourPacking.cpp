@@ -1,9 +1,9 @@
 #include "ColourPacking.h"
 
-#include <bitset>
 #include <cstring>
 #include <limits>
 
+#include "BitMask.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::internal {
@@ -59,18 +59,6 @@ bool allSampled(const Texel* t) {
   uint8_t alpha = 255;
   for (int b = 0; b < 8; ++b) alpha &= t[b][3];
   return alpha == 255;
-}
-
-/// Bytes of the mask of n texels, a bit each.
-size_t maskBytes(uint64_t n) {
-  return size_t((n + 7) / 8);
-}
-
-/// Sampled texels in a mask of n bits.
-size_t sampledIn(const char* mask, uint64_t n) {
-  size_t count = 0;
-  for (size_t k = 0; k < maskBytes(n); ++k) count += std::bitset<8>(uint8_t(mask[k])).count();
-  return count;
 }
 
 }  // namespace
@@ -204,15 +192,14 @@ void unpackTexelCells(const std::vector<char>& buf, size_t& pos, std::vector<Tex
       continue;
     }
     for (size_t b = 0; b < std::min<size_t>(8, n - k); ++b)
-      if (bits >> b & 1) out[k + b] = {in[0], in[1], in[2], 255}, in += 3;
+      if (bits >> b & 1) out[k + b] = {in[0], in[1], in[2], 255}, in += 3;  // bitAt's order
   }
   pos = size_t(reinterpret_cast<const char*>(in) - buf.data());
 }
 
 void skipTexelCells(const std::vector<char>& buf, size_t& pos) {
   const auto [form, n] = unpackHead(buf, pos);
-  pos +=
-      form == Form::narrow ? maskBytes(n) + 3 * sampledIn(buf.data() + pos, n) : n * sizeof(Texel);
+  pos += form == Form::narrow ? maskBytes(n) + 3 * setBits(buf.data() + pos, n) : n * sizeof(Texel);
 }
 
 }  // namespace rangefuse::internal

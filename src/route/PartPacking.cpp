@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "ColourPacking.h"
+#include "LimitPacking.h"
 #include "TrianglePacking.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -167,10 +168,11 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
                        : triangleTexels(s.texels, s.blocks, s.triangles, s.texelSide, &triangles);
   const size_t v = used.size(), t = triangles.size();
   const size_t real = scan.compact() ? sizeof(float) : sizeof(double);
-  // About the bytes (at most, unless a triangle's corner needs 32 bits).
+  // About the bytes: at most, unless a corner needs 32 bits or more than one prism in 16
+  // has a truncated limit.
   const size_t bytes = 16 * sizeof(uint64_t) + 3 + sizeof(s.texelSide) + sizeof(int32_t) +
-                       sizeof(s.sensor) + v * 7 * real + t * (3 * sizeof(uint16_t) + 2 * real) +
-                       (s.colours.empty() ? 0 : v * sizeof(Colour)) +
+                       sizeof(s.sensor) + v * 7 * real + t * 3 * sizeof(uint16_t) + 2 * real +
+                       t / 4 + t * 2 * real / 16 + (s.colours.empty() ? 0 : v * sizeof(Colour)) +
                        texels.cells.size() * sizeof(Texel) + size_t(texels.rows()) * 8 + 4 +
                        (s.blocks.empty() ? 0 : v * sizeof(s.blocks[0]));
   buf.reserve(buf.size() + bytes);
@@ -184,7 +186,7 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
   mpi::pack(buf, &s.texelSide, 1);
   packTexels(buf, texels);
   packBlocks(buf, s.blocks, used);
-  packPickedReals(buf, scan.limits, triangles, scan.compact());
+  packLimits(buf, scan.limits, triangles, scan.compact());
   mpi::pack(buf, &s.sensor, 1);
   for (uint32_t k : used) remap[k] = -1;
 }
@@ -208,7 +210,7 @@ uint64_t unpackPart(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   mpi::unpack(buf, pos, &s.surface.texelSide, 1);
   unpackTexels(buf, pos, s.surface.texels);
   unpackBlocks(buf, pos, s.surface.blocks);
-  unpackReals(buf, pos, s.limits, s.compact());
+  unpackLimits(buf, pos, s.limits, s.compact());
   mpi::unpack(buf, pos, &s.surface.sensor, 1);
   return index;
 }
@@ -232,7 +234,7 @@ uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
   skipVector(buf, pos, sizeof(uint32_t));  // where each row starts
   skipTexelCells(buf, pos);
   skipBlocks(buf, pos);
-  skipVector(buf, pos, 2 * real);  // limits
+  skipLimits(buf, pos, quantum > 0);
   pos += sizeof(s.sensor);
   return index;
 }
