@@ -25,7 +25,9 @@ std::vector<uint32_t> allOf(size_t n) {
 }
 
 bool sameBits(const std::vector<Colour>& a, const std::vector<Colour>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Colour)) == 0;
+  // memcmp wants pointers even for no bytes, and an empty vector may have none.
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Colour)) == 0);
 }
 
 /// Packs the picked colours after a marker, unpacks them, and checks that skipping lands where

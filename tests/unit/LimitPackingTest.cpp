@@ -38,7 +38,9 @@ Limits picked(const Limits& limits, const std::vector<uint32_t>& pick, bool sing
 }
 
 bool sameBits(const Limits& a, const Limits& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+  // memcmp wants pointers even for no bytes, and an empty vector may have none.
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
 }
 
 /// Packs after a marker and reads back; gives the bytes the limits took.
