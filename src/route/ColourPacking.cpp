@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "BitMask.h"
+#include "PickedBytes.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::internal {
@@ -22,27 +23,6 @@ std::pair<Form, uint64_t> unpackHead(const std::vector<char>& buf, size_t& pos) 
   mpi::unpack(buf, pos, &form, 1);
   mpi::unpack(buf, pos, &n, 1);
   return {form, n};
-}
-
-/// Grows buf by `bytes` and gives where they start.
-char* grow(std::vector<char>& buf, size_t bytes) {
-  const size_t at = buf.size();
-  buf.resize(at + bytes);
-  return buf.data() + at;
-}
-
-/// Appends the listed elements as they are.
-template <class T>
-void packAsIs(std::vector<char>& buf, const std::vector<T>& v, const std::vector<uint32_t>& pick) {
-  char* out = grow(buf, pick.size() * sizeof(T));
-  for (uint32_t i : pick) std::memcpy(out, &v[i], sizeof(T)), out += sizeof(T);
-}
-
-template <class T>
-void unpackAsIs(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) {
-  if (v.empty()) return;  // memcpy of nothing still wants a pointer
-  std::memcpy(static_cast<void*>(v.data()), buf.data() + pos, v.size() * sizeof(T));
-  pos += v.size() * sizeof(T);
 }
 
 bool isNarrowBlock(const std::array<int32_t, 2>& b) {
@@ -84,14 +64,14 @@ void packColours(std::vector<char>& buf, const std::vector<Colour>& v,
     if (!byteColour(v[pick[k]], reinterpret_cast<uint8_t*>(out))) {
       buf.resize(head);  // one is not a byte colour: all go as they are
       packHead(buf, Form::asIs, n);
-      return packAsIs(buf, v, pick);
+      return appendPicked(buf, v, pick);
     }
 }
 
 void unpackColours(const std::vector<char>& buf, size_t& pos, std::vector<Colour>& v) {
   const auto [form, n] = unpackHead(buf, pos);
   v.resize(n);
-  if (form == Form::asIs) return unpackAsIs(buf, pos, v);
+  if (form == Form::asIs) return mpi::unpack(buf, pos, v.data(), n);
   const std::array<float, 256>& channel = kByteChannels;
   const auto* in = reinterpret_cast<const uint8_t*>(buf.data() + pos);
   for (Colour& c : v) c = {channel[in[0]], channel[in[1]], channel[in[2]]}, in += 3;
@@ -109,7 +89,7 @@ void packBlocks(std::vector<char>& buf, const std::vector<std::array<int32_t, 2>
   bool narrow = true;
   for (size_t k = 0; k < n && narrow; ++k) narrow = isNarrowBlock(v[pick[k]]);
   if (!packHead(buf, narrow ? Form::narrow : Form::asIs, n)) return;
-  if (!narrow) return packAsIs(buf, v, pick);
+  if (!narrow) return appendPicked(buf, v, pick);
   char* out = grow(buf, n * 2 * sizeof(uint16_t));
   for (uint32_t i : pick) {
     const uint16_t b[2] = {uint16_t(v[i][0]), uint16_t(v[i][1])};
@@ -121,7 +101,7 @@ void unpackBlocks(const std::vector<char>& buf, size_t& pos,
                   std::vector<std::array<int32_t, 2>>& v) {
   const auto [form, n] = unpackHead(buf, pos);
   v.resize(n);
-  if (form == Form::asIs) return unpackAsIs(buf, pos, v);
+  if (form == Form::asIs) return mpi::unpack(buf, pos, v.data(), n);
   const char* in = buf.data() + pos;
   for (auto& block : v) {
     uint16_t b[2];
@@ -174,12 +154,12 @@ void packTexelCells(std::vector<char>& buf, const std::vector<Texel>& v) {
 void unpackTexelCells(const std::vector<char>& buf, size_t& pos, std::vector<Texel>& v) {
   const auto [form, n] = unpackHead(buf, pos);
   v.assign(n, Texel{0, 0, 0, 0});  // blank unless the mask says sampled
-  if (form == Form::asIs) return unpackAsIs(buf, pos, v);
-  const auto* mask = reinterpret_cast<const uint8_t*>(buf.data() + pos);
-  const uint8_t* in = mask + maskBytes(n);
+  if (form == Form::asIs) return mpi::unpack(buf, pos, v.data(), n);
+  const char* mask = buf.data() + pos;
+  const auto* in = reinterpret_cast<const uint8_t*>(mask + maskBytes(n));
   Texel* out = v.data();
   for (size_t k = 0; k < n; k += 8) {
-    const uint8_t bits = mask[k / 8];
+    const auto bits = uint8_t(mask[k / 8]);
     if (bits == 0xff && k + 8 <= n) {   // most often: eight sampled texels, without a branch
       for (size_t b = 0; b < 7; ++b) {  // 4 bytes read, the fourth the next texel's
         Texel t;
@@ -192,7 +172,7 @@ void unpackTexelCells(const std::vector<char>& buf, size_t& pos, std::vector<Tex
       continue;
     }
     for (size_t b = 0; b < std::min<size_t>(8, n - k); ++b)
-      if (bits >> b & 1) out[k + b] = {in[0], in[1], in[2], 255}, in += 3;  // bitAt's order
+      if (bitAt(mask, k + b)) out[k + b] = {in[0], in[1], in[2], 255}, in += 3;
   }
   pos = size_t(reinterpret_cast<const char*>(in) - buf.data());
 }

@@ -6,6 +6,7 @@
 
 #include "ColourPacking.h"
 #include "LimitPacking.h"
+#include "PickedBytes.h"
 #include "TrianglePacking.h"
 #include "rangefuse/parallel/Mpi.h"
 
@@ -25,12 +26,7 @@ void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vect
                 size_t per = 1) {
   const uint64_t n = v.empty() ? 0 : pick.size() * per;
   mpi::pack(buf, &n, 1);
-  if (n == 0) return;
-  // Grown once and written in place: an insert a value costs more than the copy.
-  const size_t at = buf.size(), bytes = per * sizeof(T);
-  buf.resize(at + n * sizeof(T));
-  char* out = buf.data() + at;
-  for (uint32_t i : pick) std::memcpy(out, v.data() + size_t(i) * per, bytes), out += bytes;
+  if (n > 0) appendPicked(buf, v, pick, per);
 }
 
 /// packPicked for reals, as floats when `single` (the values are floats' already).
@@ -42,9 +38,7 @@ void packPickedReals(std::vector<char>& buf, const std::vector<T>& v,
   const uint64_t n = v.empty() ? 0 : pick.size();
   mpi::pack(buf, &n, 1);
   if (n == 0) return;
-  const size_t at = buf.size();
-  buf.resize(at + n * per * sizeof(float));
-  char* out = buf.data() + at;
+  char* out = grow(buf, n * per * sizeof(float));
   const double* in = reinterpret_cast<const double*>(v.data());
   for (uint32_t i : pick)
     for (size_t c = 0; c < per; ++c) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "PickedBytes.h"
 #include "rangefuse/parallel/Mpi.h"
 
 namespace rangefuse::internal {
@@ -19,9 +20,7 @@ void packTriangles(std::vector<char>& buf, const std::vector<Triangle>& triangle
   const size_t head = buf.size();
   uint64_t bytes = 0;
   mpi::pack(buf, &bytes, 1);
-  // Grown for the 16-bit steps at once; an escape grows it further.
-  buf.resize(buf.size() + n * 3 * sizeof(uint16_t));
-  char* out = buf.data() + head + sizeof bytes;
+  char* out = grow(buf, n * 3 * sizeof(uint16_t));  // the steps; an escape grows it further
   int64_t next = 0;
   for (uint32_t k : pick)
     for (const int32_t v : triangles[k]) {
@@ -34,7 +33,7 @@ void packTriangles(std::vector<char>& buf, const std::vector<Triangle>& triangle
         continue;
       }
       const size_t at = size_t(out - buf.data());
-      buf.resize(buf.size() + sizeof corner);
+      grow(buf, sizeof corner);
       out = buf.data() + at;
       std::memcpy(out, &kEscape, sizeof kEscape), out += sizeof kEscape;
       std::memcpy(out, &corner, sizeof corner), out += sizeof corner;
