@@ -91,15 +91,24 @@ def summary(out):
                 rows.append(("voxel updates max/mean, tracked real Kinect, 2 ranks",
                              "7-Scenes kitchen, %s" % r["set"], show(a, 3), "", ""))
     for table in tables(os.path.join(out, "benchmark_stream_speed.md"))[:1]:
+        memory = []
         for r in table:
             if not r["tool"].startswith("rangefuse prism"):
                 continue
-            ours, times = number(r.get("seconds read to mesh")), number(r.get("/ Open3D"))
-            peer = "Open3D RGB8" if "colour rgb" in r["tool"] else "ScalableTSDFVolume"
-            rows.append(("seconds read to mesh, %s beside" % peer,
-                         "%s, %s" % (r["set"], r["tool"][len("rangefuse prism, "):]),
-                         show(ours), show(ours / times if ours and times else None),
-                         show(times)))
+            name = "Open3D RGB8" if "colour rgb" in r["tool"] else "Open3D ScalableTSDFVolume"
+            peer = next((p for p in table if p["set"] == r["set"] and p["tool"] == name), {})
+            label = name.replace("Open3D ScalableTSDFVolume", "ScalableTSDFVolume")
+            what = "%s, %s" % (r["set"], r["tool"][len("rangefuse prism, "):])
+            ours = number(r.get("seconds read to mesh"))
+            theirs = number(peer.get("seconds read to mesh"))
+            rows.append(("seconds read to mesh, %s beside" % label, what, show(ours),
+                         show(theirs), ratio(ours, theirs)))
+            if "--merge-cells" not in r["tool"]:
+                ours = number(r.get("peak MiB, all ranks"))
+                theirs = number(peer.get("peak MiB, all ranks"))
+                memory.append(("peak memory (MiB, all ranks), %s beside" % label, what,
+                               show(ours, 0), show(theirs, 0), ratio(ours, theirs)))
+        rows.extend(memory)
     for table in tables(os.path.join(out, "benchmark_heldout.md"))[:1]:
         for name in dict.fromkeys(r["set"] for r in table):
             mine = [r for r in table if r["set"] == name]
