@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rangefuse/core/Rounding.h"
 #include "rangefuse/surface/ScanSurface.h"
 
 namespace rangefuse {
@@ -34,19 +35,12 @@ ColourTriangle colourTriangle(const ScanSurface& s, const Triangle& t) {
 
 namespace {
 
-/// std::floor of a finite v within the range of long, inline: this runs once a voxel sample,
-/// and std::floor (as lround) is a library call on the baseline x86-64.
-long floorOf(double v) {
-  const long t = static_cast<long>(v);  // toward zero
-  return t - (v < static_cast<double>(t));
-}
-
 /// The texel of the original cell nearest the barycentric point, or null where it has none
 /// (the cell held no sample, or rounding reached a block beyond the triangle's corners).
 const Texel* nearestTexel(const ColourTriangle& c, const Eigen::Vector3d& bary) {
   const double row = bary[0] * c.row[0] + bary[1] * c.row[1] + bary[2] * c.row[2];
   const double col = bary[0] * c.col[0] + bary[1] * c.col[1] + bary[2] * c.col[2];
-  const long r = floorOf(row + 0.5), q = floorOf(col + 0.5);
+  const long r = floorToInt(row + 0.5), q = floorToInt(col + 0.5);  // once a voxel sample
   if (r < c.top || r >= c.bottom || q < c.left || q >= c.right) return nullptr;
   return c.surface->texels.at(r, q);
 }

@@ -5,21 +5,11 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "rangefuse/core/Rounding.h"
+
 namespace rangefuse {
 
 using VoxelIndex = Eigen::Vector3i;
-
-/// std::ceil and std::floor to an int, exactly, for values in int's range: through the int
-/// conversion, which x86-64 without SSE4.1 makes far cheaper than the rounding itself (boxes
-/// are rounded for every prism, spans for every row).
-inline int ceilToInt(double x) {
-  const int t = static_cast<int>(x);
-  return t + (t < x);
-}
-inline int floorToInt(double x) {
-  const int t = static_cast<int>(x);
-  return t - (t > x);
-}
 
 struct VoxelGrid {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
