@@ -9,6 +9,7 @@ namespace rangefuse::mpi {
 namespace {
 
 constexpr int kChunkTag = 7101;
+constexpr int kPassTag = 7102;
 
 /// Sends `sendCount` bytes to `to` while receiving `recvCount` bytes from `from`, in messages
 /// of at most chunkBytes() each, so that no MPI count ever passes INT_MAX. The two directions
@@ -155,6 +156,15 @@ std::map<size_t, std::string> gatherIndexed(const std::map<size_t, std::string>&
       pos += head[1];
     }
   return all;
+}
+
+void passAlong(void* value, size_t bytes, const std::function<void()>& fold, MPI_Comm comm) {
+  const int me = rank(comm), n = size(comm);
+  const int count = static_cast<int>(bytes);
+  if (me > 0) MPI_Recv(value, count, MPI_BYTE, me - 1, kPassTag, comm, MPI_STATUS_IGNORE);
+  fold();
+  if (me + 1 < n) MPI_Send(value, count, MPI_BYTE, me + 1, kPassTag, comm);
+  MPI_Bcast(value, count, MPI_BYTE, n - 1, comm);
 }
 
 std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm) {

@@ -120,13 +120,9 @@ std::vector<uint64_t> brickDigests(const float* sums, size_t bricks, size_t perB
 /// Collective: the checksum of every rank's bytes joined in rank order, on every rank: each
 /// rank folds its own into the sum of those before it and passes it on.
 uint64_t chainedDigest(const void* data, size_t bytes, MPI_Comm comm) {
-  const int me = mpi::rank(comm), n = mpi::size(comm);
-  constexpr int kTag = 7301;
   uint64_t h = kFnvOffset;
-  if (me > 0) MPI_Recv(&h, 1, MPI_UINT64_T, me - 1, kTag, comm, MPI_STATUS_IGNORE);
-  h = fnv1a64(data, bytes, h);
-  if (me + 1 < n) MPI_Send(&h, 1, MPI_UINT64_T, me + 1, kTag, comm);
-  MPI_Bcast(&h, 1, MPI_UINT64_T, n - 1, comm);
+  mpi::passAlong(
+      &h, sizeof h, [&] { h = fnv1a64(data, bytes, h); }, comm);
   return h;
 }
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <stdexcept>
 
 #include "rangefuse/parallel/Mpi.h"
 
@@ -106,10 +106,22 @@ bool correspondence(const BrickStore& store, const Eigen::Vector3d& p, const Eig
 
 namespace {
 
+/// The total of the bricks' sums so far, passed from rank to rank, with the last brick's code.
+template <class Sums>
+struct RunningTotal {
+  Sums total;
+  uint64_t last = 0;
+  uint64_t any = 0;      ///< 1 once a brick was added
+  uint64_t inOrder = 1;  ///< 0 if a rank's bricks did not all follow the ranks' before it
+};
+
 /// Collective: the per-brick sums of every rank (`used` marks those this rank made), added in
-/// the bricks' code order (a growing store's local order is not), so that every rank gets the same
-/// bits whatever the rank count. A tracked frame's fits call this several times a frame, so the
-/// ranks' parts are summed as they come, in order, with no map of every brick's sums.
+/// the bricks' code order (a growing store's local order is not), so that every rank gets the
+/// same bits whatever the rank count. A store holds its owner's run of the layout's sorted
+/// codes, so code order is rank order: the total is passed from rank to rank, each adding its
+/// own bricks in order. A tracked frame's fits call this several times a frame, and gathering
+/// every rank's bricks' sums instead (about 2,000 bricks of 376 bytes a rank on the kitchen)
+/// took a third of the fits' time.
 template <class Sums>
 Sums addInBrickOrder(const BrickStore& store, const std::vector<Sums>& perBrick,
                      const std::vector<char>& used, MPI_Comm comm) {
@@ -117,31 +129,19 @@ Sums addInBrickOrder(const BrickStore& store, const std::vector<Sums>& perBrick,
   for (size_t local = 0; local < perBrick.size(); ++local)
     if (used[local]) mine.emplace_back(store.code(local), local);
   std::sort(mine.begin(), mine.end());
-  constexpr size_t kEntry = sizeof(uint64_t) + sizeof(Sums);
-  std::vector<char> buf;
-  buf.reserve(mine.size() * kEntry);
-  for (const auto& [code, local] : mine) {
-    mpi::pack(buf, &code, 1);
-    mpi::pack(buf, &perBrick[local], 1);
-  }
-  const std::vector<std::vector<char>> parts = mpi::allgatherBytes(buf, comm);
-  // Each part is in code order, and ranks own runs of codes in rank order, so the parts one
-  // after another nearly always are too; sorting the few that are not costs nothing.
-  std::vector<std::pair<uint64_t, const char*>> all;
-  for (const std::vector<char>& part : parts)
-    for (size_t at = 0; at + kEntry <= part.size(); at += kEntry) {
-      uint64_t code;
-      std::memcpy(&code, part.data() + at, sizeof code);
-      all.emplace_back(code, part.data() + at + sizeof code);
-    }
-  if (!std::is_sorted(all.begin(), all.end())) std::sort(all.begin(), all.end());
-  Sums total;
-  for (const auto& entry : all) {
-    Sums s;
-    std::memcpy(static_cast<void*>(&s), entry.second, sizeof s);
-    total += s;  // brick order: rank-count independent
-  }
-  return total;
+  RunningTotal<Sums> run;
+  mpi::passAlong(
+      &run, sizeof run,
+      [&] {
+        if (mine.empty()) return;
+        if (run.any && !(run.last < mine.front().first)) run.inOrder = 0;
+        for (const auto& [code, local] : mine) run.total += perBrick[local];
+        run.last = mine.back().first, run.any = 1;
+      },
+      comm);
+  if (!run.inOrder)  // every rank learns it from the last one: all throw
+    throw std::logic_error("field sums: the ranks' bricks are not in code order");
+  return run.total;
 }
 
 }  // namespace

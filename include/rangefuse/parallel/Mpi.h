@@ -88,6 +88,12 @@ Eigen::AlignedBox3d unitedBox(const Eigen::AlignedBox3d& mine, MPI_Comm comm);
 std::map<size_t, std::string> gatherIndexed(const std::map<size_t, std::string>& mine, int root,
                                             MPI_Comm comm);
 
+/// Collective: a value of `bytes` bytes at `value` passed along the ranks in rank order. Rank 0
+/// starts from its own value; each later rank receives its predecessor's; each calls fold() on
+/// it before passing it on; every rank returns holding the last rank's value. For totals whose
+/// terms must be added in one order on any rank count (floating point is not associative).
+void passAlong(void* value, size_t bytes, const std::function<void()>& fold, MPI_Comm comm);
+
 /// Every rank's bytes, on every rank, indexed by rank.
 std::vector<std::vector<char>> allgatherBytes(const std::vector<char>& mine, MPI_Comm comm);
 
