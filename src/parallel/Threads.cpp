@@ -1,6 +1,5 @@
 #include "rangefuse/parallel/Threads.h"
 
-#include <pthread.h>
 #include <sched.h>
 
 #include <algorithm>
@@ -20,13 +19,6 @@ int threadsPerRank(MPI_Comm comm) {
   // Ranks bound to disjoint cores each see their own mask; unbound ranks all see every core.
   if (cpus >= static_cast<int>(std::thread::hardware_concurrency())) sharing = local;
   return std::max(1, cpus / sharing);
-}
-
-void runOnlyWhenIdle() {
-#ifdef SCHED_IDLE
-  const sched_param none{};
-  pthread_setschedparam(pthread_self(), SCHED_IDLE, &none);
-#endif
 }
 
 }  // namespace rangefuse

@@ -133,7 +133,7 @@ class FrameReader {
         aheadFrame_ = j;
         const HeldScans* held = scans_.held.get();
         ahead_ = std::async(std::launch::async, [held, j] {
-          runOnlyWhenIdle();  // in the time the rank waits for its peers
+          const IdleWorker idle;  // in the time the rank waits for its peers
           return held->get(j);
         });
         return;

@@ -17,13 +17,24 @@ namespace rangefuse {
 /// shared among the ranks on its node (at least 1).
 int threadsPerRank(MPI_Comm comm);
 
-/// Lowers the calling thread to run only on cores no other thread wants (Linux's SCHED_IDLE;
-/// elsewhere, or when refused, it keeps its priority). For work done ahead of need, such as
-/// preparing the next depth frame: it then fills the time a rank waits for its peers instead
-/// of sharing the core with the rank's own step, which its peers wait for in turn. MPI must
-/// yield while it waits (`mpi_yield_when_idle`, set by main) or the thread is starved until
-/// its result is asked for.
-void runOnlyWhenIdle();
+/// While one lives, the thread that made it runs only on cores no other thread wants (Linux's
+/// SCHED_IDLE; elsewhere, or when refused, it keeps its priority). For work done ahead of need,
+/// such as preparing the next depth frame: it then fills the time a rank waits for its peers
+/// instead of sharing the core with the rank's own step, which its peers wait for in turn.
+/// MPI must yield while it waits (`mpi_yield_when_idle`, set by mpi::start) or the worker is
+/// starved until its result is asked for. While any worker lives, that yield is a short sleep
+/// (decision 56): a yielding thread gets its core back from an idle-priority one only at the
+/// scheduler's next tick, and a sleeping one as soon as it wakes.
+class IdleWorker {
+ public:
+  IdleWorker();
+  ~IdleWorker();
+  IdleWorker(const IdleWorker&) = delete;
+  IdleWorker& operator=(const IdleWorker&) = delete;
+
+ private:
+  int policy_ = -1;  ///< the thread's policy before, restored after (-1: unchanged)
+};
 
 /// Calls fn(i) for every i in [0, n) on up to `threads` threads (the calling one among them).
 /// Every call runs; if any threw, the exception of the lowest i is rethrown.
