@@ -194,19 +194,30 @@ void ControlRouting::packControlPoints(size_t i, const Pose& pose, const BrickLa
   const ScanSurface& s = scan->surface;
   const double noise = scan->noise.quadratic();
   // A point that moves less than the reach (a brick edge less one voxel) keeps its nearest
-  // voxel within a brick edge of the one it has now: in this brick or a neighbour.
+  // voxel within a brick edge of the one it has now: in this brick or a neighbour. Points in
+  // grid order mostly share their brick with the point before.
+  uint64_t lastCode = ~uint64_t{0};
+  const std::vector<int>* ranks = nullptr;
   for (size_t v = 0; v < s.points.size(); v += stride_) {
     if (!(s.confidence[v] > 0)) continue;
     const BrickCoord c = brickOf(g.nearest(pose.apply(s.points[v])), g.brick);
     const uint64_t code = mortonEncode(c);
-    auto it = owners.find(code);
-    if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c, me)).first;
-    const RoutedPoint p{i, v, s.points[v], s.normals[v], weightOf(*scan, v, noise)};
-    for (int r : it->second)
-      if (r == me && held_[i].scan)
+    if (code != lastCode) {
+      auto it = owners.find(code);
+      if (it == owners.end()) it = owners.emplace(code, ownersAround(layout, c, me)).first;
+      lastCode = code, ranks = &it->second;
+    }
+    bool packed = false;
+    RoutedPoint p;
+    for (int r : *ranks) {
+      if (r == me && held_[i].scan) {
         held_[i].vertices.push_back(static_cast<uint32_t>(v));
-      else
-        mpi::pack(out[r], &p, 1);
+        continue;
+      }
+      if (!packed) p = RoutedPoint{i, v, s.points[v], s.normals[v], weightOf(*scan, v, noise)};
+      packed = true;
+      mpi::pack(out[r], &p, 1);
+    }
   }
 }
 
