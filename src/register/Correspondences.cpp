@@ -115,34 +115,57 @@ struct RunningTotal {
   uint64_t inOrder = 1;  ///< 0 if a rank's bricks did not all follow the ranks' before it
 };
 
-/// Collective: the per-brick sums of every rank (`used` marks those this rank made), added in
-/// the bricks' code order (a growing store's local order is not), so that every rank gets the
-/// same bits whatever the rank count. A store holds its owner's run of the layout's sorted
-/// codes, so code order is rank order: the total is passed from rank to rank, each adding its
-/// own bricks in order. A tracked frame's fits call this several times a frame, and gathering
-/// every rank's bricks' sums instead (about 2,000 bricks of 376 bytes a rank on the kitchen)
-/// took a third of the fits' time.
+/// This rank's sums per local brick, held only for the bricks the points reach: a frame's
+/// points reach a few hundred of a rank's thousands of bricks, and a zeroed sum for every
+/// brick (1.8 MB on the kitchen) was written at every fit.
 template <class Sums>
-Sums addInBrickOrder(const BrickStore& store, const std::vector<Sums>& perBrick,
-                     const std::vector<char>& used, MPI_Comm comm) {
-  std::vector<std::pair<uint64_t, size_t>> mine;  // (code, local brick)
-  for (size_t local = 0; local < perBrick.size(); ++local)
-    if (used[local]) mine.emplace_back(store.code(local), local);
-  std::sort(mine.begin(), mine.end());
-  RunningTotal<Sums> run;
-  mpi::passAlong(
-      &run, sizeof run,
-      [&] {
-        if (mine.empty()) return;
-        if (run.any && !(run.last < mine.front().first)) run.inOrder = 0;
-        for (const auto& [code, local] : mine) run.total += perBrick[local];
-        run.last = mine.back().first, run.any = 1;
-      },
-      comm);
-  if (!run.inOrder)  // every rank learns it from the last one: all throw
-    throw std::logic_error("field sums: the ranks' bricks are not in code order");
-  return run.total;
-}
+class BrickSums {
+ public:
+  explicit BrickSums(size_t bricks) : slot_(bricks, -1) {}
+
+  /// The sums of local brick b, zero when first asked for.
+  Sums& operator[](size_t b) {
+    int32_t& slot = slot_[b];
+    if (slot < 0) {
+      slot = static_cast<int32_t>(sums_.size());
+      sums_.emplace_back();
+      bricks_.push_back(b);
+    }
+    return sums_[static_cast<size_t>(slot)];
+  }
+
+  /// Collective: every rank's bricks' sums added in the bricks' code order (a growing store's
+  /// local order is not), so that every rank gets the same bits whatever the rank count. A
+  /// store holds its owner's run of the layout's sorted codes, so code order is rank order:
+  /// the total is passed from rank to rank, each adding its own bricks in order. A tracked
+  /// frame's fits call this several times a frame, and gathering every rank's bricks' sums
+  /// instead (about 2,000 bricks of 376 bytes a rank on the kitchen) took a third of the fits'
+  /// time.
+  Sums total(const BrickStore& store, MPI_Comm comm) const {
+    std::vector<std::pair<uint64_t, size_t>> mine;  // (code, slot)
+    mine.reserve(bricks_.size());
+    for (size_t k = 0; k < bricks_.size(); ++k) mine.emplace_back(store.code(bricks_[k]), k);
+    std::sort(mine.begin(), mine.end());
+    RunningTotal<Sums> run;
+    mpi::passAlong(
+        &run, sizeof run,
+        [&] {
+          if (mine.empty()) return;
+          if (run.any && !(run.last < mine.front().first)) run.inOrder = 0;
+          for (const auto& [code, k] : mine) run.total += sums_[k];
+          run.last = mine.back().first, run.any = 1;
+        },
+        comm);
+    if (!run.inOrder)  // every rank learns it from the last one: all throw
+      throw std::logic_error("field sums: the ranks' bricks are not in code order");
+    return run.total;
+  }
+
+ private:
+  std::vector<int32_t> slot_;   ///< per local brick: its place in sums_, or -1
+  std::vector<Sums> sums_;      ///< in the order the bricks were first reached
+  std::vector<size_t> bricks_;  ///< the local brick of each of sums_
+};
 
 }  // namespace
 
@@ -152,16 +175,14 @@ RigidSums correspondenceSums(const BrickStore& store, const std::vector<Eigen::V
                              const CorrespondenceSettings& settings, MPI_Comm comm) {
   const VoxelGrid& g = store.grid();
   // This rank's sums per local brick, added over the ranks in brick order.
-  std::vector<RigidSums> perBrick(store.brickCount());
-  std::vector<char> used(store.brickCount(), 0);
+  BrickSums<RigidSums> perBrick(store.brickCount());
   forEachSample(store, points, normals, weights, settings, [&](size_t i, const FieldSample& f) {
     const Correspondence c = correspondenceOf(points[i], f, settings);
     // About the lattice origin, which lies by the data: far from the world origin the moments
     // would otherwise lose their digits to cancellation (1e5 m offset: poses off by 10 voxels).
     perBrick[c.brick].add(points[i] - g.origin, c.q - g.origin, weights[i] * c.weight);
-    used[c.brick] = 1;
   });
-  return addInBrickOrder(store, perBrick, used, comm);
+  return perBrick.total(store, comm);
 }
 
 void PlaneSums::add(const Eigen::Vector3d& lever, const Eigen::Vector3d& f, double r,
@@ -183,15 +204,13 @@ PlaneSums planeSums(const BrickStore& store, const std::vector<Eigen::Vector3d>&
                     const std::vector<Eigen::Vector3d>& normals, const std::vector<double>& weights,
                     const Eigen::Vector3d& centre, const CorrespondenceSettings& settings,
                     MPI_Comm comm) {
-  std::vector<PlaneSums> perBrick(store.brickCount());
-  std::vector<char> used(store.brickCount(), 0);
+  BrickSums<PlaneSums> perBrick(store.brickCount());
   forEachSample(store, points, normals, weights, settings, [&](size_t i, const FieldSample& s) {
     const double r = std::abs(s.distance);
     const double huber = settings.huber > 0 && r > settings.huber ? settings.huber / r : 1.0;
     perBrick[s.brick].add(points[i] - centre, s.f, s.distance, weights[i] * huber);
-    used[s.brick] = 1;
   });
-  return addInBrickOrder(store, perBrick, used, comm);
+  return perBrick.total(store, comm);
 }
 
 }  // namespace rangefuse
