@@ -47,12 +47,13 @@ IdleWorker::~IdleWorker() {
 /// do. A yielding thread stays runnable, so the scheduler does not preempt an idle-priority
 /// worker for it until its next tick: a rank that its peer's message has reached then waits up
 /// to a tick before it sees it, and a tracked frame's fits and adds meet their peers about 20
-/// times a frame (the kitchen: fits 6.3 s a rank, of which 3 s such waits). A thread that
+/// times a frame (the kitchen's dev frames: fits 6.2 s a rank with the yield, 3.7 s with the
+/// sleep and the sums passed along the ranks, decision 56). A thread that
 /// wakes from a sleep preempts an idle-priority one at once. So while a worker runs, a yield
 /// here is a short sleep; otherwise it is the system's yield. Defined in the library, this
 /// takes the place of the C library's for the whole process (the Python module, loaded with
 /// its symbols local, keeps the system's).
-extern "C" int sched_yield() {
+extern "C" int sched_yield() noexcept {
   if (rangefuse::workers.load(std::memory_order_relaxed) > 0) {
     const timespec pause{0, rangefuse::kWaitNanoseconds};
     nanosleep(&pause, nullptr);

@@ -116,8 +116,8 @@ struct RunningTotal {
 };
 
 /// This rank's sums per local brick, held only for the bricks the points reach: a frame's
-/// points reach a few hundred of a rank's thousands of bricks, and a zeroed sum for every
-/// brick (1.8 MB on the kitchen) was written at every fit.
+/// points reach a few hundred of a rank's thousands of bricks, and a fit is made several times
+/// a frame (a zeroed sum for every brick is 1.8 MB on the kitchen).
 template <class Sums>
 class BrickSums {
  public:
