@@ -64,6 +64,37 @@ std::vector<uint64_t> freshBricks(const PrismScan& part, const BrickLayout& layo
   return fresh;
 }
 
+/// Collective: the bricks of this rank's range that any rank's routed triangles reach (sorted,
+/// each once), from every rank's `reached` (routeRounds').
+std::vector<uint64_t> reachedHere(ReachedBricks&& reached, MPI_Comm comm) {
+  const int me = mpi::rank(comm);
+  std::vector<std::vector<char>> out(reached.size());
+  for (size_t r = 0; r < reached.size(); ++r)
+    if (static_cast<int>(r) != me) mpi::pack(out[r], reached[r].data(), reached[r].size());
+  std::vector<uint64_t> codes = std::move(reached[me]);
+  const size_t own = codes.size();
+  for (const std::vector<char>& bytes : mpi::exchangeBytes(std::move(out), comm)) {
+    const size_t n = bytes.size() / sizeof(uint64_t), at = codes.size();
+    codes.resize(at + n);
+    size_t pos = 0;
+    mpi::unpack(bytes, pos, codes.data() + at, n);
+  }
+  if (codes.size() > own) {  // more than one reader: merge their lists
+    std::sort(codes.begin(), codes.end());
+    codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
+  }
+  return codes;
+}
+
+/// Of `reached` (sorted codes of this rank's range), the bricks `layout` lacks, as (code, 0)
+/// pairs: freshBricks' answer, from the bricks routing found.
+std::vector<uint64_t> freshOf(const std::vector<uint64_t>& reached, const BrickLayout& layout) {
+  std::vector<uint64_t> fresh;
+  for (const uint64_t code : reached)
+    if (layout.find(code) < 0) fresh.insert(fresh.end(), {code, 0});
+  return fresh;
+}
+
 /// Collective: `layout` with this rank's `fresh` (code, work) pairs joined, the owners' ranges
 /// kept and every rank's bricks counted; the bricks bordering other ranks' new bricks are not
 /// learnt (borderKnown false).
@@ -165,13 +196,16 @@ IntegrationStats GrowingBricks::add(PrismScan* placed) {
   RoutedParts parts;
   RoutingStats routing;
   const auto take = [&](size_t) { return TakenScan{{}, std::move(*placed)}; };
+  // Routing finds the bricks each triangle reaches; a lone rank routes nothing (decision 57).
+  const bool alone = mpi::size(comm_) == 1;
+  ReachedBricks reached;
   if (!routeRounds(rounds, take, store_->layout(), 0, store_->hasColour(), comm_, parts, routing,
-                   RouteTo::ranges))
+                   RouteTo::ranges, alone ? nullptr : &reached))
     throw mpi::Reported();
   IndexedScans mine = parts.takeAll();  // one reader: one part at most
   const PrismScan* part = mine.empty() ? nullptr : &mine[0].second;
   store_->decayWork(kWorkDecayShift);
-  growBy(part);
+  growBy(part, alone ? nullptr : &reached);
   IntegrationStats added;
   if (part) added = addCounted(*part);
   updatesSinceCheck_ += added.voxelUpdates;
@@ -179,11 +213,16 @@ IntegrationStats GrowingBricks::add(PrismScan* placed) {
   return added;
 }
 
-void GrowingBricks::growBy(const PrismScan* part) {
+void GrowingBricks::growBy(const PrismScan* part, ReachedBricks* reached) {
   const BrickLayout& layout = store_->layout();
+  const std::vector<uint64_t> codes =
+      reached ? reachedHere(std::move(*reached), comm_) : std::vector<uint64_t>{};
   std::vector<uint64_t> fresh;  // (code, work) pairs, sorted
   mpi::collectivelyOrThrow(comm_, [&] {
-    if (part) fresh = freshBricks(*part, layout, mpi::rank(comm_), maxVoxels_);
+    if (reached)
+      fresh = freshOf(codes, layout);
+    else if (part)
+      fresh = freshBricks(*part, layout, mpi::rank(comm_), maxVoxels_);
   });
   const uint64_t before = layout.totalBricks();
   BrickLayout next = grownBy(layout, fresh, comm_);

@@ -82,8 +82,14 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
 /// looked up in the layout once, not at every box that holds it.
 class TriangleOwners {
  public:
-  TriangleOwners(const BrickLayout& layout, int me, RouteTo to)
-      : layout_(layout), me_(me), to_(to), codes_(kSlots, kNoCode), owners_(kSlots) {}
+  /// With `reached`, each owner's bricks are listed there too (repeats and all).
+  TriangleOwners(const BrickLayout& layout, int me, RouteTo to, ReachedBricks* reached)
+      : layout_(layout),
+        me_(me),
+        to_(to),
+        reached_(reached),
+        codes_(kSlots, kNoCode),
+        owners_(kSlots) {}
 
   /// The ranks that may own bricks of [lo, hi] (BrickLayout::mayOwn), or own their ranges of
   /// codes, ascending, each once.
@@ -95,8 +101,11 @@ class TriangleOwners {
     for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
       for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
         for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
-          const int owner = ownerOf(mortonEncode(b));
-          if (owner >= 0 && std::find(ranks_.begin(), ranks_.end(), owner) == ranks_.end())
+          const uint64_t code = mortonEncode(b);
+          const int owner = ownerOf(code);
+          if (owner < 0) continue;
+          if (reached_) (*reached_)[owner].push_back(code);
+          if (std::find(ranks_.begin(), ranks_.end(), owner) == ranks_.end())
             ranks_.push_back(owner);
         }
     std::sort(ranks_.begin(), ranks_.end());
@@ -121,18 +130,20 @@ class TriangleOwners {
   const BrickLayout& layout_;
   const int me_;
   const RouteTo to_;
+  ReachedBricks* reached_;
   std::vector<uint64_t> codes_;
   std::vector<int> owners_;
   std::vector<int> ranks_;
   BrickCoord lastLo_{1, 1, 1}, lastHi_{0, 0, 0};  // an empty box: no triangle's
 };
 
-/// Each rank's triangles of `world`, ascending: those that reach a brick it owns or may own.
+/// Each rank's triangles of `world`, ascending: those that reach a brick it owns or may own
+/// (with `reached`, the bricks listed there too; see TriangleOwners).
 std::vector<std::vector<uint32_t>> trianglesByRank(const PrismScan& world,
                                                    const BrickLayout& layout, double reach, int me,
-                                                   RouteTo to) {
+                                                   RouteTo to, ReachedBricks* reached = nullptr) {
   std::vector<std::vector<uint32_t>> triangles(layout.ranks());
-  TriangleOwners owners(layout, me, to);
+  TriangleOwners owners(layout, me, to, reached);
   for (size_t t = 0; t < world.surface.triangles.size(); ++t) {
     BrickCoord lo, hi;
     if (!bricksOfBox(layout.grid, reachedBox(world, t, reach), lo, hi)) continue;
@@ -265,7 +276,7 @@ class Trimmer {
 /// the bytes it freed.
 uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double reach, bool colour,
                     int me, RouteTo to, std::vector<std::vector<char>>& out, RoutedParts& parts,
-                    RoutingStats& stats) {
+                    RoutingStats& stats, ReachedBricks* reached) {
   const bool packed = !s.packed.empty();
   if (layout.ranks() == 1 && reach == 0) {
     if (!colour) dropColour(s.scan.surface);  // packed colours go unread: the store has none
@@ -279,7 +290,7 @@ uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double r
   const uint64_t freed = s.packed.size() + scanBytes(s.scan);
   if (!colour) dropColour(s.scan.surface);  // nothing to send or keep
   const PrismScan& world = s.scan;
-  const auto triangles = trianglesByRank(world, layout, reach, me, to);
+  const auto triangles = trianglesByRank(world, layout, reach, me, to, reached);
   std::vector<int32_t> remap(world.surface.points.size(), -1);
   packForOthers(i, world, triangles, me, out, remap, stats);
   const std::vector<uint32_t>& own = triangles[me];
@@ -305,16 +316,18 @@ uint64_t routeTaken(size_t i, TakenScan&& s, const BrickLayout& layout, double r
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
                  const std::function<TakenScan(size_t)>& take, const BrickLayout& layout,
                  double reach, bool colour, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats,
-                 RouteTo to) {
+                 RouteTo to, ReachedBricks* reached) {
   const int ranks = mpi::size(comm), me = mpi::rank(comm);
   if (stats.bytes.size() != static_cast<size_t>(ranks)) stats.bytes.assign(ranks, 0);
+  if (reached) reached->assign(ranks, {});
   Trimmer trim;
   for (const std::vector<size_t>& round : byRound) {
     std::vector<std::vector<char>> out(ranks);
     uint64_t given = 0;
     if (!mpi::collectively(comm, [&] {
           for (size_t i : round) {
-            given += routeTaken(i, take(i), layout, reach, colour, me, to, out, parts, stats);
+            given +=
+                routeTaken(i, take(i), layout, reach, colour, me, to, out, parts, stats, reached);
           }
         }))
       return false;
@@ -323,6 +336,11 @@ bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
     memoryLedger().set(Held::routedScans, parts.bytes());
     trim.freed(given);
   }
+  if (reached)
+    for (std::vector<uint64_t>& codes : *reached) {
+      std::sort(codes.begin(), codes.end());
+      codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
+    }
   return true;
 }
 

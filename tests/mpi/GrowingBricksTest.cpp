@@ -4,6 +4,7 @@
 // as adding the scans in order on one rank does.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "../common/GridScan.h"
@@ -38,6 +39,7 @@ std::vector<PrismScan> walk() {
 struct Grown {
   test::VoxelValues voxels;
   uint64_t splits = 0, bricks = 0;
+  std::vector<uint64_t> codes;  ///< every rank's bricks, sorted
 };
 
 Grown grow(const std::vector<PrismScan>& frames, const VoxelGrid& grid, MPI_Comm comm) {
@@ -52,7 +54,35 @@ Grown grow(const std::vector<PrismScan>& frames, const VoxelGrid& grid, MPI_Comm
   g.splits = field.splits();
   g.bricks = field.store().brickCount();
   g.voxels = test::observedVoxels(field.store(), comm);
+  std::vector<char> mine;
+  for (size_t b = 0; b < field.store().brickCount(); ++b) {
+    const uint64_t code = field.store().code(b);
+    mpi::pack(mine, &code, 1);
+  }
+  for (const std::vector<char>& bytes : mpi::allgatherBytes(mine, comm)) {
+    const size_t at = g.codes.size(), n = bytes.size() / sizeof(uint64_t);
+    g.codes.resize(at + n);
+    size_t pos = 0;
+    mpi::unpack(bytes, pos, g.codes.data() + at, n);
+  }
+  std::sort(g.codes.begin(), g.codes.end());
   return g;
+}
+
+/// The bricks the frames' prisms reach, found prism by prism.
+std::vector<uint64_t> bricksReached(const std::vector<PrismScan>& frames, const VoxelGrid& grid) {
+  std::vector<uint64_t> codes;
+  for (const PrismScan& f : frames)
+    for (size_t t = 0; t < f.surface.triangles.size(); ++t) {
+      BrickCoord lo, hi, b;
+      if (!bricksOfBox(grid, prismBounds(scanPrism(f, t)), lo, hi)) continue;
+      for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
+        for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
+          for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) codes.push_back(mortonEncode(b));
+    }
+  std::sort(codes.begin(), codes.end());
+  codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
+  return codes;
 }
 
 TEST(GrowingBricks, SplitOverTheRanksGivesTheOneRankSumsBitForBit) {
@@ -65,6 +95,11 @@ TEST(GrowingBricks, SplitOverTheRanksGivesTheOneRankSumsBitForBit) {
   const Grown split = grow(frames, grid, MPI_COMM_WORLD);
   EXPECT_GT(alone.voxels.size(), 5000u);
   test::expectIdentical(alone.voxels, split.voxels);
+  // The bricks joined are those the prisms reach: found by routing on several ranks (decision
+  // 57), from the parts' prisms on one.
+  const std::vector<uint64_t> reached = bricksReached(frames, grid);
+  EXPECT_EQ(alone.codes, reached);
+  EXPECT_EQ(split.codes, reached);
   if (mpi::size(MPI_COMM_WORLD) > 1) {
     // The walk moves the work from rank to rank: the bricks were split, and sums moved, more
     // than once, and every rank ends up holding some.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rangefuse/prism/PrismField.h"
+#include "rangefuse/route/ScanRouting.h"
 #include "rangefuse/volume/BrickStore.h"
 
 namespace rangefuse::internal {
@@ -51,8 +52,9 @@ class GrowingBricks {
 
  private:
   /// Collective: joins the bricks of this rank's range that `part`'s prisms reach (this rank's
-  /// routed part of a scan, or null).
-  void growBy(const PrismScan* part);
+  /// routed part of a scan, or null): those routing listed in every rank's `reached`, or
+  /// without it (a lone rank), those found from the part's prisms.
+  void growBy(const PrismScan* part, ReachedBricks* reached);
   /// Adds `part` to the field, and to each brick's work the voxel updates it took.
   IntegrationStats addCounted(const PrismScan& part);
   /// Collective: splits the bricks by their work anew when a rank has gained half a fair

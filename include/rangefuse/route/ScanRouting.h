@@ -28,6 +28,11 @@ struct RoutingStats {
 /// growing field, whose owners join the bricks they are sent).
 enum class RouteTo { bricks, ranges };
 
+/// Per rank, the codes of the bricks its range holds that routed triangles reach (sorted, each
+/// once): what routing learns of a growing field's new bricks while it finds the triangles'
+/// owners, so that the owners need not find them again.
+using ReachedBricks = std::vector<std::vector<uint64_t>>;
+
 /// Appends to out[r], for every rank r owning a brick some triangle of the placed scan must
 /// reach (`to`), the part of the scan made of those triangles (in order) and their vertices. With
 /// reach 0 a triangle reaches the bricks its prism touches (prism fields); with reach > 0, the
@@ -80,9 +85,11 @@ struct TakenScan {
 /// it was taken, without finding the bricks of its triangles (one that reaches none adds
 /// nothing to a field); it then counts no copies. Freed scans' pages are given back to the
 /// system as they add up. False when `take` threw on some rank (printed once).
+/// With `reached` (and more than one rank, or reach > 0), it also gets, for every rank, the
+/// bricks of its range (`to`) that this rank's triangles reach.
 bool routeRounds(const std::vector<std::vector<size_t>>& byRound,
                  const std::function<TakenScan(size_t)>& take, const BrickLayout& layout,
                  double reach, bool colour, MPI_Comm comm, RoutedParts& parts, RoutingStats& stats,
-                 RouteTo to = RouteTo::bricks);
+                 RouteTo to = RouteTo::bricks, ReachedBricks* reached = nullptr);
 
 }  // namespace rangefuse
