@@ -82,7 +82,7 @@ Eigen::AlignedBox3d reachedBox(const PrismScan& world, size_t t, double reach) {
 /// looked up in the layout once, not at every box that holds it.
 class TriangleOwners {
  public:
-  /// With `reached`, each owner's bricks are listed there too (repeats and all).
+  /// With `reached`, each owner's bricks are listed there too (some more than once).
   TriangleOwners(const BrickLayout& layout, int me, RouteTo to, ReachedBricks* reached)
       : layout_(layout),
         me_(me),
@@ -101,11 +101,8 @@ class TriangleOwners {
     for (b.z() = lo.z(); b.z() <= hi.z(); ++b.z())
       for (b.y() = lo.y(); b.y() <= hi.y(); ++b.y())
         for (b.x() = lo.x(); b.x() <= hi.x(); ++b.x()) {
-          const uint64_t code = mortonEncode(b);
-          const int owner = ownerOf(code);
-          if (owner < 0) continue;
-          if (reached_) (*reached_)[owner].push_back(code);
-          if (std::find(ranks_.begin(), ranks_.end(), owner) == ranks_.end())
+          const int owner = ownerOf(mortonEncode(b));
+          if (owner >= 0 && std::find(ranks_.begin(), ranks_.end(), owner) == ranks_.end())
             ranks_.push_back(owner);
         }
     std::sort(ranks_.begin(), ranks_.end());
@@ -120,6 +117,8 @@ class TriangleOwners {
       codes_[slot] = code;
       owners_[slot] =
           to_ == RouteTo::ranges ? layout_.ownerOfCode(code) : layout_.mayOwn(code, me_);
+      // A brick is listed when it enters the cache: once, or again after an eviction.
+      if (reached_ && owners_[slot] >= 0) (*reached_)[owners_[slot]].push_back(code);
     }
     return owners_[slot];
   }
