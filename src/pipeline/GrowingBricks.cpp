@@ -72,14 +72,16 @@ std::vector<uint64_t> reachedHere(ReachedBricks&& reached, MPI_Comm comm) {
   for (size_t r = 0; r < reached.size(); ++r)
     if (static_cast<int>(r) != me) mpi::pack(out[r], reached[r].data(), reached[r].size());
   std::vector<uint64_t> codes = std::move(reached[me]);
-  const size_t own = codes.size();
+  int lists = codes.empty() ? 0 : 1;
   for (const std::vector<char>& bytes : mpi::exchangeBytes(std::move(out), comm)) {
     const size_t n = bytes.size() / sizeof(uint64_t), at = codes.size();
+    if (n == 0) continue;
     codes.resize(at + n);
     size_t pos = 0;
     mpi::unpack(bytes, pos, codes.data() + at, n);
+    ++lists;
   }
-  if (codes.size() > own) {  // more than one reader: merge their lists
+  if (lists > 1) {  // several readers' lists, each sorted: one list
     std::sort(codes.begin(), codes.end());
     codes.erase(std::unique(codes.begin(), codes.end()), codes.end());
   }
@@ -87,7 +89,8 @@ std::vector<uint64_t> reachedHere(ReachedBricks&& reached, MPI_Comm comm) {
 }
 
 /// Of `reached` (sorted codes of this rank's range), the bricks `layout` lacks, as (code, 0)
-/// pairs: freshBricks' answer, from the bricks routing found.
+/// pairs: freshBricks' answer, from the bricks routing found. Routing has listed them all
+/// already, so there is no estimate to refuse here; growBy checks the field's total.
 std::vector<uint64_t> freshOf(const std::vector<uint64_t>& reached, const BrickLayout& layout) {
   std::vector<uint64_t> fresh;
   for (const uint64_t code : reached)
