@@ -62,19 +62,10 @@ double lateralSpacing(const RangeGrid& grid, int downEvery) {
   return std::sqrt(internal::medianNeighbourStep(
       grid,
       [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-        return internal::squaredLateralStep(grid, a, b);
+        const Eigen::Vector3d d = b - a, u = grid.towardSensor(a);
+        return (d - d.dot(u) * u).squaredNorm();
       },
       downEvery));
-}
-
-std::array<double, 2> lateralAndGridSpacing(const RangeGrid& grid) {
-  const auto [lateral, step] = internal::medianNeighbourSteps(
-      grid,
-      [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-        return internal::squaredLateralStep(grid, a, b);
-      },
-      internal::squaredStep);
-  return {std::sqrt(lateral), std::sqrt(step)};
 }
 
 double angularSpacing(const RangeGrid& grid, int downEvery) {
