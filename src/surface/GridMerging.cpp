@@ -62,10 +62,19 @@ double lateralSpacing(const RangeGrid& grid, int downEvery) {
   return std::sqrt(internal::medianNeighbourStep(
       grid,
       [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-        const Eigen::Vector3d d = b - a, u = grid.towardSensor(a);
-        return (d - d.dot(u) * u).squaredNorm();
+        return internal::squaredLateralStep(grid, a, b);
       },
       downEvery));
+}
+
+std::array<double, 2> lateralAndGridSpacing(const RangeGrid& grid) {
+  const auto [lateral, step] = internal::medianNeighbourSteps(
+      grid,
+      [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+        return internal::squaredLateralStep(grid, a, b);
+      },
+      internal::squaredStep);
+  return {std::sqrt(lateral), std::sqrt(step)};
 }
 
 double angularSpacing(const RangeGrid& grid, int downEvery) {

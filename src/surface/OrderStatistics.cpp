@@ -1,6 +1,7 @@
 #include "OrderStatistics.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <utility>
@@ -36,12 +37,11 @@ int digitShift(uint64_t lo, uint64_t hi) {
   return std::max(0, bits - kDigitBits);
 }
 
-/// The keys (of values or keys, read through keyOf) whose digit at `shift` is the one holding
-/// the k-th smallest, with k made their own rank among them.
+/// Each digit's count at `shift` over `values` (of values or keys, read through keyOf), four
+/// counters a digit taken in turn: a depth camera's steps repeat a few values, and counting
+/// them on one counter would wait on each previous count.
 template <class T>
-std::vector<uint64_t> bucketHolding(const std::vector<T>& values, int shift, size_t& k) {
-  // Four counts a digit, taken in turn: a depth camera's steps repeat a few values, and
-  // counting them on one counter would wait on each previous count.
+std::vector<uint32_t> digitCounts(const std::vector<T>& values, int shift) {
   std::vector<uint32_t> count(4 * kBuckets, 0);
   const size_t n = values.size();
   auto digit = [&](T v) { return (keyOf(v) >> shift) & (kBuckets - 1); };
@@ -49,17 +49,33 @@ std::vector<uint64_t> bucketHolding(const std::vector<T>& values, int shift, siz
   for (; i + 4 <= n; i += 4)
     for (size_t j = 0; j < 4; ++j) ++count[j * kBuckets + digit(values[i + j])];
   for (; i < n; ++i) ++count[digit(values[i])];
-  size_t d = 0, inD = 0;
-  for (;; ++d) {
-    inD = count[d] + count[kBuckets + d] + count[2 * kBuckets + d] + count[3 * kBuckets + d];
-    if (k < inD) break;
+  return count;
+}
+
+/// The digit holding the k-th smallest, with k made its rank among that digit's keys.
+size_t digitHolding(const std::vector<uint32_t>& count, size_t& k) {
+  for (size_t d = 0;; ++d) {
+    const size_t inD =
+        count[d] + count[kBuckets + d] + count[2 * kBuckets + d] + count[3 * kBuckets + d];
+    if (k < inD) return d;
     k -= inD;
   }
+}
+
+/// The keys of `values` whose digit at `shift` is d.
+template <class T>
+std::vector<uint64_t> keysWithDigit(const std::vector<T>& values, int shift, size_t d) {
   std::vector<uint64_t> kept;
-  kept.reserve(inD);
   for (T v : values)
-    if (digit(v) == d) kept.push_back(keyOf(v));
+    if (((keyOf(v) >> shift) & (kBuckets - 1)) == d) kept.push_back(keyOf(v));
   return kept;
+}
+
+/// The keys (of values or keys) whose digit at `shift` is the one holding the k-th smallest,
+/// with k made their own rank among them.
+template <class T>
+std::vector<uint64_t> bucketHolding(const std::vector<T>& values, int shift, size_t& k) {
+  return keysWithDigit(values, shift, digitHolding(digitCounts(values, shift), k));
 }
 
 /// The least and greatest key of `values`.
@@ -70,35 +86,68 @@ std::pair<uint64_t, uint64_t> keyRange(const std::vector<T>& values) {
   return {lo, hi};
 }
 
-}  // namespace
-
-double nthSmallest(const std::vector<double>& values, size_t k) {
-  // A non-negative double's bits, read as an unsigned integer, order as the double does, so
-  // the digits below the bits all keys share narrow the search to the k-th's digit: the
-  // values are read twice (range, then counts) and only the k-th's digit's are copied.
-  if (values.size() < kSortBelow) {
-    std::vector<double> copy = values;
-    std::nth_element(copy.begin(), copy.begin() + static_cast<std::ptrdiff_t>(k), copy.end());
-    return copy[k];
-  }
-  const auto [lo, hi] = keyRange(values);
-  int shift = digitShift(lo, hi);
-  if (shift < 0) return values[0];
-  std::vector<uint64_t> keys = bucketHolding(values, shift, k);
+/// The k-th smallest of `keys`, by their digits until few are left.
+double smallestAmongKeys(std::vector<uint64_t> keys, size_t k) {
   while (keys.size() >= kSortBelow) {
-    const auto [klo, khi] = keyRange(keys);
-    if ((shift = digitShift(klo, khi)) < 0) return valueOf(keys[0]);
+    const auto [lo, hi] = keyRange(keys);
+    const int shift = digitShift(lo, hi);
+    if (shift < 0) return valueOf(keys[0]);
     keys = bucketHolding(keys, shift, k);
   }
   std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(k), keys.end());
   return valueOf(keys[k]);
 }
 
+/// The k-th smallest of a copy of `values`, by comparison (few values).
+double smallestByComparison(std::vector<double> copy, size_t k) {
+  std::nth_element(copy.begin(), copy.begin() + static_cast<std::ptrdiff_t>(k), copy.end());
+  return copy[k];
+}
+
+}  // namespace
+
+// A non-negative double's bits, read as an unsigned integer, order as the double does, so the
+// digits below the bits all keys share narrow the search to the k-th's digit: the values are
+// read twice (range, then counts) and only the k-th's digit's are copied.
+double nthSmallest(const std::vector<double>& values, size_t k) {
+  if (values.size() < kSortBelow) return smallestByComparison(values, k);
+  const auto [lo, hi] = keyRange(values);
+  const int shift = digitShift(lo, hi);
+  if (shift < 0) return values[0];
+  std::vector<uint64_t> keys = bucketHolding(values, shift, k);  // k becomes its rank there
+  return smallestAmongKeys(std::move(keys), k);
+}
+
+std::array<double, 2> nthSmallestTwo(const std::vector<double>& values, size_t k1, size_t k2) {
+  if (values.size() < kSortBelow)
+    return {smallestByComparison(values, k1), smallestByComparison(values, k2)};
+  const auto [lo, hi] = keyRange(values);
+  const int shift = digitShift(lo, hi);
+  if (shift < 0) return {values[0], values[0]};
+  // One range and one count serve both; their digits' keys are copied in one pass.
+  const std::vector<uint32_t> count = digitCounts(values, shift);
+  const size_t d1 = digitHolding(count, k1), d2 = digitHolding(count, k2);
+  if (d1 == d2) {
+    std::vector<uint64_t> keys = keysWithDigit(values, shift, d1);
+    return {smallestAmongKeys(keys, k1), smallestAmongKeys(std::move(keys), k2)};
+  }
+  std::vector<uint64_t> keys1, keys2;
+  for (double v : values) {
+    const size_t d = (keyOf(v) >> shift) & (kBuckets - 1);
+    if (d == d1) keys1.push_back(keyOf(v));
+    if (d == d2) keys2.push_back(keyOf(v));
+  }
+  return {smallestAmongKeys(std::move(keys1), k1), smallestAmongKeys(std::move(keys2), k2)};
+}
+
 double sumOfSmallestSquares(const std::vector<double>& values, size_t count) {
+  return count == 0 ? 0 : sumOfSmallestSquares(values, count, nthSmallest(values, count - 1));
+}
+
+double sumOfSmallestSquares(const std::vector<double>& values, size_t count, double last) {
   if (count == 0) return 0;
   // The `count` smallest are every value below the count-th smallest, then as many copies of
   // it as make up the count.
-  const double last = nthSmallest(values, count - 1);
   double sum = 0;
   size_t below = 0;
   for (double v : values)

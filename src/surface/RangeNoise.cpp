@@ -20,9 +20,10 @@ constexpr size_t kSample = size_t(1) << 17;
 /// One bin's deviation from the absolute second differences `a`.
 double binSigma(const std::vector<double>& a) {
   const size_t keep = a.size() * 9 / 10;
-  const double median = internal::nthSmallest(a, a.size() / 2) / 0.6745;
+  const auto [half, last] = internal::nthSmallestTwo(a, a.size() / 2, keep > 0 ? keep - 1 : 0);
+  const double median = half / 0.6745;
   // A normal variable's RMS below its 90th percentile of |x| is 0.789 of its deviation.
-  const double sum = internal::sumOfSmallestSquares(a, keep);
+  const double sum = internal::sumOfSmallestSquares(a, keep, last);
   const double trimmed = std::sqrt(sum / std::max<size_t>(1, keep)) / 0.789;
   return std::max(median, trimmed) / std::sqrt(6.0);
 }

@@ -51,16 +51,19 @@ ScanSurface surfaceOf(const RangeGrid& grid, const GridTriangulation& rules, con
 
 ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const SurfaceOptions& options,
                              const RangeNoise* measured) {
-  const int k = options.mergeTarget > 0 ? mergeFactor(lateralSpacing(grid), options.mergeTarget,
-                                                      std::min(grid.cols, grid.rows))
-                                        : 1;
+  // Merging needs the lateral step, triangulation the grid's: one pass gives both.
+  const auto [lateral, fineStep] = options.mergeTarget > 0
+                                       ? lateralAndGridSpacing(grid)
+                                       : std::array<double, 2>{0, gridSpacing(grid)};
+  const int k = options.mergeTarget > 0
+                    ? mergeFactor(lateral, options.mergeTarget, std::min(grid.cols, grid.rows))
+                    : 1;
   // Noise is measured on the grid as read; a merged cell keeps 1 / k of it.
   const RangeNoise noise = measured                   ? *measured
                            : options.smoothTarget > 0 ? RangeNoise::measure(grid)
                                                       : RangeNoise{};
   DepthSmoothing smoothing{options.smoothTarget, 0, 1.0 / k};
   if (k > 1) {
-    const double fineStep = gridSpacing(grid);
     TexelImage texels;
     const RangeGrid coarse = mergeCells(grid, k, fineStep, options.maxEdgeFactor, &texels);
     const GridTriangulation rules = gridTriangulation(
@@ -69,7 +72,8 @@ ScanSurface buildScanSurface(const RangeGrid& grid, const Pose& pose, const Surf
     return surfaceOf(smoothDepths(coarse, noise, smoothing), rules, pose, options, k, &texels);
   }
   // The rules come from the grid as read: smoothing shortens its median step.
-  const GridTriangulation rules = gridTriangulation(grid, options);
+  const GridTriangulation rules =
+      gridTriangulation(grid, options, options.maxEdgeFactor * fineStep);
   smoothing.edge = rules.maxEdge;
   // Joined blocks span two cells: their feet take the cells' own colours, not a blend.
   const TexelImage texels = options.flatTolerance > 0 ? cellTexels(grid) : TexelImage{};

@@ -88,10 +88,7 @@ bool facesSensor(const RangeGrid& g) {
 
 double gridSpacing(const RangeGrid& grid, int downEvery) {
   // Squares keep the order, so the median step is the root of the median square: one root.
-  return std::sqrt(internal::medianNeighbourStep(
-      grid,
-      [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).squaredNorm(); },
-      downEvery));
+  return std::sqrt(internal::medianNeighbourStep(grid, internal::squaredStep, downEvery));
 }
 
 GridTriangulation gridTriangulation(const RangeGrid& grid, const SurfaceOptions& options) {

@@ -56,6 +56,25 @@ TEST(GridMerging, LateralSpacingIgnoresRangeNoise) {
   EXPECT_NEAR(lateralSpacing(g), 0.0075, 1e-4);
 }
 
+TEST(GridMerging, BothSpacingsFromOnePassAreEachOnesOwn) {
+  // A small grid takes every pair; a 640 x 480 one a sample on diagonals. Noise, holes and a
+  // far patch make the two measures' medians differ.
+  for (const auto& [cols, rows] : {std::pair{40, 30}, std::pair{640, 480}}) {
+    RangeGrid g = planeImage(cols, rows);
+    uint64_t state = 7;
+    for (size_t i = 0; i < g.points.size(); ++i) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      g.points[i] *= 1 + 1e-3 * static_cast<double>(state >> 40) / double(1 << 24);
+      if (i % 3 == 0) g.points[i] *= 1.5;
+    }
+    for (size_t c = 0; c < g.cell.size(); c += 11) g.cell[c] = -1;
+    const auto [lateral, step] = lateralAndGridSpacing(g);
+    EXPECT_EQ(lateral, lateralSpacing(g)) << cols;
+    EXPECT_EQ(step, gridSpacing(g)) << cols;
+    EXPECT_NE(lateral, step);
+  }
+}
+
 TEST(GridMerging, MergedPointsStayOnAPlaneAndTheGridShrinks) {
   const RangeGrid g = planeImage(50, 31);
   const RangeGrid m = mergeCells(g, 4, gridSpacing(g), 4.0);

@@ -39,6 +39,21 @@ TEST(OrderStatistics, NthSmallestIsTheSortedListsEntry) {
     }
 }
 
+TEST(OrderStatistics, TwoAtOnceAreEachTheSortedListsEntry) {
+  // Pairs in one digit and in two, either order, and the same k twice.
+  for (const auto& v : sets()) {
+    const size_t n = v.size();
+    for (const auto& [k1, k2] : {std::pair{n / 2, n * 9 / 10}, std::pair{n - 1, size_t(0)},
+                                 std::pair{n / 2, n / 2}, std::pair{n / 3, n / 3 + 1}}) {
+      SCOPED_TRACE("n " + std::to_string(n) + ", k " + std::to_string(k1) + " " +
+                   std::to_string(k2));
+      const std::array<double, 2> both = nthSmallestTwo(v, k1, k2);
+      EXPECT_EQ(both[0], sortedAt(v, k1));
+      EXPECT_EQ(both[1], sortedAt(v, k2));
+    }
+  }
+}
+
 TEST(OrderStatistics, SumOfSmallestSquaresMatchesTheSortedSum) {
   for (auto v : sets()) {
     for (double& x : v) x = std::min(x, 1e3);  // a square that is finite
@@ -55,6 +70,7 @@ TEST(OrderStatistics, SumOfSmallestSquaresMatchesTheSortedSum) {
 TEST(OrderStatistics, LeavesTheValuesAsTheyWere) {
   const std::vector<double> v = sets()[18], before = v;
   nthSmallest(v, v.size() / 2);
+  nthSmallestTwo(v, v.size() / 2, v.size() / 5);
   sumOfSmallestSquares(v, v.size() / 3);
   EXPECT_EQ(v, before);
 }

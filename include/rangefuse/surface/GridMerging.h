@@ -3,6 +3,8 @@
 // triangle. Blocks of k x k cells become one cell, so the grid stays a grid.
 #pragma once
 
+#include <array>
+
 #include "rangefuse/core/Colour.h"
 #include "rangefuse/core/RangeGrid.h"
 #include "rangefuse/surface/TexelImage.h"
@@ -18,6 +20,10 @@ int mergeFactor(double spacing, double target, int shortSide);
 /// removed): the pixel footprint, which range noise does not inflate as it does gridSpacing.
 /// `downEvery` as in medianNeighbourStep.
 double lateralSpacing(const RangeGrid& grid, int downEvery = 1);
+
+/// lateralSpacing(grid) and gridSpacing(grid), in that order, the same values from one pass
+/// over the grid's neighbours (a depth frame's reading takes both).
+std::array<double, 2> lateralAndGridSpacing(const RangeGrid& grid);
 
 /// The median angle (radians) between grid neighbours' directions from the scan frame's
 /// origin: a station's angular step, whatever the range.
