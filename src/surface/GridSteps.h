@@ -14,14 +14,6 @@ namespace rangefuse::internal {
 /// Grids with more neighbour pairs than this are sampled on diagonals a few cells apart.
 constexpr size_t kMedianSample = size_t(1) << 16;
 
-/// The median of step(point a, point b) over pairs of valid cells next to each other along a
-/// row or a column, or 0 if there is none. Large grids (a depth frame, a scanner station) are
-/// sampled from the cells on diagonals a few cells apart, about kMedianSample pairs in all: the
-/// median of so many steps moves far less than the decisions it feeds (a merge factor, an edge
-/// limit four times as long). Diagonals give every row its share: a floor's depth, and so its
-/// step, changes with the row. Grids up to that size use every pair.
-/// Pairs down a column are taken in every `downEvery`-th column only: a sample of column pairs
-/// side by side (ColumnBands) counts its first columns, so both directions weigh as in the grid.
 /// The first column of row r on the diagonals `every` cells apart that large grids are sampled
 /// on (also RangeNoise::measure): every row and every column keeps its share of the sample.
 inline int firstOnDiagonal(int r, int every) {
@@ -49,6 +41,14 @@ inline size_t sampledPairsAtMost(const RangeGrid& g) {
   return pairs / std::max<size_t>(1, pairs / kMedianSample) + 2 * static_cast<size_t>(g.cols);
 }
 
+/// The median of step(point a, point b) over pairs of valid cells next to each other along a
+/// row or a column, or 0 if there is none. Large grids (a depth frame, a scanner station) are
+/// sampled from the cells on diagonals a few cells apart, about kMedianSample pairs in all: the
+/// median of so many steps moves far less than the decisions it feeds (a merge factor, an edge
+/// limit four times as long). Diagonals give every row its share: a floor's depth, and so its
+/// step, changes with the row. Grids up to that size use every pair.
+/// Pairs down a column are taken in every `downEvery`-th column only: a sample of column pairs
+/// side by side (ColumnBands) counts its first columns, so both directions weigh as in the grid.
 template <class Step>
 double medianNeighbourStep(const RangeGrid& g, Step&& step, int downEvery = 1) {
   std::vector<double> steps;
