@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "ColourPacking.h"
+#include "CompactAttributes.h"
 #include "LimitPacking.h"
 #include "PickedBytes.h"
 #include "TrianglePacking.h"
@@ -13,13 +14,6 @@
 namespace rangefuse::internal {
 namespace {
 
-/// Doubles per element of a vector of reals (double, Vector3d, array<double, 2>).
-template <class T>
-constexpr size_t realsPer() {
-  static_assert(sizeof(T) % sizeof(double) == 0, "a vector of reals");
-  return sizeof(T) / sizeof(double);
-}
-
 /// Appends the listed elements of v as packVector would append the vector made of them.
 template <class T>
 void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vector<uint32_t>& pick,
@@ -27,24 +21,6 @@ void packPicked(std::vector<char>& buf, const std::vector<T>& v, const std::vect
   const uint64_t n = v.empty() ? 0 : pick.size() * per;
   mpi::pack(buf, &n, 1);
   if (n > 0) appendPicked(buf, v, pick, per);
-}
-
-/// packPicked for reals, as floats when `single` (the values are floats' already).
-template <class T>
-void packPickedReals(std::vector<char>& buf, const std::vector<T>& v,
-                     const std::vector<uint32_t>& pick, bool single) {
-  if (!single) return packPicked(buf, v, pick);
-  constexpr size_t per = realsPer<T>();
-  const uint64_t n = v.empty() ? 0 : pick.size();
-  mpi::pack(buf, &n, 1);
-  if (n == 0) return;
-  char* out = grow(buf, n * per * sizeof(float));
-  const double* in = reinterpret_cast<const double*>(v.data());
-  for (uint32_t i : pick)
-    for (size_t c = 0; c < per; ++c) {
-      const float f = static_cast<float>(in[size_t(i) * per + c]);
-      std::memcpy(out, &f, sizeof f), out += sizeof f;
-    }
 }
 
 template <class T>
@@ -62,21 +38,53 @@ void unpackVector(const std::vector<char>& buf, size_t& pos, std::vector<T>& v) 
   mpi::unpack(buf, pos, v.data(), n);
 }
 
-template <class T>
-void unpackReals(const std::vector<char>& buf, size_t& pos, std::vector<T>& v, bool single) {
-  if (!single) return unpackVector(buf, pos, v);
-  constexpr size_t per = realsPer<T>();
+/// Appends the count and each listed element's code, `Code` bits (a compact scan's normals
+/// and confidences: their values are their codes' already).
+template <class Code, class T, class Encode>
+void packPickedCodes(std::vector<char>& buf, const std::vector<T>& v,
+                     const std::vector<uint32_t>& pick, Encode encode) {
+  const uint64_t n = v.empty() ? 0 : pick.size();
+  mpi::pack(buf, &n, 1);
+  char* out = grow(buf, n * sizeof(Code));
+  for (size_t k = 0; k < n; ++k) {
+    const Code c = encode(v[pick[k]]);
+    std::memcpy(out, &c, sizeof c), out += sizeof c;
+  }
+}
+
+template <class Code, class T, class Decode>
+void unpackCodes(const std::vector<char>& buf, size_t& pos, std::vector<T>& v, Decode decode) {
   uint64_t n;
   mpi::unpack(buf, pos, &n, 1);
   v.resize(n);
-  double* out = reinterpret_cast<double*>(v.data());
   const char* in = buf.data() + pos;
-  for (size_t k = 0; k < n * per; ++k) {
-    float f;
-    std::memcpy(&f, in + k * sizeof f, sizeof f);
-    out[k] = f;
+  for (T& x : v) {
+    Code c;
+    std::memcpy(&c, in, sizeof c), in += sizeof c;
+    x = decode(c);
   }
-  pos += n * per * sizeof(float);
+  pos += n * sizeof(Code);
+}
+
+/// Appends the listed normals and confidences: a compact scan's as their codes.
+void packPickedAttributes(std::vector<char>& buf, const PrismScan& scan,
+                          const std::vector<uint32_t>& pick) {
+  const ScanSurface& s = scan.surface;
+  if (!scan.compact()) {
+    packPicked(buf, s.normals, pick);
+    return packPicked(buf, s.confidence, pick);
+  }
+  packPickedCodes<uint32_t>(buf, s.normals, pick, normalCode);
+  packPickedCodes<uint16_t>(buf, s.confidence, pick, confidenceCode);
+}
+
+void unpackAttributes(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
+  if (!s.compact()) {
+    unpackVector(buf, pos, s.surface.normals);
+    return unpackVector(buf, pos, s.surface.confidence);
+  }
+  unpackCodes<uint32_t>(buf, pos, s.surface.normals, normalOf);
+  unpackCodes<uint16_t>(buf, pos, s.surface.confidence, confidenceOf);
 }
 
 /// Appends the listed points; a compact scan's as its lattice's origin and 32-bit offsets.
@@ -165,16 +173,16 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
   // About the bytes: at most, unless a corner needs 32 bits or more than one prism in 16
   // has a truncated limit.
   const size_t bytes = 16 * sizeof(uint64_t) + 3 + sizeof(s.texelSide) + sizeof(int32_t) +
-                       sizeof(s.sensor) + v * 7 * real + t * 3 * sizeof(uint16_t) + 2 * real +
-                       t / 4 + t * 2 * real / 16 + (s.colours.empty() ? 0 : v * sizeof(Colour)) +
+                       sizeof(s.sensor) + v * 3 * real + v * (real == 4 ? 6 : 32) +
+                       t * 3 * sizeof(uint16_t) + 2 * real + t / 4 + t * 2 * real / 16 +
+                       (s.colours.empty() ? 0 : v * sizeof(Colour)) +
                        texels.cells.size() * sizeof(Texel) + size_t(texels.rows()) * 8 + 4 +
                        (s.blocks.empty() ? 0 : v * sizeof(s.blocks[0]));
   buf.reserve(buf.size() + bytes);
   mpi::pack(buf, &index, 1);
   mpi::pack(buf, &scan.quantum, 1);
   packPickedPoints(buf, scan, used);
-  packPickedReals(buf, s.normals, used, scan.compact());
-  packPickedReals(buf, s.confidence, used, scan.compact());
+  packPickedAttributes(buf, scan, used);
   packTriangles(buf, s.triangles, triangles, remap);
   packColours(buf, s.colours, used);
   mpi::pack(buf, &s.texelSide, 1);
@@ -197,8 +205,7 @@ uint64_t unpackPart(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   mpi::unpack(buf, pos, &index, 1);
   mpi::unpack(buf, pos, &s.quantum, 1);
   unpackPoints(buf, pos, s);
-  unpackReals(buf, pos, s.surface.normals, s.compact());
-  unpackReals(buf, pos, s.surface.confidence, s.compact());
+  unpackAttributes(buf, pos, s);
   unpackTriangles(buf, pos, s.surface.triangles);
   unpackColours(buf, pos, s.surface.colours);
   mpi::unpack(buf, pos, &s.surface.texelSide, 1);
@@ -215,11 +222,10 @@ uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
   mpi::unpack(buf, pos, &index, 1);
   double quantum;
   mpi::unpack(buf, pos, &quantum, 1);
-  const size_t real = quantum > 0 ? sizeof(float) : sizeof(double);
   if (quantum > 0) pos += 3 * sizeof(double);  // the lattice's origin
   skipVector(buf, pos, quantum > 0 ? 3 * sizeof(int32_t) : 3 * sizeof(double));  // points
-  skipVector(buf, pos, 3 * real);                                                // normals
-  skipVector(buf, pos, real);                                                    // confidences
+  skipVector(buf, pos, quantum > 0 ? sizeof(uint32_t) : 3 * sizeof(double));     // normals
+  skipVector(buf, pos, quantum > 0 ? sizeof(uint16_t) : sizeof(double));         // confidences
   skipTriangles(buf, pos);
   skipColours(buf, pos);
   pos += sizeof(s.texelSide);

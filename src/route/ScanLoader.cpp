@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "CompactAttributes.h"
 #include "rangefuse/core/FaultInjection.h"
 #include "rangefuse/io/ScanFiles.h"
 #include "rangefuse/parallel/Mpi.h"
@@ -149,8 +150,8 @@ PrismScan compactScan(PrismScan s) {
   for (Eigen::Vector3d& p : s.surface.points)
     for (int c = 0; c < 3; ++c)
       p[c] = s.origin[c] + std::nearbyint((p[c] - s.origin[c]) * perQuantum) * s.quantum;
-  roundToFloats(s.surface.normals);
-  roundToFloats(s.surface.confidence);
+  for (Eigen::Vector3d& n : s.surface.normals) n = internal::quantisedNormal(n);
+  for (double& c : s.surface.confidence) c = internal::quantisedConfidence(c);
   roundToFloats(s.limits);
   return s;
 }

@@ -28,10 +28,11 @@ uint64_t scanBytes(const PrismScan& scan);
 PrismScan placeScan(PrismScan local, const Pose& pose);
 
 /// The scan with its points rounded to a lattice of its own (PrismScan::quantum, a power of two
-/// about 2^-30 of its extent, so 32-bit offsets from the lattice point nearest its centre) and
-/// its normals, confidences and prism limits to the nearest float: routed in those forms they
-/// lose nothing, so every rank count sees the same values (decision 45). A compact scan comes
-/// back as it is.
+/// about 2^-30 of its extent, so 32-bit offsets from the lattice point nearest its centre), its
+/// normals to the directions of 32-bit octahedral codes (within 1e-4 radians), its confidences
+/// to 16-bit fractions and its prism limits to the nearest float: routed in those forms they
+/// lose nothing, so every rank count sees the same values (decisions 45, 58). A compact scan
+/// comes back as it is.
 PrismScan compactScan(PrismScan scan);
 
 }  // namespace rangefuse
