@@ -291,13 +291,13 @@ bool routeEntries(size_t first, size_t end, HeldScans& share,
 constexpr uint64_t kBatchBytes = 32 << 20;
 
 /// The next parts from `k` on (sorted by entry), whole images of about kBatchBytes held (a
-/// packed part unpacks to about twice its bytes), unpacked on `threads` threads.
+/// compact part unpacks to about four times its bytes), unpacked on `threads` threads.
 IndexedScans nextBatch(RoutedParts& parts, const std::vector<size_t>& scanOf, int threads,
                        size_t& k) {
   const size_t first = k;
   uint64_t held = 0;
   while (k < parts.size() &&
-         (held < kBatchBytes / 2 || scanOf[parts.entry(k)] == scanOf[parts.entry(k - 1)]))
+         (held < kBatchBytes / 4 || scanOf[parts.entry(k)] == scanOf[parts.entry(k - 1)]))
     held += parts.bytesOf(k++);
   IndexedScans batch = parts.take(first, k, threads);
   uint64_t bytes = 0;

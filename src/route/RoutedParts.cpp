@@ -15,6 +15,7 @@ void RoutedParts::keep(uint64_t entry, PrismScan&& part) {
 }
 
 void RoutedParts::keepBytes(uint64_t entry, std::vector<char>&& bytes) {
+  bytes.shrink_to_fit();  // packing reserves what a part takes at most
   parts_.push_back({entry, buffers_.size(), 0, bytes.size()});
   hold(std::move(bytes), 1);
 }

@@ -9,7 +9,32 @@
 namespace rangefuse::internal {
 namespace {
 
-constexpr uint16_t kEscape = 0xffff;
+// A step below 240 takes a byte; one below kTwoBytes two, the first from 240 to 254 holding its
+// high bits; any other corner is kEscape and the corner in 32 bits.
+constexpr uint32_t kOneByte = 240, kTwoBytes = kOneByte + 15 * 256;
+constexpr uint8_t kEscape = 0xff;
+
+/// Writes corner's step below `next` at out (room for two bytes, or grows buf); gives the end.
+char* putStep(std::vector<char>& buf, char* out, int64_t next, int32_t corner) {
+  const int64_t step = next - corner;
+  if (step >= 0 && step < kOneByte) {
+    *out++ = static_cast<char>(step);
+    return out;
+  }
+  if (step >= 0 && step < kTwoBytes) {
+    const auto high = static_cast<uint32_t>(step - kOneByte);
+    *out++ = static_cast<char>(kOneByte + (high >> 8));
+    *out++ = static_cast<char>(high & 0xff);
+    return out;
+  }
+  // Two bytes are reserved a corner: an escape needs three more.
+  const size_t at = size_t(out - buf.data());
+  grow(buf, 3);
+  out = buf.data() + at;
+  *out++ = static_cast<char>(kEscape);
+  std::memcpy(out, &corner, sizeof corner);
+  return out + sizeof corner;
+}
 
 }  // namespace
 
@@ -20,26 +45,17 @@ void packTriangles(std::vector<char>& buf, const std::vector<Triangle>& triangle
   const size_t head = buf.size();
   uint64_t bytes = 0;
   mpi::pack(buf, &bytes, 1);
-  char* out = grow(buf, n * 3 * sizeof(uint16_t));  // the steps; an escape grows it further
+  char* out = grow(buf, n * 3 * 2);  // two bytes a corner at most; an escape grows it
   int64_t next = 0;
   for (uint32_t k : pick)
     for (const int32_t v : triangles[k]) {
       const int32_t corner = remap[size_t(v)];
-      const int64_t step = next - corner;
+      out = putStep(buf, out, next, corner);
       next = std::max(next, int64_t(corner) + 1);
-      if (step >= 0 && step < kEscape) {
-        const uint16_t word = uint16_t(step);
-        std::memcpy(out, &word, sizeof word), out += sizeof word;
-        continue;
-      }
-      const size_t at = size_t(out - buf.data());
-      grow(buf, sizeof corner);
-      out = buf.data() + at;
-      std::memcpy(out, &kEscape, sizeof kEscape), out += sizeof kEscape;
-      std::memcpy(out, &corner, sizeof corner), out += sizeof corner;
     }
-  const size_t at = size_t(out - buf.data());
-  bytes = at - head - sizeof bytes;
+  const size_t end = size_t(out - buf.data());
+  buf.resize(end);
+  bytes = end - head - sizeof bytes;
   std::memcpy(buf.data() + head, &bytes, sizeof bytes);
 }
 
@@ -48,15 +64,16 @@ void unpackTriangles(const std::vector<char>& buf, size_t& pos, std::vector<Tria
   mpi::unpack(buf, pos, &n, 1);
   mpi::unpack(buf, pos, &bytes, 1);
   v.resize(n);
-  const char* in = buf.data() + pos;
+  const auto* in = reinterpret_cast<const uint8_t*>(buf.data() + pos);
   int64_t next = 0;
   for (Triangle& t : v)
     for (int32_t& corner : t) {
-      uint16_t word;
-      std::memcpy(&word, in, sizeof word), in += sizeof word;
-      if (word != kEscape) {
-        corner = int32_t(next - word);
-        next += word == 0;  // a step of 0 is the next new vertex; any other lies below it
+      const uint32_t first = *in++;
+      if (first != kEscape) {
+        const uint32_t step =
+            first < kOneByte ? first : kOneByte + ((first - kOneByte) << 8 | *in++);
+        corner = int32_t(next - step);
+        next += step == 0;  // a step of 0 is the next new vertex; any other lies below it
         continue;
       }
       std::memcpy(&corner, in, sizeof corner), in += sizeof corner;
