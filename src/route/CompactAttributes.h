@@ -65,7 +65,8 @@ inline Eigen::Vector3d normalOf(uint32_t code) {
   double u = detail::coordinateOf(code), v = detail::coordinateOf(code >> 16);
   const double z = 1 - std::abs(u) - std::abs(v);
   if (z < 0) detail::fold(u, v);
-  return Eigen::Vector3d(u, v, z).normalized();
+  const Eigen::Vector3d n(u, v, z);  // |u| + |v| + |z| = 1: never zero
+  return n * (1 / std::sqrt(n.squaredNorm()));
 }
 
 /// n as its code gives it back: within 1e-4 radians of a unit n (6.4e-5 the largest of 10^6).

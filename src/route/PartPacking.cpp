@@ -74,8 +74,8 @@ void packPickedAttributes(std::vector<char>& buf, const PrismScan& scan,
     packPicked(buf, s.normals, pick);
     return packPicked(buf, s.confidence, pick);
   }
-  packPickedCodes<uint32_t>(buf, s.normals, pick, normalCode);
-  packPickedCodes<uint16_t>(buf, s.confidence, pick, confidenceCode);
+  packPickedCodes<uint32_t>(buf, s.normals, pick, [](const auto& n) { return normalCode(n); });
+  packPickedCodes<uint16_t>(buf, s.confidence, pick, [](double c) { return confidenceCode(c); });
 }
 
 void unpackAttributes(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
@@ -83,8 +83,8 @@ void unpackAttributes(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
     unpackVector(buf, pos, s.surface.normals);
     return unpackVector(buf, pos, s.surface.confidence);
   }
-  unpackCodes<uint32_t>(buf, pos, s.surface.normals, normalOf);
-  unpackCodes<uint16_t>(buf, pos, s.surface.confidence, confidenceOf);
+  unpackCodes<uint32_t>(buf, pos, s.surface.normals, [](uint32_t c) { return normalOf(c); });
+  unpackCodes<uint16_t>(buf, pos, s.surface.confidence, [](uint16_t c) { return confidenceOf(c); });
 }
 
 /// Appends the listed points; a compact scan's as its lattice's origin and 32-bit offsets.
