@@ -87,24 +87,30 @@ void unpackAttributes(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   unpackCodes<uint16_t>(buf, pos, s.surface.confidence, [](uint16_t c) { return confidenceOf(c); });
 }
 
-/// Appends the listed points; a compact scan's as its lattice's origin and 32-bit offsets.
+/// Appends the listed points; a compact scan's as its lattice's origin, the count, the bytes
+/// an offset takes (3 when every one fits 24 bits, else 4) and the offsets.
 void packPickedPoints(std::vector<char>& buf, const PrismScan& scan,
                       const std::vector<uint32_t>& pick) {
   if (!scan.compact()) return packPicked(buf, scan.surface.points, pick);
   mpi::pack(buf, scan.origin.data(), 3);
   const uint64_t n = pick.size();
   mpi::pack(buf, &n, 1);
-  const size_t at = buf.size();
-  buf.resize(at + n * 3 * sizeof(int32_t));
-  char* out = buf.data() + at;
+  std::vector<int32_t> offsets(3 * n);
   const double perQuantum = 1 / scan.quantum;  // a power of two: exact
-  for (uint32_t i : pick)
+  int32_t most = 0;
+  for (size_t k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c) {
       // Exact, no rounding: a compact scan's points are whole quanta from its origin.
-      const auto k =
-          static_cast<int32_t>((scan.surface.points[i][c] - scan.origin[c]) * perQuantum);
-      std::memcpy(out, &k, sizeof k), out += sizeof k;
+      const auto o =
+          static_cast<int32_t>((scan.surface.points[pick[k]][c] - scan.origin[c]) * perQuantum);
+      offsets[3 * k + c] = o;
+      most = std::max(most, o < 0 ? -(o + 1) : o);  // the bits o takes beside its sign
     }
+  const uint8_t width = most < (1 << 23) ? 3 : 4;
+  mpi::pack(buf, &width, 1);
+  char* out = grow(buf, offsets.size() * width);
+  for (const int32_t o : offsets)
+    for (int b = 0; b < width; ++b) *out++ = static_cast<char>(static_cast<uint32_t>(o) >> 8 * b);
 }
 
 void unpackPoints(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
@@ -112,15 +118,19 @@ void unpackPoints(const std::vector<char>& buf, size_t& pos, PrismScan& s) {
   mpi::unpack(buf, pos, s.origin.data(), 3);
   uint64_t n;
   mpi::unpack(buf, pos, &n, 1);
+  uint8_t width;
+  mpi::unpack(buf, pos, &width, 1);
   s.surface.points.resize(n);
   const char* in = buf.data() + pos;
+  const int shift = 8 * (4 - width);  // moves a 24-bit offset's sign to bit 31 and back
   for (Eigen::Vector3d& p : s.surface.points)
     for (int c = 0; c < 3; ++c) {
-      int32_t k;
-      std::memcpy(&k, in, sizeof k), in += sizeof k;
+      uint32_t bits = 0;
+      for (int b = 0; b < width; ++b) bits |= uint32_t(static_cast<uint8_t>(*in++)) << 8 * b;
+      const auto k = static_cast<int32_t>(bits << shift) >> shift;
       p[c] = s.origin[c] + k * s.quantum;
     }
-  pos += n * 3 * sizeof(int32_t);
+  pos += n * 3 * width;
 }
 
 /// Moves pos past a vector of elements of `bytes` each.
@@ -223,9 +233,17 @@ uint64_t skipPart(const std::vector<char>& buf, size_t& pos) {
   double quantum;
   mpi::unpack(buf, pos, &quantum, 1);
   if (quantum > 0) pos += 3 * sizeof(double);  // the lattice's origin
-  skipVector(buf, pos, quantum > 0 ? 3 * sizeof(int32_t) : 3 * sizeof(double));  // points
-  skipVector(buf, pos, quantum > 0 ? sizeof(uint32_t) : 3 * sizeof(double));     // normals
-  skipVector(buf, pos, quantum > 0 ? sizeof(uint16_t) : sizeof(double));         // confidences
+  if (quantum > 0) {  // points: their count, the bytes an offset takes and the offsets
+    uint64_t n;
+    mpi::unpack(buf, pos, &n, 1);
+    uint8_t width;
+    mpi::unpack(buf, pos, &width, 1);
+    pos += n * 3 * width;
+  } else {
+    skipVector(buf, pos, 3 * sizeof(double));
+  }
+  skipVector(buf, pos, quantum > 0 ? sizeof(uint32_t) : 3 * sizeof(double));  // normals
+  skipVector(buf, pos, quantum > 0 ? sizeof(uint16_t) : sizeof(double));      // confidences
   skipTriangles(buf, pos);
   skipColours(buf, pos);
   pos += sizeof(s.texelSide);

@@ -129,6 +129,14 @@ void roundToFloats(std::vector<T>& v) {
     x[k] = static_cast<float>(x[k]);
 }
 
+/// The largest |d| of the prisms' limits: their envelope's half-width, eps, unless every
+/// prism is truncated (0 without triangles).
+double envelope(const PrismLimits& limits) {
+  double eps = 0;
+  for (const auto& [lo, hi] : limits) eps = std::max({eps, -lo, hi});
+  return eps;
+}
+
 }  // namespace
 
 PrismScan compactScan(PrismScan s) {
@@ -138,13 +146,16 @@ PrismScan compactScan(PrismScan s) {
   const Eigen::Vector3d centre = box.center();
   const double half = std::max((box.max() - centre).maxCoeff(), (centre - box.min()).maxCoeff());
   const double far = std::max(centre.cwiseAbs().maxCoeff(), half);
-  // Offsets within 2^30 quanta of the centre's lattice point, however far from the world's
+  // Offsets within 2^23 quanta of the centre's lattice point (24 bits packed) where that step
+  // is under 2^-14 of the prisms' envelope, else within 2^30, however far from the world's
   // origin the scan lies (a float's step would grow with that distance); and no finer than the
   // centre's own step, so that origin + n * quantum is exact.
   const auto step = [](double x, int bits) {
     return std::ldexp(1.0, std::ilogb(std::max(x, 1e-100)) + 1 - bits);  // 1/quantum finite
   };
-  s.quantum = std::max(step(half, 30), step(far, 52));
+  const double coarse = step(half, 23);
+  s.quantum = std::max(coarse <= std::ldexp(envelope(s.limits), -14) ? coarse : step(half, 30),
+                       step(far, 52));
   s.origin = (centre / s.quantum).array().round().matrix() * s.quantum;
   const double perQuantum = 1 / s.quantum;  // a power of two: exact
   for (Eigen::Vector3d& p : s.surface.points)

@@ -132,20 +132,47 @@ TEST(CompactScan, APtxStationsFieldMovesWithinTheTolerance) {
 
 TEST(CompactScan, FarFromTheOriginPointsMoveByHalfAQuantumAndPackExactly) {
   // A scan at map coordinates (5,000 km north): a float's step there is half a metre, the
-  // lattice's is the scan's extent over 2^30.
+  // lattice's is the scan's extent over 2^23 (its prisms' envelope spans 2^20 of those steps);
+  // a scan whose prisms' envelope is under 2^14 of that step takes the centre's own double
+  // step, 2^-29 m (its extent over 2^30 would be finer).
   PrismScan scan = placedScans(RANGEFUSE_TEST_DATA "/bunny/bun.conf", 0.004).front();
   for (Eigen::Vector3d& p : scan.surface.points) p += Eigen::Vector3d(4.5e5, 5.0e6, 300);
-  const PrismScan compact = compactScan(usedOnly(scan));
-  ASSERT_TRUE(compact.compact());
-  EXPECT_LT(compact.quantum, 1e-8);  // the centre's own double step, 2^-29 m
-  const PrismScan used = usedOnly(scan);
-  for (size_t k = 0; k < used.surface.points.size(); ++k)
-    ASSERT_LE((used.surface.points[k] - compact.surface.points[k]).cwiseAbs().maxCoeff(),
-              compact.quantum / 2);
-  EXPECT_EQ(unpackedScan(packedScan(compact)).surface.points, compact.surface.points);
+  PrismScan thin = scan;
+  for (auto& [lo, hi] : thin.limits) lo = -1e-12, hi = 1e-12;
+  for (const auto& [s, quantum] : {std::pair{scan, 0x1p-26}, std::pair{thin, 0x1p-29}}) {
+    const PrismScan compact = compactScan(usedOnly(s));
+    ASSERT_TRUE(compact.compact());
+    EXPECT_EQ(compact.quantum, quantum);  // the bunny's half-extent is 6-12 cm
+    const PrismScan used = usedOnly(s);
+    for (size_t k = 0; k < used.surface.points.size(); ++k)
+      ASSERT_LE((used.surface.points[k] - compact.surface.points[k]).cwiseAbs().maxCoeff(),
+                compact.quantum / 2);
+    EXPECT_EQ(unpackedScan(packedScan(compact)).surface.points, compact.surface.points);
+  }
 }
 
-TEST(CompactScan, CompactScansPackInTwoFifthsOfTheBytesAndComeBackExactly) {
+TEST(CompactScan, OffsetsPackIn24BitsWhereAllFitAndIn32Else) {
+  // A compact scan made by hand: one triangle at offsets -2^23 and 2^23 - 1, then one past.
+  PrismScan scan;
+  scan.quantum = 0x1p-20;
+  scan.origin = Eigen::Vector3d(1, -2, 0.5);
+  const double q = scan.quantum, edge = 0x1p23;
+  scan.surface.points = {scan.origin + q * Eigen::Vector3d(-edge, 0, edge - 1),
+                         scan.origin + q * Eigen::Vector3d(edge - 1, -edge, 5),
+                         scan.origin + q * Eigen::Vector3d(-1, 1, -edge)};
+  scan.surface.normals.assign(3, Eigen::Vector3d(0, 0, 1));
+  scan.surface.confidence.assign(3, 1.0);
+  scan.surface.triangles = {{0, 1, 2}};
+  scan.limits = {{-0.25, 0.25}};
+  const std::vector<char> fits = packedScan(scan);
+  EXPECT_EQ(unpackedScan(fits).surface.points, scan.surface.points);
+  scan.surface.points[2].y() = scan.origin.y() + q * edge;
+  const std::vector<char> past = packedScan(scan);
+  EXPECT_EQ(unpackedScan(past).surface.points, scan.surface.points);
+  EXPECT_EQ(past.size(), fits.size() + 9);  // a byte more for each of 9 offsets
+}
+
+TEST(CompactScan, CompactScansPackInUnder35PercentOfTheBytesAndComeBackExactly) {
   const std::vector<PrismScan> scans = placedScans(RANGEFUSE_TEST_DATA "/bunny/bun.conf", 0.004);
   const PrismScan& scan = scans.front();
   const PrismScan small = compactScan(usedOnly(scan));
@@ -153,7 +180,7 @@ TEST(CompactScan, CompactScansPackInTwoFifthsOfTheBytesAndComeBackExactly) {
   EXPECT_NE(small.surface.points, scan.surface.points) << "rounding moved no point";
   EXPECT_EQ(compactScan(small).surface.points, small.surface.points);
   const std::vector<char> asCompact = packedScan(small), asDoubles = packedScan(scan);
-  EXPECT_LT(asCompact.size(), asDoubles.size() * 2 / 5);
+  EXPECT_LT(asCompact.size(), asDoubles.size() * 7 / 20);
   const PrismScan back = unpackedScan(asCompact);
   EXPECT_TRUE(back.compact());
   EXPECT_EQ(back.quantum, small.quantum);

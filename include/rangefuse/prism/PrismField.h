@@ -28,8 +28,9 @@ struct PrismScan {
   std::shared_ptr<SightMap> sight;  ///< what the scan saw (robust fusion; else null)
   RangeNoise noise;  ///< the grid's depth noise as read (empty for bands of a station)
   /// Set (a streamed field's scans, compactScan): its points lie on a lattice of its own,
-  /// origin + n * quantum for 32-bit n, and its normals, confidences and limits are floats'
-  /// values, so routing packs them in half the bytes and loses nothing (decision 45).
+  /// origin + n * quantum for 24- or 32-bit n, its normals and confidences are the values of
+  /// 32- and 16-bit codes and its limits floats', so routing packs them in a third of the
+  /// bytes and loses nothing (decisions 45, 58).
   double quantum = 0;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   bool compact() const { return quantum > 0; }

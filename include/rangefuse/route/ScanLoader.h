@@ -28,7 +28,8 @@ uint64_t scanBytes(const PrismScan& scan);
 PrismScan placeScan(PrismScan local, const Pose& pose);
 
 /// The scan with its points rounded to a lattice of its own (PrismScan::quantum, a power of two
-/// about 2^-30 of its extent, so 32-bit offsets from the lattice point nearest its centre), its
+/// about 2^-23 of its extent where that is under 2^-14 of the prisms' envelope, so 24-bit
+/// offsets from the lattice point nearest its centre, else about 2^-30 and 32 bits), its
 /// normals to the directions of 32-bit octahedral codes (within 1e-4 radians), its confidences
 /// to 16-bit fractions and its prism limits to the nearest float: routed in those forms they
 /// lose nothing, so every rank count sees the same values (decisions 45, 58). A compact scan
