@@ -19,12 +19,13 @@ inline constexpr uint32_t kZeroCode = 0x80008000u;  // -32768 twice: no normal's
 /// -1 or 1 by x's sign bit, a zero's too: a fold's direction. A normal unfolded onto x = 0
 /// keeps its code's sign as -0, and its code comes back.
 inline double signOf(double x) {
-  return std::signbit(x) ? -1.0 : 1.0;
+  return std::copysign(1.0, x);
 }
 
-/// x rounded to the nearest whole number, halves away from zero (as std::lround, inline).
+/// x rounded to the nearest whole number, halves away from zero (as std::lround, inline and
+/// without a branch: a normal's signs are as likely as not).
 inline int roundedOf(double x) {
-  return static_cast<int>(x + (x < 0 ? -0.5 : 0.5));
+  return static_cast<int>(x + std::copysign(0.5, x));
 }
 
 /// A coordinate in [-1, 1] as a signed 16-bit step, in the code's low bits.
@@ -53,9 +54,11 @@ inline uint32_t normalCode(const Eigen::Vector3d& n) {
   const double l1 = std::abs(n.x()) + std::abs(n.y()) + std::abs(n.z());
   if (!(l1 > 0) || !std::isfinite(l1)) return detail::kZeroCode;
   const double inv = 1 / l1;
-  double u = n.x() * inv, v = n.y() * inv;
-  if (n.z() < 0) detail::fold(u, v);
-  return detail::stepOf(u) | detail::stepOf(v) << 16;
+  const double u = n.x() * inv, v = n.y() * inv;
+  double fu = u, fv = v;
+  detail::fold(fu, fv);
+  const bool lower = n.z() < 0;  // selected, not branched on
+  return detail::stepOf(lower ? fu : u) | detail::stepOf(lower ? fv : v) << 16;
 }
 
 /// The unit normal a code stands for (zero for a zero normal's code); normalCode of it gives

@@ -10,10 +10,10 @@ namespace rangefuse::internal {
 
 /// Appends the part of `scan` made of the listed triangles (in order) and the vertices they
 /// use, in order of first use, to buf: its entry `index`, then each vector with its length. A
-/// compact scan's points go as 32-bit lattice offsets, its normals, confidences and limits as
-/// floats: half the bytes, and the same values. Triangles, colours, texels and blocks
-/// go as TrianglePacking.h and ColourPacking.h lay them out. remap must be -1 for every point; it
-/// is left so.
+/// compact scan's points go as 24- or 32-bit lattice offsets, its normals and confidences as
+/// their codes (CompactAttributes.h): a third of the bytes, and the same values. Triangles,
+/// limits, colours, texels and blocks go as TrianglePacking.h, LimitPacking.h and
+/// ColourPacking.h lay them out. remap must be -1 for every point; it is left so.
 void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
               const std::vector<uint32_t>& triangles, std::vector<int32_t>& remap);
 

@@ -18,8 +18,8 @@ struct ScanPreparation {
   SurfaceOptions surface;
   InputLimits limits;
   double eps = 0;  ///< prism envelope, in the scans' units
-  /// Made compact once placed (compactScan), and kept packed as routing sends them, half the
-  /// memory: a streamed field's scans. A kept scan then holds what a field needs only; its
+  /// Made compact once placed (compactScan), and kept packed as routing sends them, a third of
+  /// the memory: a streamed field's scans. A kept scan then holds what a field needs only; its
   /// reader takes the sight map, noise and colour kind before offering it.
   bool compact = false;
 };

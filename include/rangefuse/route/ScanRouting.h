@@ -46,7 +46,7 @@ void routeScan(uint64_t index, PrismScan world, const BrickLayout& layout, doubl
 /// A whole scan in the bytes routing sends, and the scan again from them: how a streamed field
 /// keeps a scan until it is routed. Only what a field needs goes: the points its triangles use
 /// (in order of first use; joined flat blocks leave up to three in four unused), not its sight
-/// map, noise or colour kind. A compact scan (compactScan) packs in about half the bytes.
+/// map, noise or colour kind. A compact scan (compactScan) packs in about a third of the bytes.
 std::vector<char> packedScan(const PrismScan& scan);
 PrismScan unpackedScan(const std::vector<char>& bytes);
 
