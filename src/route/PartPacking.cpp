@@ -180,11 +180,14 @@ void packPart(std::vector<char>& buf, uint64_t index, const PrismScan& scan,
                        : triangleTexels(s.texels, s.blocks, s.triangles, s.texelSide, &triangles);
   const size_t v = used.size(), t = triangles.size();
   const size_t real = scan.compact() ? sizeof(float) : sizeof(double);
+  // A vertex's normal and confidence: codes (CompactAttributes.h) or four doubles.
+  const size_t attributes =
+      scan.compact() ? sizeof(uint32_t) + sizeof(uint16_t) : 4 * sizeof(double);
   // About the bytes: at most, unless a corner needs 32 bits or more than one prism in 16
   // has a truncated limit.
   const size_t bytes = 16 * sizeof(uint64_t) + 3 + sizeof(s.texelSide) + sizeof(int32_t) +
-                       sizeof(s.sensor) + v * 3 * real + v * (real == 4 ? 6 : 32) +
-                       t * 3 * sizeof(uint16_t) + 2 * real + t / 4 + t * 2 * real / 16 +
+                       sizeof(s.sensor) + v * (3 * real + attributes) + t * 3 * sizeof(uint16_t) +
+                       2 * real + t / 4 + t * 2 * real / 16 +
                        (s.colours.empty() ? 0 : v * sizeof(Colour)) +
                        texels.cells.size() * sizeof(Texel) + size_t(texels.rows()) * 8 + 4 +
                        (s.blocks.empty() ? 0 : v * sizeof(s.blocks[0]));
