@@ -238,6 +238,18 @@ PrismScan joinScans(std::vector<PrismScan>&& parts) {
   return out;
 }
 
+size_t roundCount(const std::vector<std::vector<size_t>>& byReader,
+                  const std::vector<uint64_t>& bytes, uint64_t roundBytes) {
+  size_t rounds = 0;
+  for (const std::vector<size_t>& entries : byReader) {
+    uint64_t total = 0;
+    for (size_t i : entries) total += bytes[i];
+    const uint64_t need = (total + roundBytes - 1) / roundBytes;
+    rounds = std::max(rounds, total > 0 ? std::min<size_t>(entries.size(), need) : entries.size());
+  }
+  return rounds;
+}
+
 std::vector<std::vector<size_t>> roundsOf(const std::vector<size_t>& mine, size_t rounds,
                                           const std::vector<uint64_t>& bytes) {
   uint64_t total = 0;

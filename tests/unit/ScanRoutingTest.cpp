@@ -309,6 +309,23 @@ TEST(RoutingRounds, EachReaderGivesItsBytesAwayAtTheSameRate) {
   EXPECT_EQ(roundsOf({0, 1}, 3, {0, 0}), (Rounds{{0}, {1}, {}}));
 }
 
+TEST(RoutingRounds, TheBusiestReaderSetsTheRoundsAtAboutTheBytesOfARound) {
+  const std::vector<uint64_t> bytes{30, 10, 10, 10, 5, 5, 0, 0, 0};
+  // 60 bytes at 25 a round: 3 rounds, whatever the lighter reader (10 bytes) needs.
+  EXPECT_EQ(roundCount({{0, 1, 2, 3}, {4, 5}}, bytes, 25), 3u);
+  // Never more rounds than a reader has entries: 30 bytes in one entry, one round.
+  EXPECT_EQ(roundCount({{0}, {4}}, bytes, 1), 1u);
+  EXPECT_EQ(roundCount({{0, 1, 2, 3}, {4, 5}}, bytes, 1), 4u);
+  // Entries without bytes: one a round (roundsOf places them so).
+  EXPECT_EQ(roundCount({{6, 7, 8}, {0}}, bytes, 100), 3u);
+  EXPECT_EQ(roundCount({{}, {}}, bytes, 100), 0u);
+  // Each rank's entries fit the count: roundsOf puts each one in a round below it.
+  const size_t rounds = roundCount({{0, 1, 2, 3}, {4, 5}}, bytes, 25);
+  using Rounds = std::vector<std::vector<size_t>>;
+  EXPECT_EQ(roundsOf({0, 1, 2, 3}, rounds, bytes), (Rounds{{0}, {1}, {2, 3}}));
+  EXPECT_EQ(roundsOf({4, 5}, rounds, bytes), (Rounds{{4}, {5}, {}}));
+}
+
 TEST(RoutingRounds, SortByEntryKeepsTheOrderOfEqualEntries) {
   IndexedScans parts(4);
   const size_t entries[] = {3, 1, 3, 0};

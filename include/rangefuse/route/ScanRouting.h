@@ -63,6 +63,12 @@ void sortByEntry(IndexedScans& parts);
 /// Parts of one scan as one: their vertices and triangles in turn (the first one's sensor).
 PrismScan joinScans(std::vector<PrismScan>&& parts);
 
+/// The rounds in which every reader's entries (`byReader`, of sizes `bytes`) go at about
+/// `roundBytes` a round: the most any reader needs, one an entry at most (and one an entry for
+/// a reader whose entries have no bytes, as roundsOf places them).
+size_t roundCount(const std::vector<std::vector<size_t>>& byReader,
+                  const std::vector<uint64_t>& bytes, uint64_t roundBytes);
+
 /// This rank's entries `mine` by round, `rounds` of them: each entry goes in the round where
 /// the bytes before it reach the same fraction of the rank's bytes as the round of all
 /// rounds, so that every reader gives its scans away at the same rate in bytes. A reader of
