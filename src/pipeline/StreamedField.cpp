@@ -271,9 +271,8 @@ constexpr uint64_t kRoundBytes = 4 << 20;
 /// appends what this rank is sent, and its own part, to `parts`. There are as many rounds as
 /// the busiest reader needs at kRoundBytes a round (roundCount), and every reader sends its
 /// entries spread over them by bytes (roundsOf): what is in flight is about a round's copies,
-/// not a window's, and each rank
-/// gives away about what it receives (the window is added in scan order whatever the order it
-/// arrived in).
+/// not a window's, and each rank gives away about what it receives (the window is added in
+/// scan order whatever the order it arrived in).
 bool routeEntries(size_t first, size_t end, HeldScans& share,
                   const std::vector<uint64_t>& preparedBytes, bool colour, double reach,
                   const BrickLayout& layout, MPI_Comm comm, RoutedParts& parts,
