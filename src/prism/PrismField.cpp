@@ -350,7 +350,11 @@ void PrismIntegrator::accumulate(Slab& slab) {
                        slab.colours.empty() ? nullptr : &slab.colours[i]);
       continue;
     }
-    if (i + ahead < n) __builtin_prefetch(&sums[samples[i + ahead].at]);
+    if (i + ahead < n) {
+      __builtin_prefetch(&sums[samples[i + ahead].at]);
+      // A coloured field's colour sums are as spread as its sums, and read beside them.
+      if (!slab.colours.empty()) __builtin_prefetch(&store_.colours()[samples[i + ahead].at]);
+    }
     // The colour's mean takes the weight the sums held before this sample.
     if (!slab.colours.empty()) store_.colours()[s.at].add(slab.colours[i], s.w, sums[s.at].w);
     sums[s.at].add(s.d, s.w, s.f);
