@@ -345,15 +345,16 @@ void PrismIntegrator::accumulate(Slab& slab) {
   const size_t n = samples.size(), ahead = 16;  // the sums are spread over the rank's field
   for (size_t i = 0; i < n; ++i) {
     const Sample& s = samples[i];
-    if (hypotheses_) {
-      hypotheses_->add(s.at, s.d, s.w, s.f, slab.sigmas[i],
-                       slab.colours.empty() ? nullptr : &slab.colours[i]);
-      continue;
-    }
+    // Robust fusion reads a voxel's first hypothesis there too.
     if (i + ahead < n) {
       __builtin_prefetch(&sums[samples[i + ahead].at]);
       // A coloured field's colour sums are as spread as its sums, and read beside them.
       if (!slab.colours.empty()) __builtin_prefetch(&store_.colours()[samples[i + ahead].at]);
+    }
+    if (hypotheses_) {
+      hypotheses_->add(s.at, s.d, s.w, s.f, slab.sigmas[i],
+                       slab.colours.empty() ? nullptr : &slab.colours[i]);
+      continue;
     }
     // The colour's mean takes the weight the sums held before this sample.
     if (!slab.colours.empty()) store_.colours()[s.at].add(slab.colours[i], s.w, sums[s.at].w);
