@@ -341,23 +341,24 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
 
 void PrismIntegrator::accumulate(Slab& slab) {
   auto& sums = store_.sums();
+  auto& colours = store_.colours();
   const std::vector<Sample>& samples = slab.samples;
+  const bool coloured = !slab.colours.empty();
   const size_t n = samples.size(), ahead = 16;  // the sums are spread over the rank's field
   for (size_t i = 0; i < n; ++i) {
     const Sample& s = samples[i];
-    // Robust fusion reads a voxel's first hypothesis there too.
+    // The sums, and a coloured field's colour sums beside them, are read for robust fusion's
+    // first hypothesis as for a plain sample.
     if (i + ahead < n) {
       __builtin_prefetch(&sums[samples[i + ahead].at]);
-      // A coloured field's colour sums are as spread as its sums, and read beside them.
-      if (!slab.colours.empty()) __builtin_prefetch(&store_.colours()[samples[i + ahead].at]);
+      if (coloured) __builtin_prefetch(&colours[samples[i + ahead].at]);
     }
     if (hypotheses_) {
-      hypotheses_->add(s.at, s.d, s.w, s.f, slab.sigmas[i],
-                       slab.colours.empty() ? nullptr : &slab.colours[i]);
+      hypotheses_->add(s.at, s.d, s.w, s.f, slab.sigmas[i], coloured ? &slab.colours[i] : nullptr);
       continue;
     }
     // The colour's mean takes the weight the sums held before this sample.
-    if (!slab.colours.empty()) store_.colours()[s.at].add(slab.colours[i], s.w, sums[s.at].w);
+    if (coloured) colours[s.at].add(slab.colours[i], s.w, sums[s.at].w);
     sums[s.at].add(s.d, s.w, s.f);
   }
 }
