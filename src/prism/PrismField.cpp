@@ -279,8 +279,11 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   Prism prism;
   // A voxel's sample is fetched while the batch it joins is solved (it is rarely cached: an
   // image's voxels are spread over the whole field); voxels of other ranks' bricks are skipped.
+  // The brick size in a local: read through `grid` at every voxel, it was tested for a power of
+  // two and its shift found again at each (the loop's stores might have changed it).
+  const int brick = grid.brick;
   auto slotOf = [&](const VoxelIndex& v) -> int64_t {
-    const BrickCoord b = brickOf(v, grid.brick);
+    const BrickCoord b = brickOf(v, brick);
     if (b != lastBrick) {
       lastBrick = b;
       lastLocal = store_.localBrick(mortonEncode(b));
