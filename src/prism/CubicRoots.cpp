@@ -60,16 +60,6 @@ int criticalPoints(const double c[4], double lo, double hi, double out[2]) {
   return m;
 }
 
-/// True when the slope (a quadratic) has one strict sign on [lo, hi]: at both ends and at its
-/// vertex when that lies inside. Cheaper than the critical points (no root).
-bool slopeKeepsSign(const double c[4], double lo, double hi) {
-  const double sLo = evalSlope(c, lo), sHi = evalSlope(c, hi);
-  if (!(sLo * sHi > 0)) return false;
-  if (c[3] == 0) return true;
-  const double vertex = -c[2] / (3 * c[3]);
-  return !(vertex > lo && vertex < hi) || evalSlope(c, vertex) * sLo > 0;
-}
-
 /// The root in [lo, hi] of a cubic known to be monotonic there, if any.
 int monotonicRoot(const double c[4], double lo, double hi, double roots[3]) {
   const double fa = evalCubic(c, lo), fb = evalCubic(c, hi);
@@ -87,12 +77,12 @@ int monotonicRoot(const double c[4], double lo, double hi, double roots[3]) {
 
 }  // namespace
 
-bool cubicMonotonicIn(const double c[4], double lo, double hi) {
-  // Most prisms are nearly straight: the slope then keeps c1's sign over the whole range
-  // (|c1| beats the other terms of the derivative).
-  const double r = std::max(std::abs(lo), std::abs(hi));
-  if (std::abs(c[1]) > 1.01 * (2 * std::abs(c[2]) * r + 3 * std::abs(c[3]) * r * r)) return true;
-  return slopeKeepsSign(c, lo, hi);
+bool slopeKeepsSign(const double c[4], double lo, double hi) {
+  const double sLo = evalSlope(c, lo), sHi = evalSlope(c, hi);
+  if (!(sLo * sHi > 0)) return false;
+  if (c[3] == 0) return true;
+  const double vertex = -c[2] / (3 * c[3]);
+  return !(vertex > lo && vertex < hi) || evalSlope(c, vertex) * sLo > 0;
 }
 
 int rootBrackets(const double c[4], double lo, double hi, double& a, double& b) {
