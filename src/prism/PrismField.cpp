@@ -279,8 +279,8 @@ uint64_t PrismIntegrator::rasterizeSlab(const PrismScan& scan, Slab& slab) {
   Prism prism;
   // A voxel's sample is fetched while the batch it joins is solved (it is rarely cached: an
   // image's voxels are spread over the whole field); voxels of other ranks' bricks are skipped.
-  // The brick size in a local: read through `grid`, which the loop's stores might change as far
-  // as the compiler knows, brickOf's power-of-two test and shift would be redone at every voxel.
+  // The brick size is kept in a local: read through `grid`, which the loop's stores might change
+  // as far as the compiler knows, it has brickOf's power-of-two test and shift redone per voxel.
   const int brick = grid.brick;
   auto slotOf = [&](const VoxelIndex& v) -> int64_t {
     const BrickCoord b = brickOf(v, brick);
