@@ -42,7 +42,7 @@ TEST(CheckpointParameters, AGivenOptionThatDiffersIsRefused) {
     adoptCheckpointParameters(metaOf(FuseOptions{}), resumed);
     FAIL() << "a differing option was taken";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--depth-normal-passes 2 (checkpoint: 4)"),
+    EXPECT_NE(std::string(e.what()).find("--depth-normal-passes 2 (checkpoint: 6)"),
               std::string::npos)
         << e.what();
   }

@@ -21,7 +21,7 @@ struct SurfaceOptions {
   /// The same for a depth camera's frames (-1: normalPasses). Their normals are noisier, and
   /// prisms along them twist: each costs more to solve and holds fewer voxels. Frames held for
   /// registration or tracking keep normalPasses (heldScans, decision 51).
-  int depthNormalPasses = 4;
+  int depthNormalPasses = 6;
   /// Merge blocks of k x k grid cells while k cells span no more than this (world units; 0:
   /// never), so that dense grids reach the field at about the voxel's scale.
   double mergeTarget = 0;
