@@ -41,14 +41,36 @@ bool longerThan(const Eigen::Vector3d& d, double limit) {
   return std::sqrt(s) > limit;
 }
 
+namespace {
+
+/// Whether cos = (n . t) / (|n| |t|) >= minCos is settled by squares (no root, no division):
+/// as for longerThan, outside a margin of a part in 10^9 the squares give the roots' answer,
+/// and a cosine of either sign whose square is below minCos^2 fails. Unsettled (NaN or
+/// zero lengths, subnormal or infinite squares, a bound near zero) returns -1.
+int cosineAtLeast(const Eigen::Vector3d& n, const Eigen::Vector3d& t, double minCos) {
+  const double q = n.dot(t), bound = minCos * minCos * n.squaredNorm() * t.squaredNorm();
+  if (!(minCos > 1e-6) || !std::isnormal(bound) || !std::isfinite(q)) return -1;
+  if (q < 0 || q * q < bound * (1 - 1e-9)) return 0;
+  if (q * q > bound * (1 + 1e-9)) return 1;
+  return -1;
+}
+
+}  // namespace
+
 bool keepsTriangle(const RangeGrid& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                    const Eigen::Vector3d& c, double maxEdge, double minCos) {
   if (longerThan(a - b, maxEdge) || longerThan(b - c, maxEdge) || longerThan(c - a, maxEdge))
     return false;
   Eigen::Vector3d n = (b - a).cross(c - a);
+  Eigen::Vector3d centre = (a + b + c) / 3.0;
+  // Most triangles face the sensor well inside or well outside the limit: settled without the
+  // two roots and four divisions of the cosine itself.
+  const Sensor sensor = g.sensor();
+  const int settled =
+      cosineAtLeast(n, sensor.isPoint ? sensor.point - centre : sensor.direction, minCos);
+  if (settled >= 0) return settled == 1;
   double len = n.norm();
   if (len == 0) return false;
-  Eigen::Vector3d centre = (a + b + c) / 3.0;
   return n.dot(g.towardSensor(centre)) / len >= minCos;
 }
 

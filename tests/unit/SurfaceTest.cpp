@@ -210,6 +210,54 @@ TEST(Surface, EdgeLengthsAreTestedAsTheirRootsWould) {
   EXPECT_GT(checked, 40000);
 }
 
+TEST(Surface, ObliquenessIsTestedAsTheCosineWould) {
+  // keepsTriangle settles most triangles by squares; it must keep exactly the triangles whose
+  // cosine to the line of sight, computed with its roots and divisions, reaches the limit.
+  // Triangles tilted to a few rounding steps, to a part in 10^9 and far either side of each
+  // limit, on pinhole (point) and orthographic (direction) grids, facing toward and away.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double limits[] = {0.15, 0.5, 0.999, 1e-7, 0, -0.3};
+  const double offsets[] = {0, 1e-16, -1e-16, 4e-16, -4e-16, 1e-12, -1e-12, 1e-9, -1e-9, 0.1, -0.1};
+  int checked = 0, kept = 0;
+  for (const bool pinhole : {true, false}) {
+    RangeGrid g;
+    if (pinhole) g.pinhole = Pinhole{};
+    for (const double limit : limits)
+      for (const double offset : offsets)
+        for (int k = 0; k < 100; ++k) {
+          // A triangle about a centre, its normal at the angle whose cosine is the limit
+          // (moved by the offset) from the line of sight there.
+          const Eigen::Vector3d centre(unit(random), unit(random), -2 - unit(random));
+          const Eigen::Vector3d sight =
+              pinhole ? Eigen::Vector3d(-centre.normalized()) : Eigen::Vector3d::UnitZ();
+          const Eigen::Vector3d side =
+              sight.cross(Eigen::Vector3d(unit(random), unit(random), unit(random))).normalized();
+          const double cosine = std::clamp(limit * (1 + offset), -1.0, 1.0);
+          const Eigen::Vector3d normal =
+              cosine * sight + std::sqrt(1 - cosine * cosine) * sight.cross(side);
+          const Eigen::Vector3d u = side, v = normal.cross(side);
+          const double r = 0.01 * (1 + unit(random));
+          const Eigen::Vector3d a = centre + r * u, b = centre + r * v, c = centre - r * (u + v);
+          const Eigen::Vector3d n = (b - a).cross(c - a);
+          const bool expected =
+              n.norm() > 0 && n.dot(g.towardSensor((a + b + c) / 3.0)) / n.norm() >= limit;
+          EXPECT_EQ(internal::keepsTriangle(g, a, b, c, 1, limit), expected)
+              << (pinhole ? "pinhole" : "orthographic") << " limit " << limit << " offset "
+              << offset;
+          ++checked;
+          kept += expected;
+        }
+  }
+  RangeGrid g;
+  const Eigen::Vector3d o = Eigen::Vector3d::Zero(), x = Eigen::Vector3d::UnitX();
+  EXPECT_FALSE(internal::keepsTriangle(g, o, x, 2 * x, 1, 0.15));  // no area
+  EXPECT_FALSE(internal::keepsTriangle(g, o, x, Eigen::Vector3d(NAN, 0, 0), 1, 0.15));
+  EXPECT_GT(checked, 13000);
+  EXPECT_GT(kept, 3000);
+  EXPECT_LT(kept, checked - 3000);
+}
+
 TEST(Surface, PinholeViewRayRunsToTheOrigin) {
   RangeGrid g = planeGrid(4, 4, 0);
   for (auto& p : g.points) p.z() = -5;
