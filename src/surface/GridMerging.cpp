@@ -15,6 +15,14 @@ constexpr int kLeastCellsAcross = 16;
 
 /// The valid cell of block (r0, c0) nearest its centre (first in row order on ties), or -1.
 int32_t centralCell(const RangeGrid& g, int r0, int c0, int k, int& rc, int& cc) {
+  // Inside the grid a block's nearest cell to its centre is (k - 1) / 2 down and across (the
+  // first of four for even k): when it holds a point, nothing nearer does.
+  const int half = (k - 1) / 2;
+  if (r0 + k <= g.rows && c0 + k <= g.cols)
+    if (const int32_t i = g.at(r0 + half, c0 + half); i >= 0) {
+      rc = r0 + half, cc = c0 + half;
+      return i;
+    }
   const double mid = 0.5 * (k - 1);
   double best = std::numeric_limits<double>::infinity();
   int32_t found = -1;

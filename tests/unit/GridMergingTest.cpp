@@ -1,7 +1,9 @@
 // Merging range-grid cells: known answers on planes, depth edges and pinhole pixels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 #include "rangefuse/surface/GridMerging.h"
 #include "rangefuse/surface/ScanSurface.h"
@@ -114,6 +116,55 @@ TEST(GridMerging, ABlockAcrossADepthEdgeKeepsItsCentresSide) {
   for (int R = 0; R < 3; ++R) {
     EXPECT_NEAR(planeOffset(m.points[m.at(R, 1)]), 0, 1e-12) << "block row " << R;
     EXPECT_GT(std::abs(planeOffset(m.points[m.at(R, 2)])), 0.5);
+  }
+}
+
+TEST(GridMerging, BlockMeansMatchABruteForceSearchForEachBlocksCentre) {
+  // Each merged point, against its definition done the long way: the valid cell nearest the
+  // block's centre (first in row order on ties), then the mean of the block's cells within the
+  // edge test of it. Holes (a third of the cells, the central ones too), blocks cut by the
+  // grid's last rows and columns, odd and even k, and depths that step so the test drops cells.
+  std::srand(11);
+  for (const int k : {2, 3, 4, 5}) {
+    RangeGrid g = planeImage(23, 17);
+    for (size_t i = 0; i < g.cell.size(); ++i) {
+      if (std::rand() % 3 == 0) g.cell[i] = -1;
+      if (std::rand() % 7 == 0 && g.cell[i] >= 0) g.points[g.cell[i]] *= 1.3;
+    }
+    const double spacing = gridSpacing(g), step = 4.0 * spacing;
+    const RangeGrid m = mergeCells(g, k, spacing, 4.0);
+    int blocks = 0;
+    for (int R = 0; R < m.rows; ++R)
+      for (int C = 0; C < m.cols; ++C) {
+        const double mid = 0.5 * (k - 1);
+        int rc = -1, cc = -1;
+        double best = 1e300;
+        for (int r = R * k; r < std::min(R * k + k, g.rows); ++r)
+          for (int c = C * k; c < std::min(C * k + k, g.cols); ++c) {
+            const double d =
+                (r - R * k - mid) * (r - R * k - mid) + (c - C * k - mid) * (c - C * k - mid);
+            if (g.at(r, c) >= 0 && d < best) best = d, rc = r, cc = c;
+          }
+        if (rc < 0) {
+          EXPECT_EQ(m.at(R, C), -1);
+          continue;
+        }
+        const Eigen::Vector3d& ref = g.points[g.at(rc, cc)];
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        int n = 0;
+        for (int r = R * k; r < std::min(R * k + k, g.rows); ++r)
+          for (int c = C * k; c < std::min(C * k + k, g.cols); ++c) {
+            if (g.at(r, c) < 0) continue;
+            const int apart = std::max({std::abs(r - rc), std::abs(c - cc), 1});
+            if ((g.points[g.at(r, c)] - ref).norm() > step * apart) continue;
+            sum += g.points[g.at(r, c)];
+            ++n;
+          }
+        ASSERT_GE(m.at(R, C), 0) << "k " << k << " block " << R << ", " << C;
+        EXPECT_EQ(m.points[m.at(R, C)], sum / n) << "k " << k << " block " << R << ", " << C;
+        ++blocks;
+      }
+    EXPECT_GT(blocks, m.rows * m.cols / 2) << "k " << k;
   }
 }
 
