@@ -27,6 +27,16 @@ prisms = sum(p["prisms"] for p in ranks)
 print("\n%.2f s by rangefuse's clock; %.1f M voxel updates (%.1f a prism); %.0f ns an update "
       "a core, end to end" % (r["wall_seconds"], updates / 1e6, updates / max(prisms, 1),
                               r["wall_seconds"] * len(ranks) / max(updates, 1) * 1e9))
+per = lambda f: " / ".join(f(p) for p in ranks)
+print("seconds a rank: read %s; field %s (adding %s, planning %s, routing %s); mesh %s; write %s"
+      % (per(lambda p: "%.2f" % p["stage_seconds"]["read"]),
+         per(lambda p: "%.2f" % p["stage_seconds"]["field"]),
+         per(lambda p: "%.2f" % p["adding_seconds"]), per(lambda p: "%.2f" % p["planning_seconds"]),
+         per(lambda p: "%.2f" % p["routing_seconds"]),
+         per(lambda p: "%.2f" % p["stage_seconds"]["mesh"]),
+         per(lambda p: "%.2f" % p["stage_seconds"].get("write", 0))))
+print("prisms a rank %s; voxel updates a rank %s" % (per(lambda p: "%.2f M" % (p["prisms"] / 1e6)),
+                                                     per(lambda p: "%.1f M" % (p["voxels_updated"] / 1e6))))
 PY
 echo
 python3 jobs/profile_shares.py "$tmp/perf.data"
