@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Where a fuse's time goes: `perf record` over the whole mpirun job (every rank), then the
 # samples' shares by stage and their largest symbols (jobs/profile_shares.py), as the tables
-# of docs/benchmarks.md, "Where a depth stream's time goes", give them. Needs Debian's
+# of docs/benchmarks.md, "Where a depth stream's time goes", give them: for frames at known
+# poses (read, field) or tracked ones (a folder without poses: track). Needs Debian's
 # linux-perf, and perf_event_paranoid low enough to sample (as root, any).
 # Usage: bash jobs/profile_stream.sh SCANS [VOXEL (0.01)] [RANKS (2)] [FUSE OPTIONS...]
 #   e.g. bash jobs/profile_stream.sh ROOM-DEV 0.01 2 --colour none
@@ -28,13 +29,23 @@ print("\n%.2f s by rangefuse's clock; %.1f M voxel updates (%.1f a prism); %.0f 
       "a core, end to end" % (r["wall_seconds"], updates / 1e6, updates / max(prisms, 1),
                               r["wall_seconds"] * len(ranks) / max(updates, 1) * 1e9))
 per = lambda f: " / ".join(f(p) for p in ranks)
-print("seconds a rank: read %s; field %s (adding %s, planning %s, routing %s); mesh %s; write %s"
-      % (per(lambda p: "%.2f" % p["stage_seconds"]["read"]),
-         per(lambda p: "%.2f" % p["stage_seconds"]["field"]),
-         per(lambda p: "%.2f" % p["adding_seconds"]), per(lambda p: "%.2f" % p["planning_seconds"]),
-         per(lambda p: "%.2f" % p["routing_seconds"]),
-         per(lambda p: "%.2f" % p["stage_seconds"]["mesh"]),
-         per(lambda p: "%.2f" % p["stage_seconds"].get("write", 0))))
+secs = lambda key: lambda p: "%.2f" % p[key]
+# A posed stream reads, then builds the field; a tracked one tracks (reads, fits and adds,
+# frame by frame): print the stages the run had, in the pipeline's order.
+order = ["read", "field", "track", "mesh", "write"]
+stages = sorted((s for s in ranks[0]["stage_seconds"] if s not in ("open", "done")),
+                key=lambda s: order.index(s) if s in order else len(order))
+parts = []
+for s in stages:
+    line = "%s %s" % (s, per(lambda p: "%.2f" % p["stage_seconds"][s]))
+    if s == "field":
+        line += " (adding %s, planning %s, routing %s)" % (
+            per(secs("adding_seconds")), per(secs("planning_seconds")), per(secs("routing_seconds")))
+    if s == "track":
+        line += " (%s)" % ", ".join("%s %s" % (k, per(lambda p: "%.2f" % p["tracking_seconds"][k]))
+                                     for k in ranks[0]["tracking_seconds"])
+    parts.append(line)
+print("seconds a rank: " + "; ".join(parts))
 print("prisms a rank %s; voxel updates a rank %s" % (per(lambda p: "%.2f M" % (p["prisms"] / 1e6)),
                                                      per(lambda p: "%.1f M" % (p["voxels_updated"] / 1e6))))
 PY
