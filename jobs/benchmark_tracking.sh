@@ -16,6 +16,8 @@
 # SEQ_ROOT=folder keeps the generated sequences there (and reuses them); SEQUENCES="orbit desk"
 # runs only those (default: orbit handheld desk). The walk is asked for by name (SEQUENCES=
 # "orbit handheld desk walk"): Open3D takes 10-20 minutes on it and both trackers lose it.
+# FUSE_ARGS: options added to every rangefuse command (e.g. "--merge-cells 1.5"); PEERS=0
+# leaves Open3D out (a run that compares rangefuse's options with each other).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh >/dev/null
@@ -79,7 +81,8 @@ for name in ${SEQUENCES:-orbit handheld desk}; do
   first=$(awk '!/^#/ { print $2 "," $3 "," $4 "," $5 "," $6 "," $7 "," $8; exit }' "$seq/groundtruth.txt")
   rm -f "$tmp/track.ply" "$tmp/track.txt"
   seconds=$($timed mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
-    --first-pose "$first" "${skip[@]}" --out "$tmp/track.ply" --trajectory-out "$tmp/track.txt")
+    --first-pose "$first" "${skip[@]}" --out "$tmp/track.ply" --trajectory-out "$tmp/track.txt" \
+    ${FUSE_ARGS:-})
   memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/' || true)
   mv "$tmp/log" "$tmp/track.log"
   fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
@@ -89,19 +92,21 @@ for name in ${SEQUENCES:-orbit handheld desk}; do
     echo "| $name | rangefuse, 2 ranks | failed after $seconds s: $(grep -o 'frame [0-9]*: tracking lost[^:]*' "$tmp/track.log" | head -n 1) | | | | | |"
   fi
   seconds=$($timed mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" \
-    --out "$tmp/true.ply")
+    --out "$tmp/true.ply" ${FUSE_ARGS:-})
   echo "| $name | rangefuse at the true poses | | | $seconds | | | $(chamfer "$tmp/true.ply" "$seq/truth.ply") |"
   if [[ $path != walk ]]; then
     seconds=$(once mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
       --first-pose "$first" --register simultaneous --out "$tmp/refined.ply" \
-      --trajectory-out "$tmp/refined.txt")
+      --trajectory-out "$tmp/refined.txt" ${FUSE_ARGS:-})
     memory=$(grep "peak memory per rank" "$tmp/log" | sed 's/.*(MiB) \([0-9 /]*\) (.*/\1/')
     echo "| $name | rangefuse, refined by --register simultaneous | $(ate "$tmp/refined.txt" "$seq/groundtruth.txt") | $seconds | | $memory | $(chamfer "$tmp/refined.ply" "$seq/truth.ply") |"
   fi
-  o3d=$(/usr/bin/python3 jobs/open3d_track.py "$stream" "$voxel" "$tmp/o3d.ply" "$tmp/o3d.txt" "$first" 2>/dev/null)
-  seconds=$(echo "$o3d" | sed 's/.*total \([0-9.]*\) s.*/\1/')
-  memory=$(echo "$o3d" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
-  fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
-  echo "| $name | Open3D frame-to-frame ICP + TSDF, 1 process | $(ate "$tmp/o3d.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/o3d.ply" "$seq/truth.ply") |"
+  if [[ ${PEERS:-1} != 0 ]]; then
+    o3d=$(/usr/bin/python3 jobs/open3d_track.py "$stream" "$voxel" "$tmp/o3d.ply" "$tmp/o3d.txt" "$first" 2>/dev/null)
+    seconds=$(echo "$o3d" | sed 's/.*total \([0-9.]*\) s.*/\1/')
+    memory=$(echo "$o3d" | sed 's/.*peak memory \([0-9]*\) MiB.*/\1/')
+    fps=$(awk -v n="$frames" -v s="$seconds" 'BEGIN { printf "%.1f", n / s }')
+    echo "| $name | Open3D frame-to-frame ICP + TSDF, 1 process | $(ate "$tmp/o3d.txt" "$seq/groundtruth.txt") | $seconds | $fps | $memory | $(chamfer "$tmp/o3d.ply" "$seq/truth.ply") |"
+  fi
   grep -E "\] (track|mesh|done) " "$tmp/track.log" || true
 done
