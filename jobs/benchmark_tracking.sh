@@ -17,7 +17,9 @@
 # runs only those (default: orbit handheld desk). The walk is asked for by name (SEQUENCES=
 # "orbit handheld desk walk"): Open3D takes 10-20 minutes on it and both trackers lose it.
 # FUSE_ARGS: options added to every rangefuse command (e.g. "--merge-cells 1.5"); PEERS=0
-# leaves Open3D out (a run that compares rangefuse's options with each other).
+# leaves Open3D out and REFINE=0 the refined run (to set rangefuse's options against each
+# other); SENSOR=kinect renders the sequences with the synthetic Kinect checked against real
+# frames (docs/sensor.md) instead of the Gaussian noise (keep its SEQ_ROOT apart).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh >/dev/null
@@ -64,6 +66,8 @@ once() {  # one timed run; prints seconds, keeps the log in $tmp/log
   "$@" >"$tmp/log" 2>&1 || true
   awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.2f", e - s }'
 }
+noise=(--noise 0.5 --depth-noise --outliers 0.005)
+[[ ${SENSOR:-} == kinect ]] && noise=(--sensor kinect)
 for name in ${SEQUENCES:-orbit handheld desk}; do
   seq=$root/$name path=$name
   shape=(--mesh tests/data/bunny/bun_zipper.ply --scale 10)
@@ -71,8 +75,8 @@ for name in ${SEQUENCES:-orbit handheld desk}; do
   [[ $name == desk ]] && shape=(--shape desk) path=handheld
   [[ -f $seq/groundtruth.txt ]] ||
     $bin scan "${shape[@]}" --views "$frames" \
-      --width "$width" --height "$height" --voxel "$voxel" --noise 0.5 --depth-noise \
-      --outliers 0.005 --path "$path" --format tum --out "$seq" >/dev/null
+      --width "$width" --height "$height" --voxel "$voxel" "${noise[@]}" --path "$path" \
+      --format tum --out "$seq" >/dev/null
   timed=best skip=()
   [[ $path == walk ]] && timed=once skip=(--skip-lost)
   stream=$tmp/$path-stream
@@ -94,7 +98,7 @@ for name in ${SEQUENCES:-orbit handheld desk}; do
   seconds=$($timed mpirun -np 2 --bind-to none $bin fuse --scans "$seq" --voxel "$voxel" \
     --out "$tmp/true.ply" ${FUSE_ARGS:-})
   echo "| $name | rangefuse at the true poses | | | $seconds | | | $(chamfer "$tmp/true.ply" "$seq/truth.ply") |"
-  if [[ $path != walk ]]; then
+  if [[ $path != walk && ${REFINE:-1} != 0 ]]; then
     seconds=$(once mpirun -np 2 --bind-to none $bin fuse --scans "$stream" --voxel "$voxel" \
       --first-pose "$first" --register simultaneous --out "$tmp/refined.ply" \
       --trajectory-out "$tmp/refined.txt" ${FUSE_ARGS:-})
