@@ -41,9 +41,11 @@ for s in stages:
     if s == "field":
         line += " (adding %s, planning %s, routing %s)" % (
             per(secs("adding_seconds")), per(secs("planning_seconds")), per(secs("routing_seconds")))
-    if s == "track":
-        line += " (%s)" % ", ".join("%s %s" % (k, per(lambda p: "%.2f" % p["tracking_seconds"][k]))
-                                     for k in ranks[0]["tracking_seconds"])
+    if s == "track":  # the report's "reading" is the wait for the next frame to be read
+        names = {"reading": "waiting for the frame"}
+        line += " (%s)" % ", ".join(
+            "%s %s" % (names.get(k, k), per(lambda p: "%.2f" % p["tracking_seconds"][k]))
+            for k in ranks[0]["tracking_seconds"])
     parts.append(line)
 print("seconds a rank: " + "; ".join(parts))
 print("prisms a rank %s; voxel updates a rank %s" % (per(lambda p: "%.2f M" % (p["prisms"] / 1e6)),
