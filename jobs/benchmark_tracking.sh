@@ -19,7 +19,7 @@
 # FUSE_ARGS: options added to every rangefuse command (e.g. "--merge-cells 1.5"); PEERS=0
 # leaves Open3D out and REFINE=0 the refined run (to set rangefuse's options against each
 # other); SENSOR=kinect renders the sequences with the synthetic Kinect checked against real
-# frames (docs/sensor.md) instead of the Gaussian noise (keep its SEQ_ROOT apart).
+# frames (docs/sensor.md) instead of the Gaussian noise, kept as kinect-NAME in SEQ_ROOT.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/setup.sh >/dev/null
@@ -69,7 +69,7 @@ once() {  # one timed run; prints seconds, keeps the log in $tmp/log
 noise=(--noise 0.5 --depth-noise --outliers 0.005)
 [[ ${SENSOR:-} == kinect ]] && noise=(--sensor kinect)
 for name in ${SEQUENCES:-orbit handheld desk}; do
-  seq=$root/$name path=$name
+  seq=$root/${SENSOR:+$SENSOR-}$name path=$name
   shape=(--mesh tests/data/bunny/bun_zipper.ply --scale 10)
   [[ $name == walk ]] && shape=(--shape room)
   [[ $name == desk ]] && shape=(--shape desk) path=handheld

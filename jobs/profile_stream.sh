@@ -29,7 +29,7 @@ print("\n%.2f s by rangefuse's clock; %.1f M voxel updates (%.1f a prism); %.0f 
       "a core, end to end" % (r["wall_seconds"], updates / 1e6, updates / max(prisms, 1),
                               r["wall_seconds"] * len(ranks) / max(updates, 1) * 1e9))
 per = lambda f: " / ".join(f(p) for p in ranks)
-secs = lambda key: lambda p: "%.2f" % p[key]
+seconds = lambda get: per(lambda p: "%.2f" % get(p))  # each rank's, from its report
 # A posed stream reads, then builds the field; a tracked one tracks (reads, fits and adds,
 # frame by frame): print the stages the run had, in the pipeline's order.
 order = ["read", "field", "track", "mesh", "write"]
@@ -37,15 +37,15 @@ stages = sorted((s for s in ranks[0]["stage_seconds"] if s not in ("open", "done
                 key=lambda s: order.index(s) if s in order else len(order))
 parts = []
 for s in stages:
-    line = "%s %s" % (s, per(lambda p: "%.2f" % p["stage_seconds"][s]))
+    line = "%s %s" % (s, seconds(lambda p: p["stage_seconds"][s]))
     if s == "field":
-        line += " (adding %s, planning %s, routing %s)" % (
-            per(secs("adding_seconds")), per(secs("planning_seconds")), per(secs("routing_seconds")))
+        line += " (%s)" % ", ".join("%s %s" % (k, seconds(lambda p: p[k + "_seconds"]))
+                                    for k in ("adding", "planning", "routing"))
     if s == "track":  # the report's "reading" is the wait for the next frame to be read
         names = {"reading": "waiting for the frame"}
-        line += " (%s)" % ", ".join(
-            "%s %s" % (names.get(k, k), per(lambda p: "%.2f" % p["tracking_seconds"][k]))
-            for k in ranks[0]["tracking_seconds"])
+        line += " (%s)" % ", ".join("%s %s" % (names.get(k, k),
+                                               seconds(lambda p: p["tracking_seconds"][k]))
+                                    for k in ranks[0]["tracking_seconds"])
     parts.append(line)
 print("seconds a rank: " + "; ".join(parts))
 print("prisms a rank %s; voxel updates a rank %s" % (per(lambda p: "%.2f M" % (p["prisms"] / 1e6)),
